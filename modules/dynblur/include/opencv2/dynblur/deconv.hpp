@@ -1,0 +1,73 @@
+#ifndef OPENCV_DYNBLUR_DECONV_HPP
+#define OPENCV_DYNBLUR_DECONV_HPP
+
+#include <opencv2/dynblur/psf.hpp>
+
+namespace cv {
+namespace dynblur {
+
+//! @addtogroup dynblur_restoration
+//! @{
+
+//! How the restoration treats the frame's edges.
+enum RLBoundary
+{
+    RL_BOUNDARY_ZERO = 0,   //!< zero outside the frame (scikit-image's richardson_lucy); rings at edges
+    RL_BOUNDARY_PAD = 1     //!< the latent domain extends past the frame by the kernels' reach; no ringing
+};
+
+/** @brief Options of Richardson–Lucy deconvolution @cite Richardson1972Bayesian @cite Lucy1974Iterative. */
+struct CV_EXPORTS_W_SIMPLE RLParams
+{
+    CV_WRAP RLParams();
+    CV_PROP_RW int iterations;     //!< iterations, ≥ 1 (default 20)
+    CV_PROP_RW double damping;     //!< DAMPAR of MATLAB's deconvlucy, linear intensity units, ≥ 0 (0: off) @cite White1994Damped
+    CV_PROP_RW double tvWeight;    //!< total-variation regularisation weight λ, ≥ 0 (0: off) @cite Dey2006RLTV
+    CV_PROP_RW int boundary;       //!< RLBoundary
+    CV_PROP_RW bool accelerate;    //!< Biggs–Andrews vector extrapolation @cite Biggs1997Acceleration
+    CV_PROP_RW double tolerance;   //!< stop early when the relative change of an iteration falls below it, ≥ 0 (0: never)
+};
+
+/** @brief Richardson–Lucy deconvolution with one kernel, using FFTW (single precision, threaded,
+plans cached) @cite Frigo2005Fftw.
+@param blurred observed image, CV_32F, 1–4 channels, linear intensity, finite.
+@param psf kernel, CV_32F or CV_64F, one channel, odd size, non-negative, normalised to sum 1 here.
+@param latent output, same size and type as blurred.
+@param params iterations, damping, regularisation, boundary, acceleration.
+@param initial start estimate (same size and type as blurred); empty: the blurred image. */
+CV_EXPORTS_W void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent,
+                                 const RLParams& params = RLParams(), InputArray initial = noArray());
+
+/** @brief Spatially variant Richardson–Lucy: one global iteration whose forward operator and
+adjoint are the bank's blended blur, so tiles and row bands leave no seams
+@cite Hirsch2010Efficient.
+@param blurred observed image, CV_32F, 1–4 channels, linear intensity, the bank's image size.
+@param bank the kernels (PsfGenerator::generate).
+@param latent output, same size and type as blurred: the view at θ_ref.
+@param params iterations, damping, regularisation, boundary, acceleration.
+@param validMask optional output, CV_8U, 255 where the latent pixel was observed by the frame. */
+CV_EXPORTS_W void richardsonLucyVariant(InputArray blurred, const PsfBank& bank, OutputArray latent,
+                                        const RLParams& params = RLParams(), OutputArray validMask = noArray());
+
+/** @brief Applies the bank's forward blur B = A·L (the operator richardsonLucyVariant inverts).
+@param latent CV_32F, 1–4 channels, the bank's image size.
+@param bank the kernels.
+@param blurred output, same size and type (zero outside the frame). */
+CV_EXPORTS_W void applyPsfBank(InputArray latent, const PsfBank& bank, OutputArray blurred);
+
+/** @brief Wiener deconvolution: the non-iterative fast path @cite Wiener1949Extrapolation.
+For a variant bank each node's kernel is inverted over its region and the results are blended
+with the bank's weights.
+@param blurred observed image, CV_32F, 1–4 channels, the bank's image size.
+@param bank the kernels.
+@param latent output, same size and type.
+@param noiseToSignal noise-to-signal power ratio, > 0. */
+CV_EXPORTS_W void wienerDeconvolve(InputArray blurred, const PsfBank& bank, OutputArray latent,
+                                   double noiseToSignal = 1e-2);
+
+//! @}
+
+}  // namespace dynblur
+}  // namespace cv
+
+#endif

@@ -1,0 +1,93 @@
+#ifndef OPENCV_DYNBLUR_PSF_HPP
+#define OPENCV_DYNBLUR_PSF_HPP
+
+#include <opencv2/dynblur/camera.hpp>
+#include <opencv2/dynblur/plant.hpp>
+#include <opencv2/dynblur/shutter.hpp>
+
+#include <limits>
+
+namespace cv {
+namespace dynblur {
+
+//! @addtogroup dynblur_imaging
+//! @{
+
+//! How the blur is allowed to vary over the frame.
+enum PsfModel
+{
+    PSF_UNIFORM = 0,  //!< one kernel for the frame: the seed's method (image centre, centre row)
+    PSF_ROWS = 1,     //!< one kernel per row band, each from its rows' own exposure interval
+    PSF_TILES = 2     //!< a grid of kernels: also varies across columns (projective rotation, distortion, axis)
+};
+
+/** @brief Spatially variant blur: kernels on a grid of nodes, blended with partition-of-unity
+(bilinear tent) weights.
+
+Kernel n sits at node (nodeCols[n % nx], nodeRows[n / nx]) with nx = nodeCols.size(). Each kernel
+is a PSF in convolution form plus an integer displacement: a latent (θ_ref view) point q spreads
+to the blurred pixels q + shifts[n] + (u − c) with weight kernels[n](u), c the kernel's centre
+element ((cols−1)/2, (rows−1)/2). Kernels are CV_32F, odd-sized, non-negative and sum to 1; a
+pixel that does not move has a one-tap kernel at c with shift (0,0). The blurred frame is
+\f[B(p) = \sum_n w_n(p) \sum_u k_n(u)\, L(p - s_n - (u - c))\f]
+with \f$w_n\f$ the bilinear interpolation weights of p between the nodes around it (constant
+beyond the outermost nodes), so \f$\sum_n w_n = 1\f$: no seams @cite Hirsch2010Efficient.
+*/
+struct CV_EXPORTS_W_SIMPLE PsfBank
+{
+    CV_WRAP PsfBank();
+    CV_PROP_RW int model;                    //!< PsfModel that produced the bank
+    CV_PROP_RW Size imageSize;               //!< frame size, pixels
+    CV_PROP_RW std::vector<double> nodeRows; //!< node y coordinates, pixels, increasing
+    CV_PROP_RW std::vector<double> nodeCols; //!< node x coordinates, pixels, increasing
+    CV_PROP_RW std::vector<Mat> kernels;     //!< nodeRows.size()·nodeCols.size() kernels, row-major
+    CV_PROP_RW std::vector<Point> shifts;    //!< integer displacement of each kernel's centre, pixels
+
+    /** @brief Throws cv::Exception when the bank is inconsistent (sizes, types, sums). */
+    CV_WRAP void validate() const;
+    /** @brief Largest kernel width and height over the bank, pixels. */
+    CV_WRAP Size maxKernelSize() const;
+    /** @brief True when every kernel is a one-tap kernel with zero shift (nothing to restore). */
+    CV_WRAP bool isIdentity() const;
+};
+
+/** @brief Predicts the blur of every pixel from the plant's trajectory and the shutter timing
+(seed equations 4–7, @cite DynblurSeed, generalised to rolling shutters).
+
+For a blurred pixel p exposed over [t0, t1] the kernel is the path of p − q(t), with
+q(t) = camera.viewToReference(p, θ(t) − θ_ref) the reference point it sees, splatted
+bilinearly with weights proportional to dwell time and normalised to sum 1.
+*/
+class CV_EXPORTS_W PsfGenerator : public Algorithm
+{
+public:
+    /** @param plant the positioner. @param camera the camera (image size, intrinsics, mount). */
+    CV_WRAP static Ptr<PsfGenerator> create(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera);
+
+    /** @brief Kernels for one frame.
+    @param model PSF_UNIFORM, PSF_ROWS or PSF_TILES.
+    @param schedule the command.
+    @param shutter frame timing; rows must equal the camera's image height.
+    @param thetaRef reference angle, radians; NaN: the schedule's final resting angle. */
+    CV_WRAP virtual PsfBank generate(int model, const SwitchSchedule& schedule, const RollingShutter& shutter,
+                                     double thetaRef = std::numeric_limits<double>::quiet_NaN()) const = 0;
+
+    /** @brief Largest kernel extent allowed, pixels (default 401). A longer path is refused with
+    an error that says so; raise the limit for longer exposures or faster moves. */
+    CV_WRAP virtual int getMaxKernelSize() const = 0;
+    CV_WRAP virtual void setMaxKernelSize(int pixels) = 0;
+    /** @brief Row-band height for PSF_ROWS, rows; 0 (default) chooses it from how fast the
+    kernel changes (down to one row). */
+    CV_WRAP virtual int getBandRows() const = 0;
+    CV_WRAP virtual void setBandRows(int rows) = 0;
+    /** @brief Tile grid for PSF_TILES (columns × rows of nodes); (0,0) (default) chooses it. */
+    CV_WRAP virtual Size getTileGrid() const = 0;
+    CV_WRAP virtual void setTileGrid(const Size& grid) = 0;
+};
+
+//! @}
+
+}  // namespace dynblur
+}  // namespace cv
+
+#endif

@@ -1,0 +1,87 @@
+#include "precomp.hpp"
+
+namespace cv {
+namespace dynblur {
+
+RollingShutter::RollingShutter(double frameStart_, double exposure_, double lineDelay_, int rows_)
+    : frameStart(frameStart_), exposure(exposure_), lineDelay(lineDelay_), rows(rows_)
+{
+}
+
+void RollingShutter::validate() const
+{
+    if (!std::isfinite(frameStart))
+        CV_Error(Error::StsBadArg, format("RollingShutter: frameStart = %g must be finite (seconds)", frameStart));
+    if (!(std::isfinite(exposure) && exposure >= 0))
+        CV_Error(Error::StsOutOfRange, format("RollingShutter: exposure = %g must be finite and >= 0 (seconds)", exposure));
+    if (!(std::isfinite(lineDelay) && lineDelay >= 0))
+        CV_Error(Error::StsOutOfRange,
+                 format("RollingShutter: lineDelay = %g must be finite and >= 0 (seconds; 0 = global shutter)", lineDelay));
+    if (rows <= 0)
+        CV_Error(Error::StsOutOfRange, format("RollingShutter: rows = %d must be > 0", rows));
+}
+
+Vec2d RollingShutter::rowInterval(int row) const
+{
+    validate();
+    if (row < 0 || row >= rows)
+        CV_Error(Error::StsOutOfRange, format("RollingShutter::rowInterval: row = %d is outside [0, %d]", row, rows - 1));
+    const double start = frameStart + row * lineDelay;
+    return Vec2d(start, start + exposure);
+}
+
+Vec2d RollingShutter::readoutInterval() const
+{
+    validate();
+    return Vec2d(frameStart, frameStart + (rows - 1) * lineDelay + exposure);
+}
+
+int classifyExposure(const Ptr<Plant>& plant, const SwitchSchedule& schedule, const RollingShutter& shutter,
+                     double angleTol, double velocityTol)
+{
+    CV_Assert(!plant.empty() && "classifyExposure: 'plant' is null");
+    shutter.validate();
+    if (!(angleTol > 0 && std::isfinite(angleTol)))
+        CV_Error(Error::StsOutOfRange, format("classifyExposure: angleTol = %g must be finite and > 0 (radians)", angleTol));
+    if (!(velocityTol > 0 && std::isfinite(velocityTol)))
+        CV_Error(Error::StsOutOfRange,
+                 format("classifyExposure: velocityTol = %g must be finite and > 0 (rad/s)", velocityTol));
+    if (schedule.times.empty() && schedule.levels.empty())
+        return EXPOSURE_IV;
+    schedule.validate();
+
+    const Vec2d readout = shutter.readoutInterval();
+    const double firstSwitch = schedule.times.front();
+    if (readout[1] < firstSwitch)
+        return EXPOSURE_IV;  // the whole readout happens before the move starts
+
+    // Sample the part of the readout after the first switch finely enough (1/100 of a natural
+    // period) that no swing through the tolerance band is missed.
+    const double from = std::max(readout[0], firstSwitch);
+    const double step = 1.0 / (100.0 * plant->getNaturalFreqHz());
+    const int samples = std::max(2, static_cast<int>(std::ceil((readout[1] - from) / step)) + 1);
+    Mat t(1, samples, CV_64F);
+    for (int i = 0; i < samples; ++i)
+        t.at<double>(i) = samples == 1 ? from : from + (readout[1] - from) * i / (samples - 1);
+    Mat theta, omega;
+    plant->response(schedule, t, theta);
+    plant->velocity(schedule, t, omega);
+    const double finalAngle = plant->restingAngle(schedule.finalLevel());
+    auto moving = [&](int i) {
+        return std::abs(theta.at<double>(i) - finalAngle) > angleTol || std::abs(omega.at<double>(i)) > velocityTol;
+    };
+
+    bool movingAnywhere = false;
+    for (int i = 0; i < samples && !movingAnywhere; ++i)
+        movingAnywhere = moving(i);
+    if (!movingAnywhere)
+        return EXPOSURE_IV;
+    const bool movingAtStart = readout[0] >= firstSwitch && moving(0);
+    const bool movingAtEnd = moving(samples - 1);
+    if (movingAtStart)
+        return movingAtEnd ? EXPOSURE_II : EXPOSURE_III;
+    return EXPOSURE_I;
+}
+
+}  // namespace dynblur
+}  // namespace cv

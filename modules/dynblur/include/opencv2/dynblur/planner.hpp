@@ -61,6 +61,11 @@ public:
     /** @brief Relative ωn error robust mode is designed for (default 0.10 = ±10%). */
     CV_WRAP virtual double getRobustRange() const = 0;
     CV_WRAP virtual void setRobustRange(double range) = 0;
+    /** @brief Largest residual vibration, fraction of the move, a robust plan may leave anywhere
+    in the robust range (default 0.025). A zero ωn-derivative alone does not bound the vibration at
+    ±10%: aggressive schedules curve faster, so every robust candidate is checked against this. */
+    CV_WRAP virtual double getRobustTolerance() const = 0;
+    CV_WRAP virtual void setRobustTolerance(double tolerance) = 0;
     CV_WRAP virtual Ptr<Plant> getPlant() const = 0;
 };
 

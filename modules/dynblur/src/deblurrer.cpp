@@ -1,0 +1,141 @@
+#include "precomp.hpp"
+
+namespace cv {
+namespace dynblur {
+
+class DynamicDeblurrerImpl CV_FINAL : public DynamicDeblurrer
+{
+public:
+    DynamicDeblurrerImpl(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera)
+        : plant_(plant), camera_(camera), generator_(PsfGenerator::create(plant, camera))
+    {
+    }
+
+    void deblur(InputArray frame, const SwitchSchedule& schedule, const RollingShutter& shutter, OutputArray restored,
+                double thetaRef, OutputArray validMask) CV_OVERRIDE
+    {
+        const Mat input = frame.getMat();
+        checkFrame(input, shutter);
+
+        lastWindow_ = classifyExposure(plant_, schedule, shutter);
+        lastBank_ = PsfBank();
+        if (lastWindow_ == EXPOSURE_IV)
+        {
+            // Still throughout: the frame already is a sharp global-shutter view.
+            input.copyTo(restored);
+            if (validMask.needed())
+            {
+                validMask.create(input.size(), CV_8U);
+                validMask.setTo(Scalar::all(255));
+            }
+            return;
+        }
+
+        Mat linear;
+        if (input.depth() == CV_8U)
+            srgbToLinear(input, linear);
+        else
+            linear = input;
+
+        lastBank_ = generator_->generate(psfModel_, schedule, shutter, thetaRef);
+        Mat latent, mask;
+        if (method_ == DEBLUR_WIENER)
+        {
+            wienerDeconvolve(linear, lastBank_, latent, wienerNoiseToSignal_);
+            mask = Mat(input.size(), CV_8U, Scalar::all(255));
+        }
+        else
+        {
+            richardsonLucyVariant(linear, lastBank_, latent, params_, mask);
+        }
+        // Restoration may overshoot a little at edges; the output is an image in [0, 1].
+        cv::max(latent, 0.0, latent);
+        cv::min(latent, 1.0, latent);
+
+        if (input.depth() == CV_8U)
+            linearToSrgb(latent, restored, CV_8U);
+        else
+            latent.copyTo(restored);
+        if (validMask.needed())
+            mask.copyTo(validMask);
+    }
+
+    int getPsfModel() const CV_OVERRIDE { return psfModel_; }
+    void setPsfModel(int model) CV_OVERRIDE
+    {
+        if (model != PSF_UNIFORM && model != PSF_ROWS && model != PSF_TILES)
+            CV_Error(Error::StsOutOfRange,
+                     format("DynamicDeblurrer::setPsfModel: model = %d must be PSF_UNIFORM (0), PSF_ROWS (1) or "
+                            "PSF_TILES (2)", model));
+        psfModel_ = model;
+    }
+    int getMethod() const CV_OVERRIDE { return method_; }
+    void setMethod(int method) CV_OVERRIDE
+    {
+        if (method != DEBLUR_RICHARDSON_LUCY && method != DEBLUR_WIENER)
+            CV_Error(Error::StsOutOfRange,
+                     format("DynamicDeblurrer::setMethod: method = %d must be DEBLUR_RICHARDSON_LUCY (0) or "
+                            "DEBLUR_WIENER (1)", method));
+        method_ = method;
+    }
+    RLParams getRLParams() const CV_OVERRIDE { return params_; }
+    void setRLParams(const RLParams& params) CV_OVERRIDE
+    {
+        if (params.iterations < 1)
+            CV_Error(Error::StsOutOfRange, format("RLParams.iterations = %d must be >= 1", params.iterations));
+        if (!(params.damping >= 0) || !(params.tvWeight >= 0) || !(params.tolerance >= 0))
+            CV_Error(Error::StsOutOfRange, "RLParams: damping, tvWeight and tolerance must be >= 0");
+        params_ = params;
+    }
+    int getLastExposureWindow() const CV_OVERRIDE { return lastWindow_; }
+    PsfBank getLastPsfBank() const CV_OVERRIDE { return lastBank_; }
+    Ptr<PsfGenerator> getPsfGenerator() const CV_OVERRIDE { return generator_; }
+    String getDefaultName() const CV_OVERRIDE { return "dynblur.DynamicDeblurrer"; }
+
+private:
+    void checkFrame(const Mat& input, const RollingShutter& shutter) const
+    {
+        if (input.empty())
+            CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: 'frame' is empty");
+        if (input.depth() != CV_8U && input.depth() != CV_32F)
+            CV_Error(Error::StsUnsupportedFormat,
+                     format("DynamicDeblurrer::deblur: 'frame' depth %s is not supported; use CV_8U (sRGB) or "
+                            "CV_32F (linear, [0,1])", typeToString(input.type()).c_str()));
+        const int channels = input.channels();
+        if (channels != 1 && channels != 3 && channels != 4)
+            CV_Error(Error::StsUnsupportedFormat,
+                     format("DynamicDeblurrer::deblur: 'frame' has %d channels; 1, 3 or 4 are supported", channels));
+        const Size expected = camera_->getImageSize();
+        if (input.size() != expected)
+            CV_Error(Error::StsBadSize,
+                     format("DynamicDeblurrer::deblur: 'frame' is %dx%d but the camera model is %dx%d",
+                            input.cols, input.rows, expected.width, expected.height));
+        shutter.validate();
+        if (shutter.rows != input.rows)
+            CV_Error(Error::StsBadSize,
+                     format("DynamicDeblurrer::deblur: shutter.rows = %d differs from the frame's height %d",
+                            shutter.rows, input.rows));
+        if (input.depth() == CV_32F && !checkRange(input))
+            CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: 'frame' holds NaN or Inf values");
+    }
+
+    Ptr<Plant> plant_;
+    Ptr<CameraModel> camera_;
+    Ptr<PsfGenerator> generator_;
+    int psfModel_ = PSF_ROWS;
+    int method_ = DEBLUR_RICHARDSON_LUCY;
+    double wienerNoiseToSignal_ = 1e-2;
+    RLParams params_;
+    int lastWindow_ = 0;
+    PsfBank lastBank_;
+};
+
+Ptr<DynamicDeblurrer> DynamicDeblurrer::create(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera)
+{
+    CV_Assert(!plant.empty() && "DynamicDeblurrer::create: 'plant' is null");
+    CV_Assert(!camera.empty() && "DynamicDeblurrer::create: 'camera' is null");
+    return makePtr<DynamicDeblurrerImpl>(plant, camera);
+}
+
+}  // namespace dynblur
+}  // namespace cv

@@ -1,0 +1,387 @@
+// dynblur_demo — the project's main job.
+//
+// With no arguments: plans a 10° saccade on the seed's positioner, renders what a C270-like
+// rolling-shutter webcam (1280×960 RGB, 30 fps readout) records in exposure windows I, II and III
+// and what a global shutter records, restores each frame with the seed's uniform PSF and with
+// the spatially variant pipeline, prints PSNR/SSIM/timings, and writes pictures to --out.
+// With --frame: restores one real frame from its schedule, camera and plant files.
+#include "image_metrics.hpp"
+#include "plant_file.hpp"
+#include "plot.hpp"
+#include "scene.hpp"
+
+#include <opencv2/core/utils/filesystem.hpp>
+#include <opencv2/dynblur.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cstdio>
+#include <iostream>
+
+using namespace cv;
+using namespace cv::dynblur;
+using namespace dynblur_samples;
+
+namespace {
+
+const char* const kKeys =
+    "{help h usage ? |        | print this help }"
+    "{out            | demo_out | folder for the pictures and the restored frames }"
+    "{image          |        | scene image (any size; scaled to fill the view) instead of the generated scene }"
+    "{iterations     | 20     | Richardson-Lucy iterations }"
+    "{model          | rows   | spatially variant PSF model: rows or tiles }"
+    "{frame          |        | real mode: the blurred frame to restore }"
+    "{schedule       |        | real mode: switching schedule file (SwitchSchedule::save format) }"
+    "{camera         |        | camera XML (ViSP format); default: the nominal C270 at 1280x960 }"
+    "{plant          |        | plant file (YAML: naturalFreqHz, dampingRatio, gain, maxLevel); default: the seed's }"
+    "{frame-start    |        | real mode: start of row 0's exposure, seconds, on the schedule's clock }"
+    "{exposure       | 0.008  | exposure of one row, seconds }"
+    "{line-delay     | 34.7e-6 | rolling-shutter line delay, seconds (0: global shutter) }"
+    "{theta-ref      |        | reference angle, radians (default: the schedule's final angle) }";
+
+const double kDeg = CV_PI / 180.0;
+
+struct Case
+{
+    std::string name;
+    RollingShutter shutter;
+    int window = 0;
+};
+
+Ptr<CameraModel> defaultCamera()
+{
+    return CameraModel::create(1230.0, 1230.0, 639.5, 479.5, 1280, 960);
+}
+
+int psfModelFromName(const std::string& name)
+{
+    if (name == "rows")
+        return PSF_ROWS;
+    if (name == "tiles")
+        return PSF_TILES;
+    if (name == "uniform")
+        return PSF_UNIFORM;
+    CV_Error(Error::StsBadArg, "--model must be rows, tiles or uniform (got '" + name + "')");
+}
+
+const char* windowName(int window)
+{
+    static const char* names[] = {"?", "I", "II", "III", "IV"};
+    return names[window >= 1 && window <= 4 ? window : 0];
+}
+
+// The earliest frame start (1 ms steps) whose readout falls in the wanted window.
+bool findFrameStart(const Ptr<Plant>& plant, const SwitchSchedule& schedule, RollingShutter shutter, int wanted,
+                    double& frameStart)
+{
+    const double readout = shutter.readoutInterval()[1] - shutter.frameStart;
+    for (double start = schedule.times.front() - readout; start < schedule.times.front() + 0.3; start += 0.0005)
+    {
+        shutter.frameStart = start;
+        if (classifyExposure(plant, schedule, shutter) == wanted)
+        {
+            frameStart = start;
+            return true;
+        }
+    }
+    return false;
+}
+
+Mat labelled(const Mat& image, const std::string& text, int width)
+{
+    Mat small;
+    resize(image, small, Size(width, image.rows * width / image.cols), 0, 0, INTER_AREA);
+    if (small.channels() == 1)
+        cvtColor(small, small, COLOR_GRAY2BGR);
+    rectangle(small, Rect(0, 0, width, 24), Scalar(0, 0, 0), FILLED);
+    putText(small, text, Point(6, 17), FONT_HERSHEY_SIMPLEX, 0.5, Scalar(255, 255, 255), 1, LINE_AA);
+    return small;
+}
+
+// The kernels of a bank side by side, each scaled to its peak, with the node row and shift.
+Mat psfMontage(const PsfBank& bank, int maxTiles)
+{
+    const int count = static_cast<int>(bank.kernels.size());
+    const int step = std::max(1, count / maxTiles);
+    const int cell = 120;
+    std::vector<Mat> cells;
+    for (int n = 0; n < count; n += step)
+    {
+        Mat kernel = bank.kernels[static_cast<size_t>(n)], shown;
+        double peak = 0;
+        minMaxLoc(kernel, nullptr, &peak);
+        kernel.convertTo(shown, CV_8U, 255.0 / std::max(peak, 1e-12));
+        const double zoom = std::min(1.0 * (cell - 30) / shown.rows, 1.0 * (cell - 10) / shown.cols);
+        resize(shown, shown, Size(), std::max(zoom, 1e-3), std::max(zoom, 1e-3), zoom >= 1 ? INTER_NEAREST : INTER_AREA);
+        applyColorMap(shown, shown, COLORMAP_INFERNO);
+        Mat tile(cell, cell, CV_8UC3, Scalar(30, 30, 30));
+        shown.copyTo(tile(Rect((cell - shown.cols) / 2, 22 + (cell - 30 - shown.rows) / 2, shown.cols, shown.rows)));
+        const size_t nx = bank.nodeCols.size();
+        const double y = bank.nodeRows[static_cast<size_t>(n) / nx];
+        const Point shift = bank.shifts[static_cast<size_t>(n)];
+        putText(tile, format("y%.0f s(%d,%d)", y, shift.x, shift.y), Point(3, 14), FONT_HERSHEY_SIMPLEX, 0.38,
+                Scalar(230, 230, 230), 1, LINE_AA);
+        putText(tile, format("%dx%d", kernel.cols, kernel.rows), Point(3, cell - 4), FONT_HERSHEY_SIMPLEX, 0.38,
+                Scalar(160, 160, 160), 1, LINE_AA);
+        cells.push_back(tile);
+    }
+    const int columns = 8;
+    const int rows = (static_cast<int>(cells.size()) + columns - 1) / columns;
+    Mat montage(rows * cell, columns * cell, CV_8UC3, Scalar(0, 0, 0));
+    for (size_t i = 0; i < cells.size(); ++i)
+        cells[i].copyTo(montage(Rect(static_cast<int>(i % columns) * cell, static_cast<int>(i / columns) * cell, cell, cell)));
+    return montage;
+}
+
+double maxShutterRows(const std::vector<Case>& cases)
+{
+    int rows = 1;
+    for (const Case& c : cases)
+        rows = std::max(rows, c.shutter.rows);
+    return rows;
+}
+
+// θ(t) of the saccade, and below it each frame's row exposure intervals (a rolling shutter's
+// parallelogram, a global shutter's rectangle), on one time axis.
+void writeTrajectoryPlot(const std::string& path, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
+                         const std::vector<Case>& cases)
+{
+    double tMin = schedule.times.front() - 0.01, tMax = schedule.times.back() + 0.04;
+    for (const Case& c : cases)
+    {
+        const Vec2d readout = c.shutter.readoutInterval();
+        tMin = std::min(tMin, readout[0] - 0.005);
+        tMax = std::max(tMax, readout[1] + 0.005);
+    }
+    const int samples = 1200;
+    Mat t(1, samples, CV_64F), theta, omega;
+    for (int i = 0; i < samples; ++i)
+        t.at<double>(i) = tMin + (tMax - tMin) * i / (samples - 1);
+    plant->response(schedule, t, theta);
+    plant->velocity(schedule, t, omega);
+    std::vector<double> ms(samples), deg(samples), degPerSec(samples);
+    for (int i = 0; i < samples; ++i)
+    {
+        ms[i] = 1e3 * t.at<double>(i);
+        deg[i] = theta.at<double>(i) / kDeg;
+        degPerSec[i] = omega.at<double>(i) / kDeg;
+    }
+    dynblur_plot::Figure figure(1100, "10 deg saccade and the frames' row exposure intervals", 240);
+    const double target = plant->restingAngle(schedule.finalLevel()) / kDeg;
+    figure.addPanel("angle", "theta (deg)").yBand(target * 0.98, target * 1.02, "+-2% band").line(ms, deg, "theta(t)");
+    figure.addPanel("velocity", "dtheta/dt (deg/s)").hLine(0.0).line(ms, degPerSec, "dtheta/dt");
+    dynblur_plot::Panel& rows = figure.addPanel("row exposure intervals (every 60th row)", "row");
+    for (size_t k = 0; k < cases.size(); ++k)
+    {
+        const RollingShutter& shutter = cases[k].shutter;
+        const cv::Scalar colour = dynblur_plot::paletteColor(static_cast<int>(k) + 2);
+        for (int r = 0; r < shutter.rows; r += 60)
+        {
+            const Vec2d interval = shutter.rowInterval(r);
+            rows.hBar(1e3 * interval[0], 1e3 * interval[1], -r + 0.15 * 60 * static_cast<double>(k),
+                      r == 0 ? cases[k].name : "", colour, 3);
+        }
+    }
+    rows.yLimits(-maxShutterRows(cases), 60);
+    figure.xLabel("time (ms)");
+    if (!figure.save(path))
+        CV_Error(Error::StsError, "cannot write " + path);
+}
+
+int runSynthetic(const CommandLineParser& args)
+{
+    const std::string outDir = args.get<std::string>("out");
+    utils::fs::createDirectories(outDir);
+    const int iterations = args.get<int>("iterations");
+    const int model = psfModelFromName(args.get<std::string>("model"));
+    const double exposure = args.get<double>("exposure"), lineDelay = args.get<double>("line-delay");
+
+    PlantFile plantFile;
+    plantFile.plant = Plant::create(14.4, 0.12, kDeg);
+    if (args.has("plant"))
+        plantFile = loadPlantFile(args.get<std::string>("plant"));
+    const Ptr<Plant> plant = plantFile.plant;
+    const Ptr<CameraModel> camera = args.has("camera") ? CameraModel::load(args.get<std::string>("camera")) : defaultCamera();
+    const Size frameSize = camera->getImageSize();
+
+    std::printf("[demo] planning a 10 deg saccade (plant %.1f Hz, zeta %.2f, %.2f deg/level, max level %d)\n",
+                plant->getNaturalFreqHz(), plant->getDampingRatio(), plant->getGain() / kDeg, plantFile.maxLevel);
+    const SwitchSchedule schedule = SwitchPlanner::create(plant, plantFile.maxLevel)->plan(0.0, 10 * kDeg, 0.0);
+    std::printf("[demo]   %zu switches, settles in %.1f ms, peak %.0f deg/s, residual vibration %.3f%%\n",
+                schedule.times.size(), 1e3 * schedule.settleTime, schedule.peakVelocity / kDeg,
+                100 * schedule.residualVibration);
+    schedule.save(outDir + "/schedule.yml");
+
+    // A view wider than the frame, so rows exposed before the move see real scene content.
+    const double moveDisplacementPx = camera->getFy() * std::tan(10 * kDeg);
+    const int marginY = static_cast<int>(std::ceil(moveDisplacementPx)) + 40, marginX = 40;
+    const Size sceneSize(frameSize.width + 2 * marginX, frameSize.height + 2 * marginY);
+    Mat scene;
+    if (args.has("image"))
+    {
+        const std::string imagePath = args.get<std::string>("image");
+        Mat image = imread(imagePath, IMREAD_COLOR);
+        if (image.empty())
+            CV_Error(Error::StsError, "cannot read --image '" + imagePath + "'");
+        resize(image, scene, sceneSize, 0, 0, INTER_CUBIC);
+    }
+    else
+    {
+        scene = makeScene(sceneSize);
+    }
+    Mat sceneLinear;
+    srgbToLinear(scene, sceneLinear);
+    const Mat truth = scene(Rect(marginX, marginY, frameSize.width, frameSize.height)).clone();
+    imwrite(outDir + "/truth.png", truth);
+
+    std::vector<Case> cases;
+    for (int window : {EXPOSURE_I, EXPOSURE_II, EXPOSURE_III})
+    {
+        Case c{std::string("rolling, window ") + windowName(window), RollingShutter(0, exposure, lineDelay, frameSize.height),
+               window};
+        if (findFrameStart(plant, schedule, c.shutter, window, c.shutter.frameStart))
+            cases.push_back(c);
+        else
+            std::printf("[demo] no frame start gives window %s for this move and shutter; skipped\n", windowName(window));
+    }
+    Case global{"global, window III", RollingShutter(0, exposure, 0.0, frameSize.height), EXPOSURE_III};
+    if (findFrameStart(plant, schedule, global.shutter, EXPOSURE_III, global.shutter.frameStart))
+        cases.push_back(global);
+
+    Ptr<DynamicDeblurrer> variant = DynamicDeblurrer::create(plant, camera);
+    Ptr<DynamicDeblurrer> uniform = DynamicDeblurrer::create(plant, camera);
+    RLParams params = variant->getRLParams();
+    params.iterations = iterations;
+    variant->setRLParams(params);
+    uniform->setRLParams(params);
+    variant->setPsfModel(model);
+    uniform->setPsfModel(PSF_UNIFORM);
+
+    std::vector<Mat> panelRows;
+    std::printf("\n%-22s %6s | %-17s | %-17s | %-17s | %9s %9s\n", "frame", "window", "blurred PSNR/SSIM",
+                "uniform PSNR/SSIM", "variant PSNR/SSIM", "uniform", "variant");
+    for (size_t i = 0; i < cases.size(); ++i)
+    {
+        const Case& c = cases[i];
+        std::printf("[demo] frame %zu/%zu (%s, starts %.1f ms): rendering, restoring...\n", i + 1, cases.size(),
+                    c.name.c_str(), 1e3 * c.shutter.frameStart);
+        std::fflush(stdout);
+        Mat blurredLinear, noisy, frame;
+        renderBlurred(sceneLinear, plant, schedule, camera, c.shutter, blurredLinear);
+        addSensorNoise(blurredLinear, noisy, 4000.0, 8.0, 5.0, 1000 + i);
+        linearToSrgb(noisy, frame, CV_8U);
+
+        Mat restoredUniform, restoredVariant, valid;
+        TickMeter uniformTimer, variantTimer;
+        uniformTimer.start();
+        uniform->deblur(frame, schedule, c.shutter, restoredUniform);
+        uniformTimer.stop();
+        variantTimer.start();
+        variant->deblur(frame, schedule, c.shutter, restoredVariant, std::numeric_limits<double>::quiet_NaN(), valid);
+        variantTimer.stop();
+
+        // All three are judged on the same pixels: those the frame observed, away from the frame edge.
+        Mat judged = valid.clone();
+        judged(Rect(0, 0, judged.cols, 8)).setTo(0);
+        judged(Rect(0, judged.rows - 8, judged.cols, 8)).setTo(0);
+        std::printf("%-22s %6s | %7.2f dB %6.3f | %7.2f dB %6.3f | %7.2f dB %6.3f | %7.0f ms %7.0f ms\n", c.name.c_str(),
+                    windowName(variant->getLastExposureWindow()), maskedPsnr(truth, frame, judged, 255),
+                    maskedSsim(truth, frame, judged), maskedPsnr(truth, restoredUniform, judged, 255),
+                    maskedSsim(truth, restoredUniform, judged), maskedPsnr(truth, restoredVariant, judged, 255),
+                    maskedSsim(truth, restoredVariant, judged), uniformTimer.getTimeMilli(),
+                    variantTimer.getTimeMilli());
+
+        const std::string stem = outDir + format("/frame%zu", i + 1);
+        imwrite(stem + "_blurred.png", frame);
+        imwrite(stem + "_uniform.png", restoredUniform);
+        imwrite(stem + "_variant.png", restoredVariant);
+        const int cellWidth = 400;
+        std::vector<Mat> cells{labelled(frame, c.name + ": blurred", cellWidth),
+                               labelled(restoredUniform, "uniform PSF (seed)", cellWidth),
+                               labelled(restoredVariant, std::string("spatially variant (") + args.get<std::string>("model") + ")", cellWidth),
+                               labelled(truth, "truth (view at theta_ref)", cellWidth)};
+        Mat row;
+        hconcat(cells, row);
+        panelRows.push_back(row);
+        if (c.window == EXPOSURE_III && c.shutter.lineDelay > 0)
+            imwrite(outDir + "/psf_bank.png", psfMontage(variant->getLastPsfBank(), 48));
+    }
+    if (!panelRows.empty())
+    {
+        Mat panel;
+        vconcat(panelRows, panel);
+        imwrite(outDir + "/panel.png", panel);
+    }
+    writeTrajectoryPlot(outDir + "/trajectory.png", plant, schedule, cases);
+    std::printf("\n[demo] wrote %s/panel.png (blurred | uniform | variant | truth), psf_bank.png, trajectory.png\n",
+                outDir.c_str());
+    return 0;
+}
+
+int runRealFrame(const CommandLineParser& args)
+{
+    for (const char* required : {"schedule", "frame-start"})
+        if (!args.has(required))
+            CV_Error(Error::StsBadArg, std::string("--frame needs --") + required);
+    const std::string framePath = args.get<std::string>("frame");
+    Mat frame = imread(framePath, IMREAD_UNCHANGED);
+    if (frame.empty())
+        CV_Error(Error::StsError, "cannot read --frame '" + framePath + "'");
+    const SwitchSchedule schedule = SwitchSchedule::load(args.get<std::string>("schedule"));
+    const Ptr<CameraModel> camera = args.has("camera") ? CameraModel::load(args.get<std::string>("camera")) : defaultCamera();
+    const Ptr<Plant> plant = args.has("plant") ? loadPlantFile(args.get<std::string>("plant")).plant : Plant::create(14.4, 0.12, kDeg);
+    const RollingShutter shutter(args.get<double>("frame-start"), args.get<double>("exposure"),
+                                 args.get<double>("line-delay"), frame.rows);
+    const double thetaRef = args.has("theta-ref") ? args.get<double>("theta-ref") : std::numeric_limits<double>::quiet_NaN();
+
+    Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
+    deblurrer->setPsfModel(psfModelFromName(args.get<std::string>("model")));
+    RLParams params = deblurrer->getRLParams();
+    params.iterations = args.get<int>("iterations");
+    deblurrer->setRLParams(params);
+    std::printf("[demo] restoring %s (%dx%d, %d channels)...\n", framePath.c_str(), frame.cols, frame.rows, frame.channels());
+    Mat restored, valid;
+    TickMeter timer;
+    timer.start();
+    deblurrer->deblur(frame, schedule, shutter, restored, thetaRef, valid);
+    timer.stop();
+    const std::string outDir = args.get<std::string>("out");
+    utils::fs::createDirectories(outDir);
+    imwrite(outDir + "/restored.png", restored);
+    imwrite(outDir + "/valid_mask.png", valid);
+    Mat panel;
+    hconcat(std::vector<Mat>{labelled(frame, "frame", 640), labelled(restored, "restored", 640)}, panel);
+    imwrite(outDir + "/panel.png", panel);
+    std::printf("[demo] exposure window %s, restored in %.0f ms; wrote %s/restored.png, valid_mask.png, panel.png\n",
+                windowName(deblurrer->getLastExposureWindow()), timer.getTimeMilli(), outDir.c_str());
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    CommandLineParser args(argc, argv, kKeys);
+    args.about("dynblur_demo: restore frames blurred by a robotic camera's own motion, with the blur predicted "
+               "from the plant dynamics and the commands.\nWithout --frame it runs the synthetic demo "
+               "(10 deg saccade, rolling shutter windows I-III and a global shutter).");
+    if (args.has("help"))
+    {
+        args.printMessage();
+        return 0;
+    }
+    if (!args.check())
+    {
+        args.printErrors();
+        return 2;
+    }
+    try
+    {
+        return args.has("frame") ? runRealFrame(args) : runSynthetic(args);
+    }
+    catch (const cv::Exception& e)
+    {
+        std::fprintf(stderr, "dynblur_demo: error: %s\n", e.err.c_str());
+        return 1;
+    }
+}

@@ -1,0 +1,226 @@
+// DynamicDeblurrer: the quality figures on frames from renderBlurred with sensor noise,
+// and its argument checks.
+#include "test_common.hpp"
+
+#include "image_metrics.hpp"
+
+#include <opencv2/dynblur.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cstdio>
+
+using namespace cv;
+using namespace cv::dynblur;
+using dynblur_samples::maskedPsnr;
+
+namespace {
+
+const double kDeg = CV_PI / 180.0;
+
+// A C270 at half resolution (same field of view): 640x480, fx = 615 px, 30 fps readout.
+struct SaccadeScene
+{
+    Ptr<Plant> plant = Plant::create(14.4, 0.12, kDeg);
+    Ptr<CameraModel> camera = CameraModel::create(615.0, 615.0, 319.5, 239.5, 640, 480);
+    SwitchSchedule schedule;
+    Mat sceneLinear;  // the view at θ_ref, wider than the frame
+    Mat truth;        // 8-bit sRGB frame-sized view at θ_ref
+    int marginX = 24, marginY = 0;
+
+    explicit SaccadeScene(const std::string& imagePath)
+    {
+        schedule = SwitchPlanner::create(plant, 16)->plan(0.0, 10 * kDeg, 0.0);
+        marginY = static_cast<int>(std::ceil(615.0 * std::tan(10 * kDeg))) + 24;
+        const Size sceneSize(640 + 2 * marginX, 480 + 2 * marginY);
+        Mat image = imread(imagePath, IMREAD_COLOR), scaled;
+        // Scale to cover the scene, keeping the aspect ratio, then take the centre.
+        const double zoom = std::max(1.0 * sceneSize.width / image.cols, 1.0 * sceneSize.height / image.rows);
+        resize(image, scaled, Size(), zoom, zoom, INTER_CUBIC);
+        Mat scene = scaled(Rect((scaled.cols - sceneSize.width) / 2, (scaled.rows - sceneSize.height) / 2,
+                                sceneSize.width, sceneSize.height)).clone();
+        srgbToLinear(scene, sceneLinear);
+        truth = scene(Rect(marginX, marginY, 640, 480)).clone();
+    }
+
+    RollingShutter shutterInWindow(int window, double lineDelay) const
+    {
+        RollingShutter shutter(0.0, 0.008, lineDelay, 480);
+        const double readout = shutter.readoutInterval()[1];
+        for (double start = -readout; start < 0.3; start += 0.0005)
+        {
+            shutter.frameStart = start;
+            if (classifyExposure(plant, schedule, shutter) == window)
+                return shutter;
+        }
+        ADD_FAILURE() << "no frame start gives window " << window;
+        return shutter;
+    }
+
+    //! The 8-bit frame the camera delivers: physical blur, sensor noise, sRGB encoding.
+    Mat capture(const RollingShutter& shutter, uint64 seed) const
+    {
+        Mat blurred, noisy, frame;
+        renderBlurred(sceneLinear, plant, schedule, camera, shutter, blurred);
+        addSensorNoise(blurred, noisy, 4000.0, 8.0, 5.0, seed);
+        linearToSrgb(noisy, frame, CV_8U);
+        return frame;
+    }
+
+    //! Rows [first, first + count) with the largest total image motion, from the plant alone.
+    Range mostBlurredRows(const RollingShutter& shutter, int count) const
+    {
+        std::vector<double> motion(static_cast<size_t>(shutter.rows));
+        for (int r = 0; r < shutter.rows; ++r)
+        {
+            const Vec2d interval = shutter.rowInterval(r);
+            Mat t(1, 64, CV_64F), omega;
+            for (int k = 0; k < 64; ++k)
+                t.at<double>(k) = interval[0] + (interval[1] - interval[0]) * (k + 0.5) / 64;
+            plant->velocity(schedule, t, omega);
+            motion[static_cast<size_t>(r)] = sum(abs(omega))[0];
+        }
+        double best = -1;
+        int bestFirst = 0;
+        for (int first = 0; first + count <= shutter.rows; ++first)
+        {
+            double total = 0;
+            for (int r = first; r < first + count; ++r)
+                total += motion[static_cast<size_t>(r)];
+            if (total > best)
+                best = total, bestFirst = first;
+        }
+        return Range(bestFirst, bestFirst + count);
+    }
+};
+
+Mat judgedPixels(const Mat& valid, const Range& rows)
+{
+    Mat judged = Mat::zeros(valid.size(), CV_8U);
+    valid.rowRange(rows).copyTo(judged.rowRange(rows));
+    judged(Rect(0, 0, judged.cols, 8)).setTo(0);
+    judged(Rect(0, judged.rows - 8, judged.cols, 8)).setTo(0);
+    judged.colRange(0, 8).setTo(0);
+    judged.colRange(judged.cols - 8, judged.cols).setTo(0);
+    return judged;
+}
+
+struct Restorations
+{
+    Mat frame, uniform, variant, valid;
+};
+
+Restorations restoreBoth(const SaccadeScene& s, const RollingShutter& shutter, int variantModel)
+{
+    Restorations r;
+    r.frame = s.capture(shutter, 42);
+    Ptr<DynamicDeblurrer> uniform = DynamicDeblurrer::create(s.plant, s.camera);
+    uniform->setPsfModel(PSF_UNIFORM);
+    uniform->deblur(r.frame, s.schedule, shutter, r.uniform);
+    Ptr<DynamicDeblurrer> variant = DynamicDeblurrer::create(s.plant, s.camera);
+    variant->setPsfModel(variantModel);
+    variant->deblur(r.frame, s.schedule, shutter, r.variant, std::numeric_limits<double>::quiet_NaN(), r.valid);
+    return r;
+}
+
+class DeblurQuality : public testing::TestWithParam<std::string>
+{
+};
+
+}  // namespace
+
+TEST_P(DeblurQuality, RollingShutterWindowIIIGainsInTheMostBlurredThird)
+{
+    DYNBLUR_REQUIRE_DATA(path, GetParam());
+    SaccadeScene s(path);
+    const RollingShutter shutter = s.shutterInWindow(EXPOSURE_III, 1.0 / 30 / 480);
+    const Restorations r = restoreBoth(s, shutter, PSF_ROWS);
+    const Range third = s.mostBlurredRows(shutter, 480 / 3);
+    const Mat judged = judgedPixels(r.valid, third);
+    ASSERT_GT(countNonZero(judged), judged.total() / 5);
+    const double blurred = maskedPsnr(s.truth, r.frame, judged, 255);
+    const double uniform = maskedPsnr(s.truth, r.uniform, judged, 255);
+    const double variant = maskedPsnr(s.truth, r.variant, judged, 255);
+    std::printf("[ measured ] %s window III rolling, rows %d-%d: blurred %.2f dB, uniform %.2f dB, variant %.2f dB "
+                "(gain %.2f dB over blurred, %.2f dB over uniform)\n",
+                GetParam().c_str(), third.start, third.end - 1, blurred, uniform, variant, variant - blurred,
+                variant - uniform);
+    EXPECT_GE(variant - blurred, 4.0);
+    EXPECT_GE(variant - uniform, 3.0);
+}
+
+TEST_P(DeblurQuality, GlobalShutterVariantMatchesUniform)
+{
+    DYNBLUR_REQUIRE_DATA(path, GetParam());
+    SaccadeScene s(path);
+    const RollingShutter shutter = s.shutterInWindow(EXPOSURE_III, 0.0);
+    const Restorations r = restoreBoth(s, shutter, PSF_ROWS);
+    const Mat judged = judgedPixels(r.valid, Range(0, 480));
+    const double blurred = maskedPsnr(s.truth, r.frame, judged, 255);
+    const double uniform = maskedPsnr(s.truth, r.uniform, judged, 255);
+    const double variant = maskedPsnr(s.truth, r.variant, judged, 255);
+    std::printf("[ measured ] %s window III global: blurred %.2f dB, uniform %.2f dB, variant %.2f dB\n",
+                GetParam().c_str(), blurred, uniform, variant);
+    EXPECT_GE(variant, uniform - 0.3);
+    EXPECT_GT(uniform, blurred);
+}
+
+INSTANTIATE_TEST_SUITE_P(SharedImages, DeblurQuality, testing::Values("building.jpg", "fruits.jpg"),
+                         [](const testing::TestParamInfo<std::string>& info) {
+                             return info.param.substr(0, info.param.find('.'));
+                         });
+
+TEST(DeblurWindowIV, OutputEqualsInput)
+{
+    Ptr<Plant> plant = Plant::create(14.4, 0.12, kDeg);
+    Ptr<CameraModel> camera = CameraModel::create(615.0, 615.0, 319.5, 239.5, 640, 480);
+    const SwitchSchedule schedule = SwitchPlanner::create(plant, 16)->plan(0.0, 10 * kDeg, 0.0);
+    Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
+    Mat frame(480, 640, CV_8UC3), restored, valid;
+    randu(frame, 0, 256);
+    for (double frameStart : {-1.0, 2.0})
+    {
+        deblurrer->deblur(frame, schedule, RollingShutter(frameStart, 0.008, 69e-6, 480), restored,
+                          std::numeric_limits<double>::quiet_NaN(), valid);
+        EXPECT_EQ(deblurrer->getLastExposureWindow(), EXPOSURE_IV);
+        EXPECT_EQ(norm(frame, restored, NORM_INF), 0.0);
+        EXPECT_EQ(countNonZero(valid), 640 * 480);
+    }
+    Mat linear(480, 640, CV_32FC1);
+    randu(linear, 0.0f, 1.0f);
+    deblurrer->deblur(linear, schedule, RollingShutter(2.0, 0.008, 69e-6, 480), restored);
+    EXPECT_EQ(norm(linear, restored, NORM_INF), 0.0);
+}
+
+TEST(DeblurBadInput, FramesAndShuttersAreChecked)
+{
+    Ptr<Plant> plant = Plant::create();
+    Ptr<CameraModel> camera = CameraModel::create(615.0, 615.0, 319.5, 239.5, 640, 480);
+    const SwitchSchedule schedule({0.0, 0.0127, 0.0296}, {16, 4, 10});
+    Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
+    const RollingShutter shutter(0.0, 0.008, 69e-6, 480);
+    Mat out;
+    EXPECT_THROW(deblurrer->deblur(Mat(), schedule, shutter, out), cv::Exception);
+    EXPECT_THROW(deblurrer->deblur(Mat(480, 640, CV_16UC3, Scalar(0)), schedule, shutter, out), cv::Exception);
+    EXPECT_THROW(deblurrer->deblur(Mat(480, 640, CV_8UC2, Scalar(0)), schedule, shutter, out), cv::Exception);
+    EXPECT_THROW(deblurrer->deblur(Mat(240, 320, CV_8UC3, Scalar(0)), schedule, shutter, out), cv::Exception);
+    EXPECT_THROW(deblurrer->deblur(Mat(480, 640, CV_8UC3, Scalar(0)), schedule, RollingShutter(0.0, 0.008, 69e-6, 479), out),
+                 cv::Exception);
+    Mat withNan(480, 640, CV_32FC3, Scalar::all(0.5));
+    withNan.at<Vec3f>(100, 100)[1] = std::numeric_limits<float>::quiet_NaN();
+    try
+    {
+        deblurrer->deblur(withNan, schedule, shutter, out);
+        FAIL() << "NaN accepted";
+    }
+    catch (const cv::Exception& e)
+    {
+        EXPECT_NE(e.err.find("NaN"), std::string::npos) << e.err;
+    }
+    EXPECT_THROW(deblurrer->setPsfModel(7), cv::Exception);
+    EXPECT_THROW(deblurrer->setMethod(-1), cv::Exception);
+    RLParams params;
+    params.iterations = 0;
+    EXPECT_THROW(deblurrer->setRLParams(params), cv::Exception);
+    EXPECT_THROW(DynamicDeblurrer::create(Ptr<Plant>(), camera), cv::Exception);
+}

@@ -190,4 +190,155 @@ TEST(PlannerRobust, TenDegreeMoveSettlesWithin50ms)
                 schedule.peakVelocity / kDegree, schedule.times.size());
 }
 
+TEST(PlannerFast, BeatsRoundedZeroVibrationShaper)
+{
+    // DESIGN §2: a ZV shaper's amplitudes rounded to integers (4 levels → 2 + 2 half a damped
+    // period apart) leave ≈16% vibration; the planner's integer schedule closes the polygon.
+    const double omegaN = 2 * CV_PI * kSeedHz;
+    const double dampedPeriod = 2 * CV_PI / (omegaN * std::sqrt(1 - kSeedZeta * kSeedZeta));
+    const SwitchSchedule rounded({0.0, dampedPeriod / 2}, {2, 4});
+    const double roundedVibration = residualVibration(rounded, kSeedHz, kSeedZeta);
+    const double k = std::exp(-kSeedZeta * CV_PI / std::sqrt(1 - kSeedZeta * kSeedZeta));
+    EXPECT_NEAR(roundedVibration, (1 - k) / 2, 1e-9);
+    EXPECT_GT(roundedVibration, 0.15);
+    const SwitchSchedule planned = SwitchPlanner::create(seedPlant())->plan(0, 4 * kDegree);
+    EXPECT_LT(residualVibration(planned, kSeedHz, kSeedZeta), 1e-6);
+}
+
+TEST(PlannerFast, RoundsAnglesAndHonoursStartTimeAndLimits)
+{
+    const Ptr<Plant> plant = seedPlant();
+    const Ptr<SwitchPlanner> planner = SwitchPlanner::create(plant, 6, PLAN_FAST, 0.004);
+    // 1.4° rounds to level 1, 4.6° to level 5; the start time only shifts the schedule.
+    const SwitchSchedule early = planner->plan(1.4 * kDegree, 4.6 * kDegree, 0.0);
+    const SwitchSchedule late = planner->plan(1.4 * kDegree, 4.6 * kDegree, 12.5);
+    EXPECT_EQ(early.initialLevel, 1);
+    EXPECT_EQ(early.finalLevel(), 5);
+    ASSERT_EQ(early.times.size(), late.times.size());
+    for (size_t i = 0; i < early.times.size(); ++i)
+    {
+        EXPECT_NEAR(late.times[i] - early.times[i], 12.5, 1e-9);
+        EXPECT_EQ(late.levels[i], early.levels[i]);
+    }
+    expectFeasible(early, 6, 0.004, 0.0);
+    EXPECT_LE(simulatedResidual(plant, late), 0.005);
+    EXPECT_NEAR(late.settleTime, early.settleTime, 1e-12);
+
+    // A zero move is an empty schedule resting at the start level.
+    const SwitchSchedule still = planner->plan(3 * kDegree, 3.2 * kDegree);
+    EXPECT_TRUE(still.times.empty());
+    EXPECT_EQ(still.initialLevel, 3);
+    EXPECT_EQ(still.settleTime, 0.0);
+}
+
+TEST(PlannerFast, LongerDwellIsRespected)
+{
+    const Ptr<Plant> plant = seedPlant();
+    for (double dwell : {0.0, 0.005, 0.010})
+    {
+        SCOPED_TRACE(format("minDwell %g", dwell));
+        const Ptr<SwitchPlanner> planner = SwitchPlanner::create(plant, kMaxLevel, PLAN_FAST, dwell);
+        const SwitchSchedule schedule = planner->plan(-2 * kDegree, 9 * kDegree);
+        expectFeasible(schedule, kMaxLevel, dwell, 0.0);
+        EXPECT_LE(simulatedResidual(plant, schedule), 0.005);
+    }
+}
+
+TEST(PlannerRobust, FastScheduleIsNotRobustButRobustOneIs)
+{
+    // The robust mode earns its extra switches: at ωn −10% the fast schedule vibrates far more.
+    const Ptr<Plant> plant = seedPlant();
+    const SwitchSchedule fast = SwitchPlanner::create(plant, kMaxLevel, PLAN_FAST)->plan(0, 10 * kDegree);
+    const SwitchSchedule robust = SwitchPlanner::create(plant, kMaxLevel, PLAN_ROBUST)->plan(0, 10 * kDegree);
+    const double fastOff = residualVibration(fast, 0.9 * kSeedHz, kSeedZeta);
+    const double robustOff = residualVibration(robust, 0.9 * kSeedHz, kSeedZeta);
+    EXPECT_GT(fastOff, 0.05);
+    EXPECT_LE(robustOff, 0.03);
+    std::printf("[ PLANNER  ] V at wn-10%%: fast %.1f%%, robust %.2f%%\n", fastOff * 100, robustOff * 100);
+}
+
+TEST(PlannerApi, RejectsBadArguments)
+{
+    const Ptr<Plant> plant = seedPlant();
+    EXPECT_THROW(SwitchPlanner::create(Ptr<Plant>(), 16), cv::Exception);
+    EXPECT_THROW(SwitchPlanner::create(plant, 0), cv::Exception);
+    EXPECT_THROW(SwitchPlanner::create(plant, 16, 2), cv::Exception);
+    EXPECT_THROW(SwitchPlanner::create(plant, 16, -1), cv::Exception);
+    EXPECT_THROW(SwitchPlanner::create(plant, 16, PLAN_FAST, -0.001), cv::Exception);
+    EXPECT_THROW(SwitchPlanner::create(plant, 16, PLAN_FAST, std::nan("")), cv::Exception);
+    EXPECT_THROW(SwitchPlanner::create(plant, 16, PLAN_FAST, HUGE_VAL), cv::Exception);
+
+    const Ptr<SwitchPlanner> planner = SwitchPlanner::create(plant, 16);
+    EXPECT_THROW(planner->plan(std::nan(""), 0.1), cv::Exception);
+    EXPECT_THROW(planner->plan(0, HUGE_VAL), cv::Exception);
+    EXPECT_THROW(planner->plan(0, 0.1, std::nan("")), cv::Exception);
+    EXPECT_THROW(planner->plan(0, 16.5 * kDegree), cv::Exception);
+    EXPECT_THROW(planner->plan(-16.6 * kDegree, 0), cv::Exception);
+    EXPECT_NO_THROW(planner->plan(-16.4 * kDegree, 16.4 * kDegree));
+    EXPECT_THROW(planner->setMaxLevel(0), cv::Exception);
+    EXPECT_THROW(planner->setMode(7), cv::Exception);
+    EXPECT_THROW(planner->setMinDwell(-1), cv::Exception);
+    EXPECT_THROW(planner->setSettleBand(0), cv::Exception);
+    EXPECT_THROW(planner->setRobustRange(-0.1), cv::Exception);
+
+    // The message names the argument and the allowed range.
+    try
+    {
+        planner->plan(0, 20 * kDegree);
+        ADD_FAILURE() << "no exception";
+    }
+    catch (const cv::Exception& e)
+    {
+        EXPECT_NE(e.err.find("toAngle"), std::string::npos) << e.err;
+        EXPECT_NE(e.err.find("[-16, 16]"), std::string::npos) << e.err;
+    }
+    try
+    {
+        SwitchPlanner::create(plant, 16, PLAN_FAST, -0.5);
+        ADD_FAILURE() << "no exception";
+    }
+    catch (const cv::Exception& e)
+    {
+        EXPECT_NE(e.err.find("minDwell"), std::string::npos) << e.err;
+        EXPECT_NE(e.err.find(">= 0"), std::string::npos) << e.err;
+    }
+}
+
+TEST(PlannerApi, SettersTakeEffect)
+{
+    const Ptr<Plant> plant = seedPlant();
+    const Ptr<SwitchPlanner> planner = SwitchPlanner::create(plant, 16, PLAN_FAST);
+    EXPECT_EQ(planner->getPlant(), plant);
+    EXPECT_EQ(planner->getMaxLevel(), 16);
+    EXPECT_DOUBLE_EQ(planner->getSettleBand(), 0.02);
+    EXPECT_DOUBLE_EQ(planner->getRobustRange(), 0.10);
+    const SwitchSchedule wide = planner->plan(0, 5 * kDegree);
+    planner->setMaxLevel(6);  // clears the cache: the new plan must respect the new limit
+    const SwitchSchedule narrow = planner->plan(0, 5 * kDegree);
+    expectFeasible(narrow, 6, planner->getMinDwell(), 0.0);
+    EXPECT_GE(narrow.settleTime, wide.settleTime);
+    planner->setMode(PLAN_ROBUST);
+    EXPECT_EQ(planner->getMode(), PLAN_ROBUST);
+    EXPECT_EQ(planner->plan(0, 5 * kDegree).times.size(), 5u);
+}
+
+TEST(PlannerPerf, PlanTakesMilliseconds)
+{
+    // Reported, not asserted tightly (shared CI cores): a first search, then the cached repeat.
+    const Ptr<Plant> plant = seedPlant();
+    for (int mode : {PLAN_FAST, PLAN_ROBUST})
+    {
+        const Ptr<SwitchPlanner> planner = SwitchPlanner::create(plant, kMaxLevel, mode);
+        auto begin = std::chrono::steady_clock::now();
+        planner->plan(0, 10 * kDegree);
+        const double firstMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
+        begin = std::chrono::steady_clock::now();
+        planner->plan(0, 10 * kDegree);
+        const double cachedMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
+        std::printf("[ PLANNER  ] %s plan(): first %.1f ms, cached %.3f ms\n", mode == PLAN_FAST ? "fast" : "robust",
+                    firstMs, cachedMs);
+        EXPECT_LT(firstMs, 2000.0);
+    }
+}
+
 }  // namespace

@@ -1,0 +1,413 @@
+#include "precomp.hpp"
+
+#include "deconv_operator.hpp"
+#include "deconv_rl.hpp"
+#include "fft_kernel.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+namespace cv {
+namespace dynblur {
+
+RLParams::RLParams()
+    : iterations(20), damping(0), tvWeight(0.002), boundary(RL_BOUNDARY_PAD), accelerate(true), tolerance(0)
+{
+}
+
+namespace {
+
+using detail::BankBlurOperator;
+using detail::BlurOperator;
+using detail::UniformBlurOperator;
+
+//! A pixel counts as observed (validMask 255) when at least this fraction of its light reached the frame.
+constexpr float kObservedFraction = 0.1f;
+
+void checkImage(InputArray image, const char* name, const char* function)
+{
+    if (image.empty())
+        CV_Error(Error::StsBadArg, format("%s: '%s' is empty", function, name));
+    if (image.depth() != CV_32F)
+        CV_Error(Error::StsUnsupportedFormat,
+                 format("%s: '%s' has depth %s; only CV_32F (linear intensity) is accepted", function, name,
+                        depthToString(image.depth())));
+    if (image.channels() < 1 || image.channels() > 4)
+        CV_Error(Error::StsBadArg,
+                 format("%s: '%s' has %d channels; 1 to 4 are accepted", function, name, image.channels()));
+    if (image.dims() > 2)
+        CV_Error(Error::StsBadArg, format("%s: '%s' must be a 2-D image", function, name));
+    if (!checkRange(image, true))
+        CV_Error(Error::StsBadArg, format("%s: '%s' contains NaN or Inf; it must be finite", function, name));
+}
+
+void checkParams(const RLParams& params, const char* function)
+{
+    if (params.iterations < 1)
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: params.iterations = %d must be >= 1", function, params.iterations));
+    if (!(params.damping >= 0) || !std::isfinite(params.damping))
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: params.damping = %g must be finite and >= 0 (0: off)", function, params.damping));
+    if (!(params.tvWeight >= 0) || !std::isfinite(params.tvWeight))
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: params.tvWeight = %g must be finite and >= 0 (0: off)", function, params.tvWeight));
+    if (!(params.tolerance >= 0) || !std::isfinite(params.tolerance))
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: params.tolerance = %g must be finite and >= 0 (0: never stop early)", function,
+                        params.tolerance));
+    if (params.boundary != RL_BOUNDARY_ZERO && params.boundary != RL_BOUNDARY_PAD)
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: params.boundary = %d must be RL_BOUNDARY_ZERO (0) or RL_BOUNDARY_PAD (1)", function,
+                        params.boundary));
+}
+
+//! Validates a kernel and returns it as CV_32F normalised to sum 1.
+Mat normalizedKernel(InputArray psf, const char* name, const char* function)
+{
+    if (psf.empty())
+        CV_Error(Error::StsBadArg, format("%s: '%s' is empty", function, name));
+    if (psf.channels() != 1 || (psf.depth() != CV_32F && psf.depth() != CV_64F))
+        CV_Error(Error::StsUnsupportedFormat,
+                 format("%s: '%s' must be one channel, CV_32F or CV_64F", function, name));
+    const Size size = psf.size();
+    if (size.width % 2 == 0 || size.height % 2 == 0)
+        CV_Error(Error::StsBadArg,
+                 format("%s: '%s' is %dx%d; both sides must be odd so the kernel has a centre element", function,
+                        name, size.width, size.height));
+    Mat kernel;
+    psf.getMat().convertTo(kernel, CV_32F);
+    if (!checkRange(kernel, true))
+        CV_Error(Error::StsBadArg, format("%s: '%s' contains NaN or Inf", function, name));
+    double minValue = 0;
+    minMaxLoc(kernel, &minValue);
+    if (minValue < 0)
+        CV_Error(Error::StsBadArg,
+                 format("%s: '%s' has a negative element (%g); a PSF must be >= 0", function, name, minValue));
+    const double total = sum(kernel)[0];
+    if (!(total > 0))
+        CV_Error(Error::StsBadArg, format("%s: '%s' sums to %g; it must sum to a positive value", function, name,
+                                          total));
+    kernel *= 1.0 / total;
+    return kernel;
+}
+
+void checkBank(const PsfBank& bank, Size imageSize, const char* function)
+{
+    const size_t nodes = bank.nodeRows.size() * bank.nodeCols.size();
+    if (nodes == 0)
+        CV_Error(Error::StsBadArg, format("%s: 'bank' has no nodes (nodeRows and nodeCols must be non-empty)",
+                                          function));
+    if (bank.kernels.size() != nodes || bank.shifts.size() != nodes)
+        CV_Error(Error::StsBadArg,
+                 format("%s: 'bank' has %zu kernels and %zu shifts for %zu nodes (nodeRows x nodeCols)", function,
+                        bank.kernels.size(), bank.shifts.size(), nodes));
+    if (bank.imageSize != imageSize)
+        CV_Error(Error::StsBadSize,
+                 format("%s: 'bank' is for %dx%d images but the image is %dx%d", function, bank.imageSize.width,
+                        bank.imageSize.height, imageSize.width, imageSize.height));
+    for (size_t n = 0; n < nodes; n++)
+    {
+        const Mat& k = bank.kernels[n];
+        if (k.empty() || k.type() != CV_32FC1 || k.rows % 2 == 0 || k.cols % 2 == 0)
+            CV_Error(Error::StsBadArg,
+                     format("%s: 'bank.kernels[%zu]' must be a non-empty, odd-sized, one-channel CV_32F kernel",
+                            function, n));
+    }
+    bank.validate();  // sums, signs, node order: the bank's own contract
+}
+
+//! The frame planes moved into a latent domain: the frame at `origin`, borders replicated.
+std::vector<Mat> embedPlanes(const std::vector<Mat>& frame, const BlurOperator& op)
+{
+    const Point o = op.origin();
+    const Size latent = op.latentSize(), size = op.frameSize();
+    std::vector<Mat> planes(frame.size());
+    for (size_t c = 0; c < frame.size(); c++)
+        copyMakeBorder(frame[c], planes[c], o.y, latent.height - size.height - o.y, o.x,
+                       latent.width - size.width - o.x, BORDER_REPLICATE);
+    return planes;
+}
+
+/* Pixels where `valid` is 0 take the value of the nearest valid pixel (Euclidean), so unobserved
+   content reads as a smooth continuation instead of a hole. */
+void fillFromNearest(std::vector<Mat>& planes, const Mat& valid)
+{
+    const size_t observed = size_t(countNonZero(valid));
+    if (observed == valid.total() || observed == 0)
+        return;
+    Mat invalid = valid == 0, distance, labels;
+    distanceTransform(invalid, distance, labels, DIST_L2, DIST_MASK_5, DIST_LABEL_PIXEL);
+    // Each valid pixel carries its own label: map labels back to their positions.
+    double maxLabel = 0;
+    minMaxLoc(labels, nullptr, &maxLabel);
+    std::vector<Point> where(size_t(maxLabel) + 1, Point(-1, -1));
+    for (int y = 0; y < valid.rows; y++)
+        for (int x = 0; x < valid.cols; x++)
+            if (valid.at<uchar>(y, x))
+                where[size_t(labels.at<int>(y, x))] = Point(x, y);
+    for (int y = 0; y < valid.rows; y++)
+        for (int x = 0; x < valid.cols; x++)
+        {
+            if (valid.at<uchar>(y, x))
+                continue;
+            const Point source = where[size_t(labels.at<int>(y, x))];
+            if (source.x < 0)
+                continue;
+            for (Mat& p : planes)
+                p.at<float>(y, x) = p.at<float>(source);
+        }
+}
+
+void writeOutput(const std::vector<Mat>& planes, OutputArray out)
+{
+    Mat merged;
+    merge(planes, merged);
+    merged.copyTo(out);
+}
+
+//! Same bank with every kernel replaced by one tap at its centroid: the bank's displacement alone.
+PsfBank displacementBank(const PsfBank& bank)
+{
+    PsfBank moved = bank;
+    for (size_t n = 0; n < bank.kernels.size(); n++)
+    {
+        Mat k;
+        bank.kernels[n].convertTo(k, CV_32F);
+        const Moments m = moments(k);
+        Point centroid((k.cols - 1) / 2, (k.rows - 1) / 2);
+        if (m.m00 > 0)
+            centroid = Point(cvRound(m.m10 / m.m00), cvRound(m.m01 / m.m00));
+        moved.kernels[n] = Mat(1, 1, CV_32F, Scalar(1));
+        moved.shifts[n] = bank.shifts[n] + centroid - Point((k.cols - 1) / 2, (k.rows - 1) / 2);
+    }
+    return moved;
+}
+
+}  // namespace
+
+void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, const RLParams& params, InputArray initial)
+{
+    const char* fn = "richardsonLucy";
+    checkImage(blurred, "blurred", fn);
+    checkParams(params, fn);
+    const Mat kernel = normalizedKernel(psf, "psf", fn);
+    if (!initial.empty())
+    {
+        checkImage(initial, "initial", fn);
+        if (initial.size() != blurred.size() || initial.type() != blurred.type())
+            CV_Error(Error::StsBadSize, format("%s: 'initial' must have the size and type of 'blurred'", fn));
+    }
+
+    std::vector<Mat> planes, start;
+    split(blurred.getMat(), planes);
+    if (initial.empty())
+        start = planes;
+    else
+        split(initial.getMat(), start);
+
+    const bool pad = params.boundary == RL_BOUNDARY_PAD;
+    UniformBlurOperator op(blurred.size(), kernel, pad);
+    std::vector<Mat> estimate = embedPlanes(start, op);
+    for (Mat& e : estimate)
+        e = max(e, 0.f);
+    Mat normalizer;  // ZERO: scikit-image's unnormalised update (Aᵀ1 taken as 1)
+    if (pad)
+        op.adjoint(Mat::ones(blurred.size(), CV_32F), normalizer);
+    detail::iterateRichardsonLucy(op, planes, normalizer, params, estimate);
+
+    const Rect frame(op.origin(), op.frameSize());
+    for (Mat& e : estimate)
+        e = e(frame);
+    writeOutput(estimate, latent);
+}
+
+void richardsonLucyVariant(InputArray blurred, const PsfBank& bank, OutputArray latent, const RLParams& params,
+                           OutputArray validMask)
+{
+    const char* fn = "richardsonLucyVariant";
+    checkImage(blurred, "blurred", fn);
+    checkParams(params, fn);
+    checkBank(bank, blurred.size(), fn);
+
+    std::vector<Mat> planes;
+    split(blurred.getMat(), planes);
+    const bool pad = params.boundary == RL_BOUNDARY_PAD;
+    BankBlurOperator op(bank, pad);
+    Mat normalizer;
+    op.adjoint(Mat::ones(blurred.size(), CV_32F), normalizer);
+
+    /* Start: the frame moved back by each node's displacement (the normalised adjoint of the
+       displacement-only blur), so content begins where the view at θ_ref has it and RL only has to
+       sharpen; latent pixels that displacement does not reach start at the channel's mean. */
+    BankBlurOperator moveOp(displacementBank(bank), pad);
+    Mat moveNorm, moved;
+    moveOp.adjoint(Mat::ones(blurred.size(), CV_32F), moveNorm);
+    const Rect moveInLatent(op.origin() - moveOp.origin(), moveOp.latentSize());
+    const Rect latentRect(Point(), op.latentSize());
+    const Rect common = moveInLatent & latentRect;
+    std::vector<Mat> estimate(planes.size());
+    for (size_t c = 0; c < planes.size(); c++)
+    {
+        estimate[c].create(op.latentSize(), CV_32F);
+        estimate[c].setTo(std::max(mean(planes[c])[0], 0.0));
+        moveOp.adjoint(planes[c], moved);
+        Mat back = moved / max(moveNorm, kObservedFraction * 1e-2f);
+        back = max(back, 0.f);
+        back.setTo(std::max(mean(planes[c])[0], 0.0), moveNorm <= detail::kUnobserved);
+        back(common - moveInLatent.tl()).copyTo(estimate[c](common));
+    }
+
+    detail::iterateRichardsonLucy(op, planes, normalizer, params, estimate);
+
+    const Rect frame(op.origin(), op.frameSize());
+    Mat valid = normalizer(frame) > kObservedFraction;
+    for (Mat& e : estimate)
+        e = e(frame).clone();
+    fillFromNearest(estimate, valid);
+    writeOutput(estimate, latent);
+    if (validMask.needed())
+        valid.copyTo(validMask);
+}
+
+void applyPsfBank(InputArray latent, const PsfBank& bank, OutputArray blurred)
+{
+    const char* fn = "applyPsfBank";
+    checkImage(latent, "latent", fn);
+    checkBank(bank, latent.size(), fn);
+    std::vector<Mat> planes;
+    split(latent.getMat(), planes);
+    BankBlurOperator op(bank, false);
+    std::vector<Mat> out(planes.size());
+    for (size_t c = 0; c < planes.size(); c++)
+        op.forward(planes[c], out[c]);
+    writeOutput(out, blurred);
+}
+
+void wienerDeconvolve(InputArray blurred, const PsfBank& bank, OutputArray latent, double noiseToSignal)
+{
+    const char* fn = "wienerDeconvolve";
+    checkImage(blurred, "blurred", fn);
+    checkBank(bank, blurred.size(), fn);
+    if (!(noiseToSignal > 0) || !std::isfinite(noiseToSignal))
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: noiseToSignal = %g must be finite and > 0", fn, noiseToSignal));
+
+    const Size size = blurred.size();
+    std::vector<Mat> planes;
+    split(blurred.getMat(), planes);
+    std::vector<Mat> numerator(planes.size());
+    for (Mat& n : numerator)
+        n = Mat::zeros(size, CV_32F);
+    Mat denominator = Mat::zeros(size, CV_32F);
+
+    // Node n's tent weight along one axis (bilinear between nodes, constant beyond the outermost),
+    // the same weights the forward operator blends with.
+    auto tent = [](const std::vector<double>& z, int length, int node) {
+        std::vector<float> w(size_t(length), 0.f);
+        const int last = int(z.size()) - 1;
+        for (int t = 0; t < length; t++)
+        {
+            if (last == 0)
+                w[size_t(t)] = 1.f;
+            else if (t <= z[0])
+                w[size_t(t)] = node == 0 ? 1.f : 0.f;
+            else if (t >= z[size_t(last)])
+                w[size_t(t)] = node == last ? 1.f : 0.f;
+            else if (node > 0 && t >= z[size_t(node - 1)] && t < z[size_t(node)])
+                w[size_t(t)] = float((t - z[size_t(node - 1)]) / (z[size_t(node)] - z[size_t(node - 1)]));
+            else if (node < last && t >= z[size_t(node)] && t < z[size_t(node + 1)])
+                w[size_t(t)] = float((z[size_t(node + 1)] - t) / (z[size_t(node + 1)] - z[size_t(node)]));
+        }
+        return w;
+    };
+    auto support = [](const std::vector<float>& w) {
+        int begin = int(w.size()), end = 0;
+        for (int t = 0; t < int(w.size()); t++)
+            if (w[size_t(t)] > 0)
+            {
+                begin = std::min(begin, t);
+                end = t + 1;
+            }
+        return Range(std::min(begin, end), end);
+    };
+
+    const int nx = int(bank.nodeCols.size()), ny = int(bank.nodeRows.size());
+    for (int j = 0; j < ny; j++)
+    {
+        const std::vector<float> wy = tent(bank.nodeRows, size.height, j);
+        const Range rows = support(wy);
+        for (int i = 0; i < nx; i++)
+        {
+            const std::vector<float> wx = tent(bank.nodeCols, size.width, i);
+            const Range cols = support(wx);
+            if (rows.empty() || cols.empty())
+                continue;
+            const size_t n = size_t(j * nx + i);
+            Mat kernel;
+            bank.kernels[n].convertTo(kernel, CV_32F);
+            const Point shift = bank.shifts[n];
+
+            /* The node's region plus a margin for the kernel's reach and the inverse filter's
+               tails, mirrored where it leaves the frame, then faded to its mean over an outer
+               band so the FFT's periodic wrap meets no step (no ringing from the wrap). */
+            const int marginX = kernel.cols + 16, marginY = kernel.rows + 16;
+            const Rect region(cols.start - marginX, rows.start - marginY, cols.size() + 2 * marginX,
+                              rows.size() + 2 * marginY);
+            const Size grid(getOptimalDFTSize(region.width + 2 * marginX), getOptimalDFTSize(region.height + 2 * marginY));
+            const Rect inside = region & Rect(Point(), size);
+            const Point gridOrigin = region.tl() - Point(marginX, marginY);  // frame coords of grid (0,0)
+            detail::FftKernel fft(grid, kernel);
+            Mat taper(grid, CV_32F);
+            for (int y = 0; y < grid.height; y++)
+                for (int x = 0; x < grid.width; x++)
+                {
+                    const int dx = std::min(x, grid.width - 1 - x), dy = std::min(y, grid.height - 1 - y);
+                    const float fx = std::min(1.f, float(dx) / float(marginX));
+                    const float fy = std::min(1.f, float(dy) / float(marginY));
+                    taper.at<float>(y, x) = (0.5f - 0.5f * std::cos(float(CV_PI) * fx)) *
+                                            (0.5f - 0.5f * std::cos(float(CV_PI) * fy));
+                }
+
+            for (size_t c = 0; c < planes.size(); c++)
+            {
+                Mat padded;
+                const Point at = inside.tl() - gridOrigin;
+                copyMakeBorder(planes[c](inside), padded, at.y, grid.height - at.y - inside.height, at.x,
+                               grid.width - at.x - inside.width, BORDER_REFLECT_101);
+                const float level = float(mean(planes[c](inside))[0]);
+                padded = (padded - level).mul(taper) + level;
+                Mat restored;
+                fft.wiener(padded, restored, float(noiseToSignal));
+                // restored(p) is the latent at p − shift (grid p ↔ frame p + gridOrigin).
+                for (int y = rows.start; y < rows.end; y++)
+                {
+                    const int qy = y - shift.y;
+                    if (qy < 0 || qy >= size.height)
+                        continue;
+                    const float* src = restored.ptr<float>(y - gridOrigin.y);
+                    float* num = numerator[c].ptr<float>(qy);
+                    float* den = denominator.ptr<float>(qy);
+                    for (int x = cols.start; x < cols.end; x++)
+                    {
+                        const int qx = x - shift.x;
+                        if (qx < 0 || qx >= size.width)
+                            continue;
+                        const float w = wy[size_t(y)] * wx[size_t(x)];
+                        num[qx] += w * src[x - gridOrigin.x];
+                        if (c == 0)
+                            den[qx] += w;
+                    }
+                }
+            }
+        }
+    }
+    Mat valid = denominator > 1e-3f;
+    std::vector<Mat> out(planes.size());
+    for (size_t c = 0; c < planes.size(); c++)
+        out[c] = numerator[c] / max(denominator, 1e-3f);
+    fillFromNearest(out, valid);
+    writeOutput(out, latent);
+}
+
+}  // namespace dynblur
+}  // namespace cv

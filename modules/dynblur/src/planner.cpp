@@ -142,7 +142,12 @@ bool solveInstants(const NormalisedPole& pole, const int* steps, double* tau, do
             residual[2] = sumG.real();
             residual[3] = sumG.imag();
         }
-        if (residual.norm() < tolerance)
+        const double residualNorm = residual.norm();
+        // Newton converges in a handful of steps near a root; a start still far from one after a
+        // dozen steps is wandering, and giving up early is most of the search's speed.
+        if (iteration >= 12 && residualNorm > 1e-3 * stepScale)
+            return false;
+        if (residualNorm < tolerance)
         {
             for (int k = 0; k < N; ++k)
                 tau[k + 1] = x[k];
@@ -471,8 +476,13 @@ private:
         const int samples = 41;
         const double lastTau = candidate.tau.back();
         double worst = 0;
-        for (int k = 0; k < samples; ++k)
+        // The ends of the range first: V grows away from the nominal ωn, so they usually decide,
+        // and a candidate that fails there needs no more samples.
+        for (int n = 0; n < samples; ++n)
         {
+            const int k = n == 0 ? 0 : n == 1 ? samples - 1 : n - 1;
+            if (n >= 2 && worst > robustTolerance_)
+                break;
             const double scale = 1 + robustRange_ * (2.0 * k / (samples - 1) - 1);
             // A true ωn scaled by `scale` sees every normalised instant scaled by it too.
             Complex sum(0, 0);
@@ -500,11 +510,8 @@ private:
         // Steps of 1/200 of a damped period: the error cannot leave and re-enter the band between
         // two samples (it moves on the time scale of the oscillation).
         const double step = 2 * CV_PI / pole.dampedFactor / 200;
+        // Candidates are roots of F = 0: from the last switch on the angle is exactly the target.
         double inside = candidate.tau.back();
-        // Past the last switch the error decays; check one damped period in case it is not zero.
-        for (double t = inside; t < inside + 200 * step; t += step)
-            if (outside(t))
-                return inside + 200 * step;  // not settled; penalise
         double t = inside - step;
         while (t > 0 && !outside(t))
         {

@@ -34,7 +34,12 @@ plans cached) @cite Frigo2005Fftw.
 @param psf kernel, CV_32F or CV_64F, one channel, odd size, non-negative, normalised to sum 1 here.
 @param latent output, same size and type as blurred.
 @param params iterations, damping, regularisation, boundary, acceleration.
-@param initial start estimate (same size and type as blurred); empty: the blurred image. */
+@param initial start estimate (same size and type as blurred); empty: the blurred image.
+
+With RL_BOUNDARY_ZERO the update is scikit-image's, x ← x ⊙ (k★(b / (k⊛x))) without the Aᵀ1
+normaliser, so the result matches its richardson_lucy (clip=False) from the same start. With
+RL_BOUNDARY_PAD the latent grows by the kernel's half-size on each side (border replicated as the
+start) and the update is divided by Aᵀ1. */
 CV_EXPORTS_W void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent,
                                  const RLParams& params = RLParams(), InputArray initial = noArray());
 
@@ -45,7 +50,13 @@ adjoint are the bank's blended blur, so tiles and row bands leave no seams
 @param bank the kernels (PsfGenerator::generate).
 @param latent output, same size and type as blurred: the view at θ_ref.
 @param params iterations, damping, regularisation, boundary, acceleration.
-@param validMask optional output, CV_8U, 255 where the latent pixel was observed by the frame. */
+@param validMask optional output, CV_8U, 255 where the latent pixel was observed by the frame.
+
+The update is x ← x ⊙ Aᵀ(b / A x) / Aᵀ1 (with damping, TV and acceleration as in RLParams). It
+starts from the frame moved back by each node's displacement (kernel centroid plus shift). A
+latent pixel counts as observed when Aᵀ1 > 0.1 (at least a tenth of its light reached the
+frame); the others (content the frame never saw at θ_ref) get the value of the nearest observed
+pixel and 0 in validMask. */
 CV_EXPORTS_W void richardsonLucyVariant(InputArray blurred, const PsfBank& bank, OutputArray latent,
                                         const RLParams& params = RLParams(), OutputArray validMask = noArray());
 
@@ -61,7 +72,12 @@ with the bank's weights.
 @param blurred observed image, CV_32F, 1–4 channels, the bank's image size.
 @param bank the kernels.
 @param latent output, same size and type.
-@param noiseToSignal noise-to-signal power ratio, > 0. */
+@param noiseToSignal noise-to-signal power ratio, > 0.
+
+Each node's region (plus a margin, mirrored past the frame and faded to its mean so the FFT's
+wrap adds no ringing) is filtered with conj(K)/(|K|² + noiseToSignal) and written back at its
+displacement, so a pure shift comes back exactly placed (scaled by 1/(1 + noiseToSignal)). Latent
+pixels no node covers take the nearest covered value. */
 CV_EXPORTS_W void wienerDeconvolve(InputArray blurred, const PsfBank& bank, OutputArray latent,
                                    double noiseToSignal = 1e-2);
 

@@ -52,8 +52,23 @@ public:
     /** @brief The 3×3 intrinsic matrix K. */
     CV_WRAP virtual Matx33d cameraMatrix() const = 0;
 
+    /** @brief Undistorted normalised coordinates of a (distorted) pixel, ViSP's
+    vpPixelMeterConversion formula: x = (u − cx)/fx · (1 + kdu·r²), r² from the distorted pixel.
+    @param pixel pixel coordinates, pixels. @return normalised coordinates (x, y), dimensionless. */
+    CV_WRAP virtual Point2d pixelToNormalized(const Point2d& pixel) const = 0;
+    /** @brief (Distorted) pixel of undistorted normalised coordinates, ViSP's vpMeterPixelConversion
+    formula: u = cx + fx·x·(1 + kud·(x² + y²)).
+    @param normalized normalised coordinates (x, y), dimensionless. @return pixel coordinates, pixels. */
+    CV_WRAP virtual Point2d normalizedToPixel(const Point2d& normalized) const = 0;
+
     /** @brief Where a pixel of the view at θ = θ_ref + angle sees the reference view:
     q = distort(K·R_axis(angle)·K⁻¹·undistort(p)).
+
+    With distortion, ViSP's kud and kdu are only approximate inverses of each other; so that a zero
+    angle maps every pixel exactly onto itself, the mapping is computed as
+    q = p + distort(R·undistort(p)) − distort(undistort(p)) (identical to the formula above when
+    the distortion pair is exactly inverse, and within ViSP's approximation otherwise). A ray that
+    turns behind the reference camera gives NaN.
     @param points Nx2 or 1xN 2-channel pixel coordinates in the rotated view, pixels.
     @param angle θ − θ_ref, radians.
     @param refPoints output, same layout, pixel coordinates in the reference view (CV_64F). */

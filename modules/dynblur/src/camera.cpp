@@ -1,0 +1,270 @@
+// CameraModel: pinhole intrinsics with ViSP's one-term radial distortion, ViSP XML I/O and the
+// view-to-reference mapping of a camera rotating about a fixed mount axis (DESIGN §2).
+#include "precomp.hpp"
+
+#include <visp3/core/vpCameraParameters.h>
+#include <visp3/core/vpXmlParserCamera.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace cv {
+namespace dynblur {
+
+namespace {
+
+void checkIntrinsics(double fx, double fy, double cx, double cy, int width, int height, double kud, double kdu,
+                     const char* where)
+{
+    if (!(std::isfinite(fx) && fx > 0) || !(std::isfinite(fy) && fy > 0))
+        CV_Error_(Error::StsBadArg, ("%s: focal lengths fx=%g, fy=%g must be finite and > 0 (pixels)", where, fx, fy));
+    if (!std::isfinite(cx) || !std::isfinite(cy))
+        CV_Error_(Error::StsBadArg, ("%s: principal point cx=%g, cy=%g must be finite (pixels)", where, cx, cy));
+    if (width <= 0 || height <= 0)
+        CV_Error_(Error::StsBadArg, ("%s: image size width=%d, height=%d must be > 0 (pixels)", where, width, height));
+    if (!std::isfinite(kud) || !std::isfinite(kdu))
+        CV_Error_(Error::StsBadArg, ("%s: distortion kud=%g, kdu=%g must be finite", where, kud, kdu));
+}
+
+//! Name of the first <camera> of a ViSP XML file ("" when it has none or no name).
+std::string firstCameraName(const std::string& filename)
+{
+    std::ifstream in(filename.c_str());
+    if (!in)
+        return std::string();
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string text = ss.str();
+    const size_t cam = text.find("<camera>");
+    if (cam == std::string::npos)
+        return std::string();
+    const size_t camEnd = text.find("</camera>", cam);
+    const size_t name = text.find("<name>", cam);
+    if (name == std::string::npos || (camEnd != std::string::npos && name > camEnd))
+        return std::string();
+    const size_t b = name + 6, e = text.find("</name>", b);
+    if (e == std::string::npos)
+        return std::string();
+    std::string s = text.substr(b, e - b);
+    const size_t f = s.find_first_not_of(" \t\r\n"), l = s.find_last_not_of(" \t\r\n");
+    return f == std::string::npos ? std::string() : s.substr(f, l - f + 1);
+}
+
+class CameraModelImpl CV_FINAL : public CameraModel
+{
+public:
+    CameraModelImpl(double fx, double fy, double cx, double cy, int width, int height, double kud, double kdu)
+        : fx_(fx), fy_(fy), cx_(cx), cy_(cy), kud_(kud), kdu_(kdu), size_(width, height), axis_(1, 0, 0)
+    {
+    }
+
+    void save(const String& filename, const String& cameraName) const CV_OVERRIDE
+    {
+        CV_Assert(!filename.empty());
+        vpCameraParameters cam;
+        if (kud_ != 0.0 || kdu_ != 0.0)
+            cam.initPersProjWithDistortion(fx_, fy_, cx_, cy_, kud_, kdu_);
+        else
+            cam.initPersProjWithoutDistortion(fx_, fy_, cx_, cy_);
+        // vpXmlParserCamera appends to an existing file and refuses a duplicate camera:
+        // CameraModel::save overwrites, like every OpenCV writer.
+        std::remove(filename.c_str());
+        vpXmlParserCamera parser;
+        if (parser.save(cam, filename, cameraName, (unsigned)size_.width, (unsigned)size_.height) !=
+            vpXmlParserCamera::SEQUENCE_OK)
+            CV_Error(Error::StsError, "CameraModel::save: ViSP could not write camera '" + cameraName + "' to '" +
+                                          filename + "'");
+    }
+
+    double getFx() const CV_OVERRIDE { return fx_; }
+    double getFy() const CV_OVERRIDE { return fy_; }
+    double getCx() const CV_OVERRIDE { return cx_; }
+    double getCy() const CV_OVERRIDE { return cy_; }
+    double getKud() const CV_OVERRIDE { return kud_; }
+    double getKdu() const CV_OVERRIDE { return kdu_; }
+    Size getImageSize() const CV_OVERRIDE { return size_; }
+    Vec3d getMountAxis() const CV_OVERRIDE { return axis_; }
+
+    void setMountAxis(const Vec3d& axis) CV_OVERRIDE
+    {
+        const double n = norm(axis);
+        if (!(std::isfinite(n) && n > 1e-12))
+            CV_Error_(Error::StsBadArg, ("CameraModel::setMountAxis: axis (%g, %g, %g) must be finite and non-zero",
+                                         axis[0], axis[1], axis[2]));
+        axis_ = axis * (1.0 / n);
+    }
+
+    Matx33d cameraMatrix() const CV_OVERRIDE { return Matx33d(fx_, 0, cx_, 0, fy_, cy_, 0, 0, 1); }
+
+    void viewToReference(InputArray points, double angle, OutputArray refPoints) const CV_OVERRIDE
+    {
+        if (!std::isfinite(angle))
+            CV_Error(Error::StsBadArg, "CameraModel::viewToReference: angle must be finite (radians)");
+        Mat src = points.getMat();
+        if (src.empty())
+        {
+            refPoints.release();
+            return;
+        }
+        const int depth = src.depth();
+        CV_CheckType(src.type(), depth == CV_32F || depth == CV_64F,
+                     "CameraModel::viewToReference: points must be CV_32F or CV_64F");
+        Mat pts;
+        int outRows, outCols, outType;
+        if (src.channels() == 2)
+        {
+            CV_CheckEQ(src.cols == 1 || src.rows == 1, true,
+                       "CameraModel::viewToReference: 2-channel points must be 1xN or Nx1");
+            if (depth == CV_64F && src.isContinuous())
+                pts = src.reshape(2, 1);  // no copy
+            else
+                src.convertTo(pts, CV_64F);
+            pts = pts.reshape(2, 1);
+            outRows = src.rows;
+            outCols = src.cols;
+            outType = CV_64FC2;
+        }
+        else
+        {
+            CV_CheckEQ(src.channels(), 1, "CameraModel::viewToReference: points must be Nx2 (1 channel) or 2-channel");
+            CV_CheckEQ(src.cols, 2, "CameraModel::viewToReference: 1-channel points must be Nx2");
+            if (depth == CV_64F && src.isContinuous())
+                pts = src;
+            else
+                src.convertTo(pts, CV_64F);
+            pts = pts.reshape(2, 1);
+            outRows = src.rows;
+            outCols = 2;
+            outType = CV_64FC1;
+        }
+        if (!pts.isContinuous())
+            pts = pts.clone();
+        if (refPoints.isMat() && refPoints.getMat().data == pts.data)
+            pts = pts.clone();  // in-place call: keep the input
+        refPoints.create(outRows, outCols, outType);
+        Mat dst = refPoints.getMat();
+        CV_Assert(dst.isContinuous());
+        const Matx33d M = rotationMatrix(angle);
+        const Point2d* in = pts.ptr<Point2d>();
+        Point2d* out = reinterpret_cast<Point2d*>(dst.data);
+        const int n = (int)pts.total();
+        parallel_for_(Range(0, n),
+                      [&](const Range& r) {
+                          for (int i = r.start; i < r.end; i++)
+                              out[i] = map(in[i], M);
+                      },
+                      n / 16384.0);
+    }
+
+    Point2d pixelToNormalized(const Point2d& p) const CV_OVERRIDE
+    {
+        const double xd = (p.x - cx_) / fx_, yd = (p.y - cy_) / fy_;
+        const double fu = 1.0 + kdu_ * (xd * xd + yd * yd);
+        return Point2d(xd * fu, yd * fu);
+    }
+
+    Point2d normalizedToPixel(const Point2d& m) const CV_OVERRIDE
+    {
+        const double fd = 1.0 + kud_ * (m.x * m.x + m.y * m.y);
+        return Point2d(cx_ + fx_ * m.x * fd, cy_ + fy_ * m.y * fd);
+    }
+
+    Point2d viewToReference(const Point2d& pixel, double angle) const CV_OVERRIDE
+    {
+        return map(pixel, rotationMatrix(angle));
+    }
+
+private:
+    //! Rodrigues rotation of `angle` radians about the mount axis.
+    Matx33d rotationMatrix(double angle) const
+    {
+        const double c = std::cos(angle), s = std::sin(angle), v = 1.0 - c;
+        const double x = axis_[0], y = axis_[1], z = axis_[2];
+        return Matx33d(c + x * x * v, x * y * v - z * s, x * z * v + y * s,
+                       y * x * v + z * s, c + y * y * v, y * z * v - x * s,
+                       z * x * v - y * s, z * y * v + x * s, c + z * z * v);
+    }
+
+    //! p + distort(R·undistort(p)) − distort(undistort(p)): ViSP's vpPixelMeterConversion (kdu) and
+    //! vpMeterPixelConversion (kud) formulas, corrected so that R = I maps p exactly onto itself.
+    Point2d map(const Point2d& p, const Matx33d& R) const
+    {
+        const Point2d m = pixelToNormalized(p);
+        const double X = R(0, 0) * m.x + R(0, 1) * m.y + R(0, 2);
+        const double Y = R(1, 0) * m.x + R(1, 1) * m.y + R(1, 2);
+        const double Z = R(2, 0) * m.x + R(2, 1) * m.y + R(2, 2);
+        if (!(Z > 1e-12))  // the ray leaves the reference camera's front half-space
+            return Point2d(std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN());
+        const Point2d q = normalizedToPixel(Point2d(X / Z, Y / Z));
+        if (kud_ == 0.0 && kdu_ == 0.0)
+            return q;
+        return p + (q - normalizedToPixel(m));
+    }
+
+    double fx_, fy_, cx_, cy_, kud_, kdu_;
+    Size size_;
+    Vec3d axis_;
+};
+
+}  // namespace
+
+Ptr<CameraModel> CameraModel::create(double fx, double fy, double cx, double cy, int width, int height, double kud,
+                                     double kdu)
+{
+    checkIntrinsics(fx, fy, cx, cy, width, height, kud, kdu, "CameraModel::create");
+    return makePtr<CameraModelImpl>(fx, fy, cx, cy, width, height, kud, kdu);
+}
+
+Ptr<CameraModel> CameraModel::load(const String& filename, const String& cameraName, int width, int height)
+{
+    if (width < 0 || height < 0)
+        CV_Error_(Error::StsBadArg,
+                  ("CameraModel::load: width=%d, height=%d must be >= 0 (0: any size in the file)", width, height));
+    {
+        std::ifstream probe(filename.c_str());
+        if (!probe)
+            CV_Error(Error::StsError, "CameraModel::load: cannot open '" + filename + "'");
+    }
+    const std::string name = cameraName.empty() ? firstCameraName(filename) : std::string(cameraName);
+    // Prefer the model with distortion when the file holds both (it is the more accurate one).
+    const vpCameraParameters::vpCameraParametersProjType models[2] = {
+        vpCameraParameters::perspectiveProjWithDistortion, vpCameraParameters::perspectiveProjWithoutDistortion};
+    for (int m = 0; m < 2; m++)
+    {
+        vpXmlParserCamera parser;
+        vpCameraParameters cam;
+        int rc = vpXmlParserCamera::SEQUENCE_ERROR;
+        try
+        {
+            rc = parser.parse(cam, filename, name, models[m], (unsigned)width, (unsigned)height);
+        }
+        catch (const std::exception& e)
+        {
+            CV_Error(Error::StsParseError, "CameraModel::load: ViSP could not parse '" + filename + "': " + e.what());
+        }
+        if (rc != vpXmlParserCamera::SEQUENCE_OK)
+            continue;
+        int w = (int)parser.getWidth(), h = (int)parser.getHeight();
+        if (w <= 0)
+            w = width;
+        if (h <= 0)
+            h = height;
+        if (w <= 0 || h <= 0)
+            CV_Error(Error::StsBadArg, "CameraModel::load: camera '" + name + "' in '" + filename +
+                                           "' has no image_width/image_height; pass width and height");
+        const bool dist = m == 0;
+        const double kud = dist ? cam.get_kud() : 0.0, kdu = dist ? cam.get_kdu() : 0.0;
+        checkIntrinsics(cam.get_px(), cam.get_py(), cam.get_u0(), cam.get_v0(), w, h, kud, kdu, "CameraModel::load");
+        return makePtr<CameraModelImpl>(cam.get_px(), cam.get_py(), cam.get_u0(), cam.get_v0(), w, h, kud, kdu);
+    }
+    std::ostringstream msg;
+    msg << "CameraModel::load: no camera named '" << name << "'";
+    if (width > 0 || height > 0)
+        msg << " with image size " << width << "x" << height;
+    msg << " (perspective model with or without distortion) in ViSP camera file '" << filename << "'";
+    CV_Error(Error::StsParseError, msg.str());
+}
+
+}  // namespace dynblur
+}  // namespace cv

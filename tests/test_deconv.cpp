@@ -678,3 +678,27 @@ TEST(DeconvArguments, BadInputThrows)
 }
 
 }  // namespace
+
+TEST(DeconvRegularisation, AutomaticDampingFollowsTheFramesNoise)
+{
+    // A flat frame with known Gaussian noise: automatic damping (NaN) must hold the noise down
+    // where undamped RL amplifies it, and be accepted where negative damping is refused.
+    cv::Mat flat(200, 200, CV_32F, cv::Scalar(0.4)), noise(flat.size(), CV_32F), noisy;
+    cv::RNG rng(3);
+    rng.fill(noise, cv::RNG::NORMAL, 0.0, 0.01);
+    noisy = flat + noise;
+    cv::Mat kernel = cv::Mat::ones(9, 1, CV_32F) / 9.0f;
+    cv::dynblur::RLParams plain, automatic;
+    automatic.damping = std::numeric_limits<double>::quiet_NaN();
+    cv::Mat restoredPlain, restoredAuto;
+    cv::dynblur::richardsonLucy(noisy, kernel, restoredPlain, plain);
+    cv::dynblur::richardsonLucy(noisy, kernel, restoredAuto, automatic);
+    cv::Scalar meanPlain, stdPlain, meanAuto, stdAuto;
+    const cv::Rect interior(20, 20, 160, 160);
+    cv::meanStdDev(restoredPlain(interior), meanPlain, stdPlain);
+    cv::meanStdDev(restoredAuto(interior), meanAuto, stdAuto);
+    std::printf("[ measured ] flat frame, noise 0.01: output noise plain %.4f, automatic damping %.4f\n", stdPlain[0],
+                stdAuto[0]);
+    EXPECT_LT(stdAuto[0], 0.6 * stdPlain[0]);
+    EXPECT_NEAR(meanAuto[0], 0.4, 0.01);
+}

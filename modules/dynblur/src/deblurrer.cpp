@@ -9,6 +9,8 @@ public:
     DynamicDeblurrerImpl(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera)
         : plant_(plant), camera_(camera), generator_(PsfGenerator::create(plant, camera))
     {
+        // Webcam frames carry shot and read noise: damp at the frame's own noise level.
+        params_.damping = std::numeric_limits<double>::quiet_NaN();
     }
 
     void deblur(InputArray frame, const SwitchSchedule& schedule, const RollingShutter& shutter, OutputArray restored,
@@ -81,10 +83,7 @@ public:
     RLParams getRLParams() const CV_OVERRIDE { return params_; }
     void setRLParams(const RLParams& params) CV_OVERRIDE
     {
-        if (params.iterations < 1)
-            CV_Error(Error::StsOutOfRange, format("RLParams.iterations = %d must be >= 1", params.iterations));
-        if (!(params.damping >= 0) || !(params.tvWeight >= 0) || !(params.tolerance >= 0))
-            CV_Error(Error::StsOutOfRange, "RLParams: damping, tvWeight and tolerance must be >= 0");
+        checkRLParams(params, "DynamicDeblurrer::setRLParams");
         params_ = params;
     }
     int getLastExposureWindow() const CV_OVERRIDE { return lastWindow_; }

@@ -23,6 +23,10 @@ using detail::UniformBlurOperator;
 //! A pixel counts as observed (validMask 255) when at least this fraction of its light reached the frame.
 constexpr float kObservedFraction = 0.1f;
 
+//! Automatic damping, in noise standard deviations: updates within the noise are suppressed (3σ is
+//! deconvlucy's documented choice).
+constexpr double kAutoDampingSigmas = 3.0;
+
 void checkImage(InputArray image, const char* name, const char* function)
 {
     if (image.empty())
@@ -40,25 +44,31 @@ void checkImage(InputArray image, const char* name, const char* function)
         CV_Error(Error::StsBadArg, format("%s: '%s' contains NaN or Inf; it must be finite", function, name));
 }
 
-void checkParams(const RLParams& params, const char* function)
+/* Noise standard deviation of an image plane by Immerkær's method: the response to a mask that
+   cancels every polynomial up to degree 2 is (nearly) pure noise, and blur makes that truer. */
+double estimateNoiseSigma(const std::vector<Mat>& planes)
 {
-    if (params.iterations < 1)
-        CV_Error(Error::StsOutOfRange,
-                 format("%s: params.iterations = %d must be >= 1", function, params.iterations));
-    if (!(params.damping >= 0) || !std::isfinite(params.damping))
-        CV_Error(Error::StsOutOfRange,
-                 format("%s: params.damping = %g must be finite and >= 0 (0: off)", function, params.damping));
-    if (!(params.tvWeight >= 0) || !std::isfinite(params.tvWeight))
-        CV_Error(Error::StsOutOfRange,
-                 format("%s: params.tvWeight = %g must be finite and >= 0 (0: off)", function, params.tvWeight));
-    if (!(params.tolerance >= 0) || !std::isfinite(params.tolerance))
-        CV_Error(Error::StsOutOfRange,
-                 format("%s: params.tolerance = %g must be finite and >= 0 (0: never stop early)", function,
-                        params.tolerance));
-    if (params.boundary != RL_BOUNDARY_ZERO && params.boundary != RL_BOUNDARY_PAD)
-        CV_Error(Error::StsOutOfRange,
-                 format("%s: params.boundary = %d must be RL_BOUNDARY_ZERO (0) or RL_BOUNDARY_PAD (1)", function,
-                        params.boundary));
+    const Mat mask = (Mat_<float>(3, 3) << 1, -2, 1, -2, 4, -2, 1, -2, 1);
+    double total = 0;
+    for (const Mat& plane : planes)
+    {
+        if (plane.rows < 3 || plane.cols < 3)
+            return 0;
+        Mat response;
+        filter2D(plane, response, CV_32F, mask);
+        const Rect interior(1, 1, plane.cols - 2, plane.rows - 2);
+        total += std::sqrt(CV_PI / 2) * sum(abs(response(interior)))[0] / (6.0 * interior.area());
+    }
+    return total / static_cast<double>(planes.size());
+}
+
+//! The parameters with an automatic damping (NaN) replaced by the multiple of the frame's noise.
+RLParams resolveDamping(const RLParams& params, const std::vector<Mat>& planes)
+{
+    RLParams resolved = params;
+    if (std::isnan(resolved.damping))
+        resolved.damping = kAutoDampingSigmas * estimateNoiseSigma(planes);
+    return resolved;
 }
 
 //! Validates a kernel and returns it as CV_32F normalised to sum 1.
@@ -185,11 +195,33 @@ PsfBank displacementBank(const PsfBank& bank)
 
 }  // namespace
 
+void checkRLParams(const RLParams& params, const char* function)
+{
+    if (params.iterations < 1)
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: params.iterations = %d must be >= 1", function, params.iterations));
+    if (!std::isnan(params.damping) && !(params.damping >= 0 && std::isfinite(params.damping)))
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: params.damping = %g must be finite and >= 0 (0: off), or NaN (automatic)", function,
+                        params.damping));
+    if (!(params.tvWeight >= 0) || !std::isfinite(params.tvWeight))
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: params.tvWeight = %g must be finite and >= 0 (0: off)", function, params.tvWeight));
+    if (!(params.tolerance >= 0) || !std::isfinite(params.tolerance))
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: params.tolerance = %g must be finite and >= 0 (0: never stop early)", function,
+                        params.tolerance));
+    if (params.boundary != RL_BOUNDARY_ZERO && params.boundary != RL_BOUNDARY_PAD)
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: params.boundary = %d must be RL_BOUNDARY_ZERO (0) or RL_BOUNDARY_PAD (1)", function,
+                        params.boundary));
+}
+
 void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, const RLParams& params, InputArray initial)
 {
     const char* fn = "richardsonLucy";
     checkImage(blurred, "blurred", fn);
-    checkParams(params, fn);
+    checkRLParams(params, fn);
     const Mat kernel = normalizedKernel(psf, "psf", fn);
     if (!initial.empty())
     {
@@ -213,7 +245,7 @@ void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, cons
     Mat normalizer;  // ZERO: scikit-image's unnormalised update (Aᵀ1 taken as 1)
     if (pad)
         op.adjoint(Mat::ones(blurred.size(), CV_32F), normalizer);
-    detail::iterateRichardsonLucy(op, planes, normalizer, params, estimate);
+    detail::iterateRichardsonLucy(op, planes, normalizer, resolveDamping(params, planes), estimate);
 
     const Rect frame(op.origin(), op.frameSize());
     for (Mat& e : estimate)
@@ -226,7 +258,7 @@ void richardsonLucyVariant(InputArray blurred, const PsfBank& bank, OutputArray 
 {
     const char* fn = "richardsonLucyVariant";
     checkImage(blurred, "blurred", fn);
-    checkParams(params, fn);
+    checkRLParams(params, fn);
     checkBank(bank, blurred.size(), fn);
 
     std::vector<Mat> planes;
@@ -257,7 +289,7 @@ void richardsonLucyVariant(InputArray blurred, const PsfBank& bank, OutputArray 
         back(common - moveInLatent.tl()).copyTo(estimate[c](common));
     }
 
-    detail::iterateRichardsonLucy(op, planes, normalizer, params, estimate);
+    detail::iterateRichardsonLucy(op, planes, normalizer, resolveDamping(params, planes), estimate);
 
     const Rect frame(op.origin(), op.frameSize());
     Mat valid = normalizer(frame) > kObservedFraction;

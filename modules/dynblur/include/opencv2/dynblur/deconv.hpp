@@ -21,7 +21,11 @@ struct CV_EXPORTS_W_SIMPLE RLParams
 {
     CV_WRAP RLParams();
     CV_PROP_RW int iterations;     //!< iterations, ≥ 1 (default 20)
-    CV_PROP_RW double damping;     //!< DAMPAR of MATLAB's deconvlucy, linear intensity units, ≥ 0 (0: off) @cite White1994Damped
+    /** DAMPAR of MATLAB's deconvlucy @cite White1994Damped, linear intensity units, ≥ 0 (0: off): where the
+        re-blurred estimate is within it of the data, the update is suppressed, so noise is not fitted.
+        NaN: automatic, 3 × the noise standard deviation estimated from the blurred image
+        @cite Immerkaer1996Noise (DynamicDeblurrer's default). Default 0, as in deconvlucy. */
+    CV_PROP_RW double damping;
     CV_PROP_RW double tvWeight;    //!< total-variation regularisation weight λ, ≥ 0 (0: off) @cite Dey2006RLTV
     CV_PROP_RW int boundary;       //!< RLBoundary
     CV_PROP_RW bool accelerate;    //!< Biggs–Andrews vector extrapolation @cite Biggs1997Acceleration

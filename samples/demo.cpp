@@ -5,6 +5,7 @@
 // and what a global shutter records, restores each frame with the seed's uniform PSF and with
 // the spatially variant pipeline, prints PSNR/SSIM/timings, and writes pictures to --out.
 // With --frame: restores one real frame from its schedule, camera and plant files.
+#include "frame_timing.hpp"
 #include "image_metrics.hpp"
 #include "plant_file.hpp"
 #include "plot.hpp"
@@ -68,23 +69,6 @@ const char* windowName(int window)
 {
     static const char* names[] = {"?", "I", "II", "III", "IV"};
     return names[window >= 1 && window <= 4 ? window : 0];
-}
-
-// The earliest frame start (1 ms steps) whose readout falls in the wanted window.
-bool findFrameStart(const Ptr<Plant>& plant, const SwitchSchedule& schedule, RollingShutter shutter, int wanted,
-                    double& frameStart)
-{
-    const double readout = shutter.readoutInterval()[1] - shutter.frameStart;
-    for (double start = schedule.times.front() - readout; start < schedule.times.front() + 0.3; start += 0.0005)
-    {
-        shutter.frameStart = start;
-        if (classifyExposure(plant, schedule, shutter) == wanted)
-        {
-            frameStart = start;
-            return true;
-        }
-    }
-    return false;
 }
 
 Mat labelled(const Mat& image, const std::string& text, int width)
@@ -239,13 +223,13 @@ int runSynthetic(const CommandLineParser& args)
     {
         Case c{std::string("rolling, window ") + windowName(window), RollingShutter(0, exposure, lineDelay, frameSize.height),
                window};
-        if (findFrameStart(plant, schedule, c.shutter, window, c.shutter.frameStart))
+        if (frameStartInWindow(plant, schedule, c.shutter, window, c.shutter.frameStart))
             cases.push_back(c);
         else
             std::printf("[demo] no frame start gives window %s for this move and shutter; skipped\n", windowName(window));
     }
     Case global{"global, window III", RollingShutter(0, exposure, 0.0, frameSize.height), EXPOSURE_III};
-    if (findFrameStart(plant, schedule, global.shutter, EXPOSURE_III, global.shutter.frameStart))
+    if (frameStartInWindow(plant, schedule, global.shutter, EXPOSURE_III, global.shutter.frameStart))
         cases.push_back(global);
 
     Ptr<DynamicDeblurrer> variant = DynamicDeblurrer::create(plant, camera);

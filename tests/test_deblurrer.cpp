@@ -2,6 +2,7 @@
 // and its argument checks.
 #include "test_common.hpp"
 
+#include "frame_timing.hpp"
 #include "image_metrics.hpp"
 
 #include <opencv2/dynblur.hpp>
@@ -46,14 +47,8 @@ struct SaccadeScene
     RollingShutter shutterInWindow(int window, double lineDelay) const
     {
         RollingShutter shutter(0.0, 0.008, lineDelay, 480);
-        const double readout = shutter.readoutInterval()[1];
-        for (double start = -readout; start < 0.3; start += 0.0005)
-        {
-            shutter.frameStart = start;
-            if (classifyExposure(plant, schedule, shutter) == window)
-                return shutter;
-        }
-        ADD_FAILURE() << "no frame start gives window " << window;
+        EXPECT_TRUE(dynblur_samples::frameStartInWindow(plant, schedule, shutter, window, shutter.frameStart))
+            << "no frame start gives window " << window;
         return shutter;
     }
 
@@ -137,7 +132,7 @@ TEST_P(DeblurQuality, RollingShutterWindowIIIGainsInTheMostBlurredThird)
     const Restorations r = restoreBoth(s, shutter, PSF_ROWS);
     const Range third = s.mostBlurredRows(shutter, 480 / 3);
     const Mat judged = judgedPixels(r.valid, third);
-    ASSERT_GT(countNonZero(judged), judged.total() / 5);
+    ASSERT_GT(countNonZero(judged), 640 * third.size() / 4);
     const double blurred = maskedPsnr(s.truth, r.frame, judged, 255);
     const double uniform = maskedPsnr(s.truth, r.uniform, judged, 255);
     const double variant = maskedPsnr(s.truth, r.variant, judged, 255);

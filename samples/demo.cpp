@@ -30,7 +30,7 @@ const char* const kKeys =
     "{out            | demo_out | folder for the pictures and the restored frames }"
     "{image          |        | scene image (any size; scaled to fill the view) instead of the generated scene }"
     "{iterations     | 20     | Richardson-Lucy iterations }"
-    "{model          | rows   | spatially variant PSF model: rows or tiles }"
+    "{model          | tiles  | spatially variant PSF model: tiles or rows }"
     "{frame          |        | real mode: the blurred frame to restore }"
     "{schedule       |        | real mode: switching schedule file (SwitchSchedule::save format) }"
     "{camera         |        | camera XML (ViSP format); default: the nominal C270 at 1280x960 }"

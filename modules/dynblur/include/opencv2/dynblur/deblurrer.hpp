@@ -43,7 +43,7 @@ public:
                                 OutputArray restored, double thetaRef = std::numeric_limits<double>::quiet_NaN(),
                                 OutputArray validMask = noArray()) = 0;
 
-    CV_WRAP virtual int getPsfModel() const = 0;            //!< PsfModel (default PSF_ROWS)
+    CV_WRAP virtual int getPsfModel() const = 0;            //!< PsfModel (default PSF_TILES, the most accurate)
     CV_WRAP virtual void setPsfModel(int model) = 0;
     CV_WRAP virtual int getMethod() const = 0;              //!< DeblurMethod
     CV_WRAP virtual void setMethod(int method) = 0;

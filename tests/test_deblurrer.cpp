@@ -206,6 +206,33 @@ TEST(DeblurWindowIV, OutputEqualsInput)
     EXPECT_EQ(norm(linear, restored, NORM_INF), 0.0);
 }
 
+TEST(DeblurChannels, AlphaPassesThroughAndColourMatchesTheThreeChannelResult)
+{
+    Ptr<Plant> plant = Plant::create(14.4, 0.12, kDeg);
+    Ptr<CameraModel> camera = CameraModel::create(300.0, 300.0, 79.5, 59.5, 160, 120);
+    const SwitchSchedule schedule({0.0, 0.0127, 0.0296}, {16, 4, 10});
+    const RollingShutter shutter(0.0, 0.008, 1.0 / 30 / 120, 120);
+    Mat bgr(120, 160, CV_8UC3), alpha(120, 160, CV_8UC1), bgra;
+    randu(bgr, 0, 256);
+    randu(alpha, 0, 256);
+    merge(std::vector<Mat>{bgr, alpha}, bgra);
+    Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
+    Mat restoredBgr, restoredBgra;
+    deblurrer->deblur(bgr, schedule, shutter, restoredBgr);
+    deblurrer->deblur(bgra, schedule, shutter, restoredBgra);
+    ASSERT_EQ(restoredBgra.type(), CV_8UC4);
+    std::vector<Mat> planes;
+    split(restoredBgra, planes);
+    EXPECT_EQ(norm(planes[3], alpha, NORM_INF), 0.0);
+    Mat colour;
+    merge(std::vector<Mat>{planes[0], planes[1], planes[2]}, colour);
+    EXPECT_EQ(norm(colour, restoredBgr, NORM_INF), 0.0);
+    Mat grey, restoredGrey;
+    cvtColor(bgr, grey, COLOR_BGR2GRAY);
+    deblurrer->deblur(grey, schedule, shutter, restoredGrey);
+    EXPECT_EQ(restoredGrey.type(), CV_8UC1);
+}
+
 TEST(DeblurBadInput, FramesAndShuttersAreChecked)
 {
     Ptr<Plant> plant = Plant::create();

@@ -33,11 +33,21 @@ public:
             return;
         }
 
+        // Alpha is coverage, not light: it is neither linearised nor restored, and passes through.
+        Mat colour = input, alpha;
+        if (input.channels() == 4)
+        {
+            std::vector<Mat> planes;
+            split(input, planes);
+            alpha = planes[3];
+            planes.pop_back();
+            merge(planes, colour);
+        }
         Mat linear;
-        if (input.depth() == CV_8U)
-            srgbToLinear(input, linear);
+        if (colour.depth() == CV_8U)
+            srgbToLinear(colour, linear);
         else
-            linear = input;
+            linear = colour;
 
         lastBank_ = generator_->generate(psfModel_, schedule, shutter, thetaRef);
         Mat latent, mask;
@@ -54,10 +64,19 @@ public:
         cv::max(latent, 0.0, latent);
         cv::min(latent, 1.0, latent);
 
+        Mat encoded;
         if (input.depth() == CV_8U)
-            linearToSrgb(latent, restored, CV_8U);
+            linearToSrgb(latent, encoded, CV_8U);
         else
-            latent.copyTo(restored);
+            encoded = latent;
+        if (!alpha.empty())
+        {
+            std::vector<Mat> planes;
+            split(encoded, planes);
+            planes.push_back(alpha);
+            merge(planes, encoded);
+        }
+        encoded.copyTo(restored);
         if (validMask.needed())
             mask.copyTo(validMask);
     }

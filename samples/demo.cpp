@@ -7,6 +7,7 @@
 // With --frame: restores one real frame from its schedule, camera and plant files.
 #include "frame_timing.hpp"
 #include "image_metrics.hpp"
+#include "option_check.hpp"
 #include "plant_file.hpp"
 #include "plot.hpp"
 #include "scene.hpp"
@@ -115,11 +116,11 @@ Mat psfMontage(const PsfBank& bank, int maxTiles)
         Mat tile(cell, cell, CV_8UC3, Scalar(30, 30, 30));
         shown.copyTo(tile(Rect((cell - shown.cols) / 2, 22 + (cell - 30 - shown.rows) / 2, shown.cols, shown.rows)));
         const size_t nx = bank.nodeCols.size();
-        const double y = bank.nodeRows[static_cast<size_t>(n) / nx];
+        const double x = bank.nodeCols[static_cast<size_t>(n) % nx], y = bank.nodeRows[static_cast<size_t>(n) / nx];
         const Point shift = bank.shifts[static_cast<size_t>(n)];
-        putText(tile, format("y%.0f s(%d,%d)", y, shift.x, shift.y), Point(3, 14), FONT_HERSHEY_SIMPLEX, 0.38,
+        putText(tile, format("(%.0f,%.0f) s(%d,%d)", x, y, shift.x, shift.y), Point(3, 14), FONT_HERSHEY_SIMPLEX, 0.38,
                 Scalar(230, 230, 230), 1, LINE_AA);
-        putText(tile, format("%dx%d", kernel.cols, kernel.rows), Point(3, cell - 4), FONT_HERSHEY_SIMPLEX, 0.38,
+        putText(tile, format("%dx%d px", kernel.cols, kernel.rows), Point(3, cell - 4), FONT_HERSHEY_SIMPLEX, 0.38,
                 Scalar(160, 160, 160), 1, LINE_AA);
         cells.push_back(tile);
     }
@@ -261,8 +262,7 @@ int runSynthetic(const CommandLineParser& args)
     uniform->setPsfModel(PSF_UNIFORM);
 
     std::vector<Mat> panelRows;
-    std::printf("\n%-22s %6s | %-17s | %-17s | %-17s | %9s %9s\n", "frame", "window", "blurred PSNR/SSIM",
-                "uniform PSNR/SSIM", "variant PSNR/SSIM", "uniform", "variant");
+    std::vector<std::string> tableRows;
     for (size_t i = 0; i < cases.size(); ++i)
     {
         const Case& c = cases[i];
@@ -287,12 +287,12 @@ int runSynthetic(const CommandLineParser& args)
         Mat judged = valid.clone();
         judged(Rect(0, 0, judged.cols, 8)).setTo(0);
         judged(Rect(0, judged.rows - 8, judged.cols, 8)).setTo(0);
-        std::printf("%-22s %6s | %7.2f dB %6.3f | %7.2f dB %6.3f | %7.2f dB %6.3f | %7.0f ms %7.0f ms\n", c.name.c_str(),
+        tableRows.push_back(format("%-22s %6s | %7.2f dB %6.3f | %7.2f dB %6.3f | %7.2f dB %6.3f | %7.0f ms %7.0f ms", c.name.c_str(),
                     windowName(variant->getLastExposureWindow()), maskedPsnr(truth, frame, judged, 255),
                     maskedSsim(truth, frame, judged), maskedPsnr(truth, restoredUniform, judged, 255),
                     maskedSsim(truth, restoredUniform, judged), maskedPsnr(truth, restoredVariant, judged, 255),
                     maskedSsim(truth, restoredVariant, judged), uniformTimer.getTimeMilli(),
-                    variantTimer.getTimeMilli());
+                    variantTimer.getTimeMilli()));
 
         const std::string stem = outDir + format("/frame%zu", i + 1);
         imwrite(stem + "_blurred.png", frame);
@@ -316,6 +316,11 @@ int runSynthetic(const CommandLineParser& args)
         vconcat(panelRows, panel);
         imwrite(outDir + "/panel.png", panel);
     }
+    std::printf("\nPSNR and SSIM against the truth over the pixels the frame observed; restoration times:\n");
+    std::printf("%-22s %6s | %-17s | %-17s | %-17s | %9s %9s\n", "frame", "window", "blurred PSNR/SSIM",
+                "uniform PSNR/SSIM", "variant PSNR/SSIM", "uniform", "variant");
+    for (const std::string& row : tableRows)
+        std::printf("%s\n", row.c_str());
     writeTrajectoryPlot(outDir + "/trajectory.png", plant, schedule, cases);
     std::printf("\n[demo] wrote %s/panel.png (blurred | uniform | variant | truth), psf_bank.png, trajectory.png\n",
                 outDir.c_str());
@@ -373,6 +378,12 @@ int main(int argc, char** argv)
     {
         args.printMessage();
         return 0;
+    }
+    const std::string unknown = unknownOption(argc, argv, kKeys);
+    if (!unknown.empty())
+    {
+        std::fprintf(stderr, "dynblur_demo: error: %s\n", unknown.c_str());
+        return 2;
     }
     if (!args.check())
     {

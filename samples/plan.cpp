@@ -2,6 +2,7 @@
 // and writes the predicted trajectory (PREFIX.csv) and a plot of it (PREFIX.png).
 //
 //     dynblur_plan --deg --from=0 --to=10 --mode=robust --out=move10
+#include "option_check.hpp"
 #include "plot.hpp"
 
 #include <opencv2/core/utility.hpp>
@@ -12,7 +13,6 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -33,30 +33,6 @@ static const char* const kKeys =
     "{start          | 0      | time of the first switch, seconds                            }"
     "{out            | plan   | output prefix: writes PREFIX.csv and PREFIX.png              }";
 
-//! CommandLineParser silently ignores unknown options; a typo must not plan the wrong move.
-static bool checkOptionNames(int argc, char** argv)
-{
-    const std::set<std::string> known = {"help", "h", "usage", "?", "from", "to", "deg", "mode", "hz", "zeta",
-                                         "gain-deg", "max-level", "min-dwell", "start", "out"};
-    for (int i = 1; i < argc; ++i)
-    {
-        std::string arg = argv[i];
-        if (arg.empty() || arg[0] != '-')
-        {
-            std::cerr << "error: unexpected argument '" << arg << "' (options are --name=value)\n";
-            return false;
-        }
-        arg = arg.substr(arg.find_first_not_of('-'));
-        const std::string name = arg.substr(0, arg.find('='));
-        if (!known.count(name))
-        {
-            std::cerr << "error: unknown option '" << argv[i] << "' (see --help)\n";
-            return false;
-        }
-    }
-    return true;
-}
-
 static int fail(const std::string& message)
 {
     std::cerr << "error: " << message << "\n";
@@ -73,8 +49,9 @@ int main(int argc, char** argv)
         parser.printMessage();
         return 0;
     }
-    if (!checkOptionNames(argc, argv))
-        return 2;
+    const std::string unknown = dynblur_samples::unknownOption(argc, argv, kKeys);
+    if (!unknown.empty())
+        return fail(unknown);
     const bool degrees = parser.has("deg");
     double from = parser.get<double>("from");
     double to = parser.get<double>("to");

@@ -1,0 +1,380 @@
+// Bindings of camera.hpp, render.hpp, psf.hpp, deconv.hpp and deblurrer.hpp.
+#include "bindings.hpp"
+
+#include <opencv2/dynblur/camera.hpp>
+#include <opencv2/dynblur/deblurrer.hpp>
+#include <opencv2/dynblur/deconv.hpp>
+#include <opencv2/dynblur/psf.hpp>
+#include <opencv2/dynblur/render.hpp>
+
+#include <limits>
+#include <memory>
+#include <sstream>
+
+namespace dynblur_py {
+
+using namespace cv::dynblur;
+
+namespace {
+
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+template <typename T>
+cv::Ptr<T> required(const std::shared_ptr<T>& p, const char* name)
+{
+    if (!p)
+        throw py::value_error(std::string("argument '") + name + "' is None");
+    return cv::Ptr<T>(p);
+}
+
+//! Points of shape (..., 2) → N×2 CV_64F, call, and back to the input's shape.
+py::array viewToReference(const CameraModel& cam, py::handle points, double angle)
+{
+    auto a = toDoubleArray(points, "points");
+    if (a.ndim() < 1 || a.shape(a.ndim() - 1) != 2)
+        throw py::value_error("argument 'points' must have shape (..., 2): pixel (x, y) pairs");
+    std::vector<py::ssize_t> shape(a.shape(), a.shape() + a.ndim());
+    cv::Mat in(int(a.size() / 2), 2, CV_64F, const_cast<double*>(a.data())), out;
+    {
+        py::gil_scoped_release release;
+        cam.viewToReference(in, angle, out);
+    }
+    out = out.reshape(1, int(a.size() / 2));
+    py::array_t<double> result(shape);
+    CV_Assert(out.total() == size_t(result.size()) && out.depth() == CV_64F && out.isContinuous());
+    std::copy(out.ptr<double>(), out.ptr<double>() + out.total(), result.mutable_data());
+    return result;
+}
+
+std::string repr(const RLParams& p)
+{
+    std::ostringstream o;
+    o << "RLParams(iterations=" << p.iterations << ", damping=" << p.damping << ", tvWeight=" << p.tvWeight
+      << ", boundary=" << p.boundary << ", accelerate=" << (p.accelerate ? "True" : "False")
+      << ", tolerance=" << p.tolerance << ")";
+    return o.str();
+}
+
+}  // namespace
+
+void bindImaging(py::module_& m)
+{
+    // ---------------------------------------------------------------- CameraModel
+    py::class_<CameraModel, std::shared_ptr<CameraModel>>(m, "CameraModel", R"doc(Pinhole camera with ViSP's one-term radial distortion, mounted on the positioner.
+u = cx + fx·x·(1 + kud·r²), v = cy + fy·y·(1 + kud·r²); a distorted pixel is undistorted with kdu.
+Camera frame: x right, y down, z forward. The camera rotates about mountAxis (default +x: tilt);
+the view at θ relative to θ_ref is I_θ(p) = I_ref(K·R_axis(θ − θ_ref)·K⁻¹·p).)doc")
+        .def_static("create",
+            [](double fx, double fy, double cx, double cy, int w, int h, double kud, double kdu) {
+                return std::shared_ptr<CameraModel>(CameraModel::create(fx, fy, cx, cy, w, h, kud, kdu));
+            },
+            py::arg("fx"), py::arg("fy"), py::arg("cx"), py::arg("cy"), py::arg("width"), py::arg("height"),
+            py::arg("kud") = 0.0, py::arg("kdu") = 0.0,
+            R"doc(fx, fy: focal lengths, pixels, > 0; cx, cy: principal point, pixels; width, height: image
+size, pixels; kud, kdu: ViSP's undistorted→distorted and distorted→undistorted radial coefficients.)doc")
+        .def_static("load",
+            [](const std::string& f, const std::string& name, int w, int h) {
+                return std::shared_ptr<CameraModel>(CameraModel::load(f, name, w, h));
+            },
+            py::arg("filename"), py::arg("cameraName") = "", py::arg("width") = 0, py::arg("height") = 0,
+            R"doc(Reads a ViSP camera XML file (vpXmlParserCamera format). cameraName: empty takes the first
+camera; width, height: image size to select (0: any).)doc")
+        .def("save", &CameraModel::save, py::arg("filename"), py::arg("cameraName") = "Camera",
+             "Writes a ViSP camera XML file, with distortion when kud or kdu is non-zero.")
+        .def("getFx", &CameraModel::getFx, "focal length along x, pixels")
+        .def("getFy", &CameraModel::getFy, "focal length along y, pixels")
+        .def("getCx", &CameraModel::getCx, "principal point x, pixels")
+        .def("getCy", &CameraModel::getCy, "principal point y, pixels")
+        .def("getKud", &CameraModel::getKud, "undistorted→distorted radial coefficient")
+        .def("getKdu", &CameraModel::getKdu, "distorted→undistorted radial coefficient")
+        .def("getImageSize", &CameraModel::getImageSize, "image size (width, height), pixels")
+        .def("getMountAxis", &CameraModel::getMountAxis, "Rotation axis of the mount in the camera frame (unit vector).")
+        .def("setMountAxis", &CameraModel::setMountAxis, py::arg("axis"),
+             "axis: rotation axis in the camera frame, non-zero; it is normalised.")
+        .def("cameraMatrix", &CameraModel::cameraMatrix, "The 3×3 intrinsic matrix K (float64 array).")
+        .def("pixelToNormalized", &CameraModel::pixelToNormalized, py::arg("pixel"),
+             "Undistorted normalised coordinates (x, y) of a (distorted) pixel (u, v).")
+        .def("normalizedToPixel", &CameraModel::normalizedToPixel, py::arg("normalized"),
+             "(Distorted) pixel (u, v) of undistorted normalised coordinates (x, y).")
+        .def("viewToReference", &viewToReference, py::arg("points"), py::arg("angle"),
+             R"doc(Where pixels of the view at θ = θ_ref + angle see the reference view:
+q = distort(K·R_axis(angle)·K⁻¹·undistort(p)). points: array of shape (..., 2), pixels;
+angle: radians. Returns float64 pixel coordinates of the same shape (NaN for a ray behind the camera).)doc");
+
+    // ---------------------------------------------------------------- render.hpp
+    m.def("renderBlurred",
+        [](py::handle sharp, const std::shared_ptr<Plant>& plant, const SwitchSchedule& schedule,
+           const std::shared_ptr<CameraModel>& camera, const RollingShutter& shutter, double thetaRef,
+           double maxStepPx, int borderMode) {
+            MatIn in = toMat(sharp, "sharp");
+            auto p = required(plant, "plant");
+            auto c = required(camera, "camera");
+            const SwitchSchedule s = schedule;
+            cv::Mat out;
+            {
+                py::gil_scoped_release release;
+                renderBlurred(in.mat, p, s, c, shutter, out, thetaRef, maxStepPx, borderMode);
+            }
+            return fromMat(out);
+        },
+        py::arg("sharp"), py::arg("plant"), py::arg("schedule"), py::arg("camera"), py::arg("shutter"),
+        py::arg("thetaRef") = kNaN, py::arg("maxStepPx") = 0.25, py::arg("borderMode") = int(cv::BORDER_REFLECT_101),
+        R"doc(The physical forward model: the frame a rolling-shutter sensor records while the positioner
+follows a schedule. Each row is the time average, in linear intensity, of the view warped to the
+camera's angle over its own exposure interval (uint8 input is taken as sRGB).
+
+sharp: the motion-free view at θ_ref, the camera's image size or larger by the same margin on each
+side, 1–4 channels, uint8/float32/float64; shutter.rows must equal the image height; thetaRef:
+radians, NaN = the schedule's final resting angle; maxStepPx: largest image motion between time
+samples, pixels, in (0, 1]; borderMode: cv2.BORDER_* used beyond sharp.
+Returns the blurred frame (camera's image size, same dtype as sharp).)doc");
+
+    m.def("addSensorNoise",
+        [](py::handle linear, double fullWell, double readNoise, double dark, std::uint64_t seed) {
+            MatIn in = toMat(linear, "linear");
+            cv::Mat out;
+            {
+                py::gil_scoped_release release;
+                addSensorNoise(in.mat, out, fullWell, readNoise, dark, seed);
+            }
+            return fromMat(out);
+        },
+        py::arg("linear"), py::arg("fullWellElectrons") = 4000.0, py::arg("readNoiseElectrons") = 8.0,
+        py::arg("darkElectrons") = 5.0, py::arg("seed") = std::uint64_t(0x5eed),
+        R"doc(Adds webcam sensor noise to a linear-intensity float32 image in [0, 1]: Poisson shot noise
+(photons and dark current) and Gaussian read noise, then clips to [0, 1]. The same seed gives the
+same noise. Returns float32.)doc");
+
+    m.def("srgbToLinear",
+        [](py::handle srgb) {
+            MatIn in = toMat(srgb, "srgb");
+            cv::Mat out;
+            srgbToLinear(in.mat, out);
+            return fromMat(out);
+        },
+        py::arg("srgb"), "sRGB (uint8 or [0,1] float) to linear intensity in [0, 1], float32, same channels.");
+    m.def("linearToSrgb",
+        [](py::handle linear, int depth) {
+            MatIn in = toMat(linear, "linear");
+            cv::Mat out;
+            linearToSrgb(in.mat, out, depth);
+            return fromMat(out);
+        },
+        py::arg("linear"), py::arg("depth") = int(CV_8U),
+        "Linear intensity (float32) to sRGB of the requested depth (cv2.CV_8U = 0 or cv2.CV_32F = 5).");
+
+    // ---------------------------------------------------------------- psf.hpp
+    m.attr("PSF_UNIFORM") = int(PSF_UNIFORM);
+    m.attr("PSF_ROWS") = int(PSF_ROWS);
+    m.attr("PSF_TILES") = int(PSF_TILES);
+    py::class_<PsfBank>(m, "PsfBank", R"doc(Spatially variant blur: kernels on a grid of nodes, blended with bilinear (partition of unity)
+weights. Kernel n sits at node (nodeCols[n % nx], nodeRows[n // nx]); a latent point q spreads to
+blurred pixels q + shifts[n] + (u − c) with weight kernels[n][u], c the kernel's centre element.
+Kernels are float32, odd-sized, non-negative and sum to 1. List fields are copies: assign to change.)doc")
+        .def(py::init<>())
+        .def_readwrite("model", &PsfBank::model, "PsfModel that produced the bank")
+        .def_readwrite("imageSize", &PsfBank::imageSize, "frame size (width, height), pixels")
+        .def_readwrite("nodeRows", &PsfBank::nodeRows, "node y coordinates, pixels, increasing")
+        .def_readwrite("nodeCols", &PsfBank::nodeCols, "node x coordinates, pixels, increasing")
+        .def_property("kernels",
+            [](const PsfBank& b) {
+                py::list l;
+                for (const auto& k : b.kernels)
+                    l.append(fromMat(k));
+                return l;
+            },
+            [](PsfBank& b, py::iterable kernels) {
+                std::vector<cv::Mat> ks;
+                int i = 0;
+                for (auto k : kernels)
+                {
+                    const std::string name = "kernels[" + std::to_string(i++) + "]";
+                    ks.push_back(toMat(k, name.c_str(), true).mat);
+                }
+                b.kernels = std::move(ks);
+            },
+            "kernels, row-major over the nodes (list of float32 arrays; a copy)")
+        .def_readwrite("shifts", &PsfBank::shifts, "integer displacement (x, y) of each kernel's centre, pixels")
+        .def("validate", &PsfBank::validate, "Raises dynblur.error when the bank is inconsistent (sizes, types, sums).")
+        .def("maxKernelSize", &PsfBank::maxKernelSize, "Largest kernel (width, height) over the bank, pixels.")
+        .def("isIdentity", &PsfBank::isIdentity,
+             "True when every kernel is a one-tap kernel with zero shift (nothing to restore).");
+
+    py::class_<PsfGenerator, std::shared_ptr<PsfGenerator>>(m, "PsfGenerator", R"doc(Predicts the blur of every pixel from the plant's trajectory and the shutter timing. For a
+pixel p exposed over [t0, t1] the kernel is the path of p − q(t), q(t) = the reference point it
+sees at θ(t), splatted bilinearly with weights ∝ dwell time and normalised to sum 1.)doc")
+        .def_static("create",
+            [](const std::shared_ptr<Plant>& plant, const std::shared_ptr<CameraModel>& camera) {
+                return std::shared_ptr<PsfGenerator>(PsfGenerator::create(required(plant, "plant"), required(camera, "camera")));
+            },
+            py::arg("plant"), py::arg("camera"))
+        .def("generate",
+            [](const PsfGenerator& g, int model, const SwitchSchedule& schedule, const RollingShutter& shutter,
+               double thetaRef) {
+                const SwitchSchedule s = schedule;
+                py::gil_scoped_release release;
+                return g.generate(model, s, shutter, thetaRef);
+            },
+            py::arg("model"), py::arg("schedule"), py::arg("shutter"), py::arg("thetaRef") = kNaN,
+            R"doc(Kernels for one frame. model: PSF_UNIFORM, PSF_ROWS or PSF_TILES; shutter.rows must equal the
+camera's image height; thetaRef: radians, NaN = the schedule's final resting angle. Returns a PsfBank.)doc")
+        .def("getMaxKernelSize", &PsfGenerator::getMaxKernelSize,
+             "Largest kernel extent allowed, pixels (default 401); a longer path is refused.")
+        .def("setMaxKernelSize", &PsfGenerator::setMaxKernelSize, py::arg("pixels"))
+        .def("getBandRows", &PsfGenerator::getBandRows,
+             "Row-band height for PSF_ROWS, rows; 0 (default) chooses it from how fast the kernel changes.")
+        .def("setBandRows", &PsfGenerator::setBandRows, py::arg("rows"))
+        .def("getTileGrid", &PsfGenerator::getTileGrid,
+             "Tile grid (columns, rows) of nodes for PSF_TILES; (0, 0) (default) chooses it.")
+        .def("setTileGrid", &PsfGenerator::setTileGrid, py::arg("grid"));
+
+    // ---------------------------------------------------------------- deconv.hpp
+    m.attr("RL_BOUNDARY_ZERO") = int(RL_BOUNDARY_ZERO);
+    m.attr("RL_BOUNDARY_PAD") = int(RL_BOUNDARY_PAD);
+    const RLParams d;
+    py::class_<RLParams>(m, "RLParams", "Options of Richardson–Lucy deconvolution.")
+        .def(py::init([](int iterations, double damping, double tvWeight, int boundary, bool accelerate, double tolerance) {
+                 RLParams p;
+                 p.iterations = iterations;
+                 p.damping = damping;
+                 p.tvWeight = tvWeight;
+                 p.boundary = boundary;
+                 p.accelerate = accelerate;
+                 p.tolerance = tolerance;
+                 return p;
+             }),
+             py::arg("iterations") = d.iterations, py::arg("damping") = d.damping, py::arg("tvWeight") = d.tvWeight,
+             py::arg("boundary") = d.boundary, py::arg("accelerate") = d.accelerate, py::arg("tolerance") = d.tolerance)
+        .def_readwrite("iterations", &RLParams::iterations, "iterations, ≥ 1 (default 20)")
+        .def_readwrite("damping", &RLParams::damping,
+                       "DAMPAR of MATLAB's deconvlucy, linear intensity units, ≥ 0 (0: off); NaN: automatic, 3σ of the "
+                       "frame's estimated noise (DynamicDeblurrer's default)")
+        .def_readwrite("tvWeight", &RLParams::tvWeight, "total-variation regularisation weight λ, ≥ 0 (0: off)")
+        .def_readwrite("boundary", &RLParams::boundary, "RL_BOUNDARY_ZERO or RL_BOUNDARY_PAD")
+        .def_readwrite("accelerate", &RLParams::accelerate, "Biggs–Andrews vector extrapolation")
+        .def_readwrite("tolerance", &RLParams::tolerance,
+                       "stop early when the relative change of an iteration falls below it, ≥ 0 (0: never)")
+        .def("__repr__", &repr);
+
+    m.def("richardsonLucy",
+        [](py::handle blurred, py::handle psf, const RLParams& params, py::handle initial) {
+            MatIn b = toMat(blurred, "blurred"), k = toMat(psf, "psf");
+            MatIn init;
+            if (!initial.is_none())
+                init = toMat(initial, "initial");
+            cv::Mat out;
+            {
+                py::gil_scoped_release release;
+                richardsonLucy(b.mat, k.mat, out, params, init.mat);
+            }
+            return fromMat(out);
+        },
+        py::arg("blurred"), py::arg("psf"), py::arg("params") = RLParams(), py::arg("initial") = py::none(),
+        R"doc(Richardson–Lucy deconvolution with one kernel (FFTW, single precision, threaded).
+
+blurred: float32, 1–4 channels, linear intensity; psf: float32/float64, one channel, odd size,
+non-negative (normalised here); params: RLParams; initial: start estimate (same shape and dtype as
+blurred), None = the blurred image. With RL_BOUNDARY_ZERO the update is scikit-image's
+(richardson_lucy, clip=False) from the same start; RL_BOUNDARY_PAD extends the latent domain by
+the kernel's half-size. Returns the latent image (same shape and dtype as blurred).)doc");
+
+    m.def("richardsonLucyVariant",
+        [](py::handle blurred, const PsfBank& bank, const RLParams& params, bool returnMask) -> py::object {
+            MatIn b = toMat(blurred, "blurred");
+            cv::Mat out, mask;
+            {
+                py::gil_scoped_release release;
+                if (returnMask)
+                    richardsonLucyVariant(b.mat, bank, out, params, mask);
+                else
+                    richardsonLucyVariant(b.mat, bank, out, params);
+            }
+            if (returnMask)
+                return py::make_tuple(fromMat(out), fromMat(mask));
+            return fromMat(out);
+        },
+        py::arg("blurred"), py::arg("bank"), py::arg("params") = RLParams(), py::arg("returnMask") = false,
+        R"doc(Spatially variant Richardson–Lucy whose operator and adjoint are the bank's blended blur (no seams).
+
+blurred: float32, 1–4 channels, the bank's image size. Returns latent (the view at θ_ref), or
+(latent, validMask) with returnMask=True: validMask is uint8, 255 where the frame observed the
+latent pixel (others hold the nearest observed value).)doc");
+
+    m.def("applyPsfBank",
+        [](py::handle latent, const PsfBank& bank) {
+            MatIn l = toMat(latent, "latent");
+            cv::Mat out;
+            {
+                py::gil_scoped_release release;
+                applyPsfBank(l.mat, bank, out);
+            }
+            return fromMat(out);
+        },
+        py::arg("latent"), py::arg("bank"),
+        "Applies the bank's forward blur B = A·L (float32, 1–4 channels, the bank's image size; zero outside the frame).");
+
+    m.def("wienerDeconvolve",
+        [](py::handle blurred, const PsfBank& bank, double nsr) {
+            MatIn b = toMat(blurred, "blurred");
+            cv::Mat out;
+            {
+                py::gil_scoped_release release;
+                wienerDeconvolve(b.mat, bank, out, nsr);
+            }
+            return fromMat(out);
+        },
+        py::arg("blurred"), py::arg("bank"), py::arg("noiseToSignal") = 1e-2,
+        R"doc(Wiener deconvolution, the non-iterative fast path: each node's kernel is inverted over its region
+and the results blended with the bank's weights. noiseToSignal: noise-to-signal power ratio, > 0.)doc");
+
+    // ---------------------------------------------------------------- deblurrer.hpp
+    m.attr("DEBLUR_RICHARDSON_LUCY") = int(DEBLUR_RICHARDSON_LUCY);
+    m.attr("DEBLUR_WIENER") = int(DEBLUR_WIENER);
+    py::class_<DynamicDeblurrer, std::shared_ptr<DynamicDeblurrer>>(m, "DynamicDeblurrer", R"doc(Restores frames taken while the positioner moves: the blur of every pixel is predicted from the
+plant and the commands, then undone. The result is the global-shutter, motion-free view at θ_ref.
+One instance is not meant to be shared by threads running deblur() at the same time.)doc")
+        .def_static("create",
+            [](const std::shared_ptr<Plant>& plant, const std::shared_ptr<CameraModel>& camera) {
+                return std::shared_ptr<DynamicDeblurrer>(DynamicDeblurrer::create(required(plant, "plant"), required(camera, "camera")));
+            },
+            py::arg("plant"), py::arg("camera"))
+        .def("deblur",
+            [](DynamicDeblurrer& db, py::handle frame, const SwitchSchedule& schedule, const RollingShutter& shutter,
+               double thetaRef, bool returnMask) -> py::object {
+                MatIn f = toMat(frame, "frame");
+                const SwitchSchedule s = schedule;
+                cv::Mat out, mask;
+                {
+                    py::gil_scoped_release release;
+                    if (returnMask)
+                        db.deblur(f.mat, s, shutter, out, thetaRef, mask);
+                    else
+                        db.deblur(f.mat, s, shutter, out, thetaRef);
+                }
+                if (returnMask)
+                    return py::make_tuple(fromMat(out), fromMat(mask));
+                return fromMat(out);
+            },
+            py::arg("frame"), py::arg("schedule"), py::arg("shutter"), py::arg("thetaRef") = kNaN,
+            py::arg("returnMask") = false,
+            R"doc(Restores one frame.
+
+frame: uint8 (sRGB) or float32 (linear, [0,1]), 1, 3 or 4 channels, the camera's image size;
+schedule: the command in force around the frame; shutter: the frame's timing (rows = height);
+thetaRef: radians, NaN = the schedule's final resting angle. Returns restored (same shape and
+dtype; a window-IV frame comes back unchanged), or (restored, validMask) with returnMask=True
+(uint8, 255 where the frame observed the restored pixel).)doc")
+        .def("getPsfModel", &DynamicDeblurrer::getPsfModel, "PsfModel (default PSF_TILES, the most accurate)")
+        .def("setPsfModel", &DynamicDeblurrer::setPsfModel, py::arg("model"))
+        .def("getMethod", &DynamicDeblurrer::getMethod, "DeblurMethod (DEBLUR_RICHARDSON_LUCY or DEBLUR_WIENER)")
+        .def("setMethod", &DynamicDeblurrer::setMethod, py::arg("method"))
+        .def("getRLParams", &DynamicDeblurrer::getRLParams,
+             "Restoration options; default RLParams() with automatic damping (NaN: 3σ of the frame's noise).")
+        .def("setRLParams", &DynamicDeblurrer::setRLParams, py::arg("params"))
+        .def("getLastExposureWindow", &DynamicDeblurrer::getLastExposureWindow,
+             "Exposure window of the last frame passed to deblur() (0 before the first).")
+        .def("getLastPsfBank", &DynamicDeblurrer::getLastPsfBank, "Kernels used for the last frame.")
+        .def("getPsfGenerator", [](const DynamicDeblurrer& db) { return std::shared_ptr<PsfGenerator>(db.getPsfGenerator()); });
+}
+
+}  // namespace dynblur_py

@@ -176,15 +176,8 @@ public:
     }
 
 private:
-    //! Rodrigues rotation of `angle` radians about the mount axis.
-    Matx33d rotationMatrix(double angle) const
-    {
-        const double c = std::cos(angle), s = std::sin(angle), v = 1.0 - c;
-        const double x = axis_[0], y = axis_[1], z = axis_[2];
-        return Matx33d(c + x * x * v, x * y * v - z * s, x * z * v + y * s,
-                       y * x * v + z * s, c + y * y * v, y * z * v - x * s,
-                       z * x * v - y * s, z * y * v + x * s, c + z * z * v);
-    }
+    //! Rotation of `angle` radians about the mount axis.
+    Matx33d rotationMatrix(double angle) const { return axisRotation(axis_, angle); }
 
     //! p + distort(R·undistort(p)) − distort(undistort(p)): ViSP's vpPixelMeterConversion (kdu) and
     //! vpMeterPixelConversion (kud) formulas, corrected so that R = I maps p exactly onto itself.

@@ -95,16 +95,10 @@ private:
     {
         if (!(schedule.times.empty() && schedule.levels.empty()))
             schedule.validate();
-        const Mat tMat = t.getMat();
-        const std::vector<double> times = readTimeVector(t, "t");
-        if (times.empty())
-        {
-            out.release();
+        std::vector<double> times;
+        double* dst = allocateTimeOutput(t, out, times);
+        if (!dst)
             return;
-        }
-        out.create(tMat.size(), CV_64F);
-        Mat result = out.getMat();
-        double* dst = result.ptr<double>();
 
         // Outputs are produced in time order, integrating forward once through the schedule.
         std::vector<size_t> order(times.size());

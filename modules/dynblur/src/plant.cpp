@@ -140,6 +140,20 @@ std::vector<double> readTimeVector(InputArray t, const char* argName)
     return values;
 }
 
+double* allocateTimeOutput(InputArray t, OutputArray out, std::vector<double>& times)
+{
+    times = readTimeVector(t, "t");
+    if (times.empty())
+    {
+        out.release();
+        return nullptr;
+    }
+    out.create(t.size(), CV_64F);
+    Mat result = out.getMat();
+    CV_Assert(result.isContinuous());
+    return result.ptr<double>();
+}
+
 static void checkLinearParameters(double naturalFreqHz, double dampingRatio, double gain)
 {
     if (!(std::isfinite(naturalFreqHz) && naturalFreqHz > 0))
@@ -234,17 +248,8 @@ private:
     void evaluate(const SwitchSchedule& schedule, InputArray t, OutputArray out, bool rate) const
     {
         checkScheduleArgument(schedule);
-        const Mat tMat = t.getMat();
-        const std::vector<double> times = readTimeVector(t, "t");
-        if (times.empty())
-        {
-            out.release();
-            return;
-        }
-        out.create(tMat.size(), CV_64F);
-        Mat result = out.getMat();
-        CV_Assert(result.isContinuous());
-        double* dst = result.ptr<double>();
+        std::vector<double> times;
+        double* dst = allocateTimeOutput(t, out, times);
         for (size_t i = 0; i < times.size(); ++i)
             dst[i] = gain_ * linearResponseInLevels(model_, schedule, times[i], rate);
     }

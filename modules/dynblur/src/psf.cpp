@@ -92,14 +92,7 @@ struct Trajectory
     std::vector<Matx33d> rot;      // R_axis(angle) at each sample
     Vec3d axis;
 
-    Matx33d rotation(double a) const
-    {
-        const double c = std::cos(a), s = std::sin(a), v = 1.0 - c;
-        const double x = axis[0], y = axis[1], z = axis[2];
-        return Matx33d(c + x * x * v, x * y * v - z * s, x * z * v + y * s,
-                       y * x * v + z * s, c + y * y * v, y * z * v - x * s,
-                       z * x * v - y * s, z * y * v + x * s, c + z * z * v);
-    }
+    Matx33d rotation(double a) const { return axisRotation(axis, a); }
     //! Angle at any time inside the grid, linear between samples.
     double angleAt(double t) const
     {

@@ -26,5 +26,6 @@ RollingShutter → kernels from PsfGenerator → richardsonLucyVariant → resto
 #include "opencv2/dynblur/psf.hpp"
 #include "opencv2/dynblur/deconv.hpp"
 #include "opencv2/dynblur/deblurrer.hpp"
+#include "opencv2/dynblur/bus.hpp"
 
 #endif

@@ -420,17 +420,21 @@ TEST(BusSim, ProgramAsSubprocess)
     std::string line;
     ASSERT_TRUE(std::getline(in, line));
     EXPECT_EQ(line, "t,theta,level");
-    double lastT = -1, t = 0, theta = 0;
+    double firstT = -1, lastT = -1, t = 0, theta = 0;
     int level = 0, rows = 0, maxLevel = -100;
     while (std::getline(in, line))
     {
         ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%d", &t, &theta, &level), 3) << line;
         EXPECT_GT(t, lastT);
+        if (firstT < 0)
+            firstT = t;
         lastT = t;
         maxLevel = std::max(maxLevel, level);
         ++rows;
     }
-    EXPECT_GT(rows, 300);  // 1 kHz over ≥ 0.54 s
+    // Nominally 1 kHz over 0.54 s; a loaded machine (parallel tests) may skip ticks.
+    EXPECT_GT(rows, 100);
+    EXPECT_GT(lastT - firstT, 0.5);
     EXPECT_EQ(maxLevel, 10);
     EXPECT_EQ(level, 10);
     EXPECT_NEAR(theta, 10 * CV_PI / 180, 0.3 * CV_PI / 180);  // ζ = 0.12 settles within 0.5 s

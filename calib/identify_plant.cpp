@@ -37,6 +37,7 @@ static const char* const kUsage =
     "                       log has no level column, and used instead of it when given\n"
     "  --known-start        the log's clock is the command's clock: do not fit a delay (by default a\n"
     "                       constant delay between command and motion is fitted and reported)\n"
+    "  --unknown-start      fit the delay (the default; accepted for clarity)\n"
     "  --out FILE.yml       plant file to write (default plant.yml)\n"
     "  --max-level N        largest |level| the actuator holds, written to the plant file (default 16)\n"
     "  --plot FILE.png      plot of measured vs fitted theta and the residual (default: FILE_fit.png)\n"
@@ -113,7 +114,7 @@ int main(int argc, char** argv)
         dynblur_calib::Args args(argc, argv,
                                  {"schedule", "out", "max-level", "plot", "simulate", "hz", "zeta", "gain-deg",
                                   "step-level", "delay", "latency", "noise-deg", "duration", "rate", "seed"},
-                                 {"help", "known-start", "no-png"});
+                                 {"help", "known-start", "unknown-start", "no-png"});
         if (args.has("help"))
         {
             std::cout << kUsage;
@@ -133,6 +134,8 @@ int main(int argc, char** argv)
         const int maxLevel = args.integer("max-level", 16);
         if (maxLevel < 1)
             return usageError("--max-level must be >= 1");
+        if (args.has("known-start") && args.has("unknown-start"))
+            return usageError("--known-start and --unknown-start contradict each other");
         const bool estimateDelay = !args.has("known-start");
 
         ResponseLog log;

@@ -88,7 +88,9 @@ starting from the per-view median intrinsics. Outlier rule: a view whose RMS res
 @param outlierFactor residual rejection factor (see above), > 1; 0 disables the rejection.
 @return intrinsics, residuals and the fate of every view.
 @throws cv::Exception when fewer than 3 views are usable (the message lists each view and why),
-or when an argument is out of range. */
+or when an argument is out of range.
+@note Not to be called from several threads at once: ViSP's calibration gain is process-wide (it
+is raised to 1 during the fit and restored after). */
 CV_EXPORTS_W CameraCalibration calibrateCameraViSP(const std::vector<String>& imagePaths, Size boardSize,
                                                    double squareSize, double outlierFactor = 3.0);
 

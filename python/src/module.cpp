@@ -61,4 +61,5 @@ PYBIND11_MODULE(_dynblur, m)
     }, py::arg("a"));
     bindMotion(m);
     bindImaging(m);
+    bindCalibration(m);
 }

@@ -6,7 +6,7 @@
 // (OpenCV FileStorage: camera_matrix, distortion_coefficients) and cam_views.png (every view with
 // its detected corners and residual; rejected views framed in red). Each file is written to a
 // temporary name and renamed, so none is ever half-written.
-#include "cli_args.hpp"
+#include "cli_args.hpp"  // samples/common
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/utility.hpp>
@@ -158,26 +158,27 @@ int main(int argc, char** argv)
     bool png = true;
     try
     {
-        dynblur_calib::Args args(argc, argv, {"board", "square", "out", "name", "outlier-factor"}, {"help", "no-png"});
+        dynblur_samples::CliArgs args(argc, argv, {"board", "square", "out", "name", "outlier-factor"}, {"help", "no-png"},
+                                      true);
         if (args.has("help"))
         {
             std::cout << kUsage;
             return 0;
         }
-        const std::string boardText = args.get("board", "9x6");
+        const std::string boardText = args.str("board", "9x6");
         int w = 0, h = 0;
         char tail = 0;
         if (std::sscanf(boardText.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 2 || h < 2)
             return usageError("--board '" + boardText + "' must be WxH inner corners, each >= 2 (e.g. 9x6)");
         board = Size(w, h);
-        square = args.number("square", 0.025);
+        square = args.num("square", 0.025);
         if (!(square > 0))
             return usageError(format("--square %g must be > 0 (metres)", square));
-        outlierFactor = args.number("outlier-factor", 3.0);
+        outlierFactor = args.num("outlier-factor", 3.0);
         if (!(outlierFactor == 0 || outlierFactor > 1))
             return usageError(format("--outlier-factor %g must be > 1 (or 0 to keep every view)", outlierFactor));
-        out = args.get("out", "camera.xml");
-        name = args.get("name", "Camera");
+        out = args.str("out", "camera.xml");
+        name = args.str("name", "Camera");
         png = !args.has("no-png");
         inputs = args.positional();
     }

@@ -7,7 +7,7 @@
 //
 // Writes the plant file (naturalFreqHz, dampingRatio, gain, maxLevel; atomically) and a plot of the
 // measured and fitted angle and the residual (PLANT_fit.png).
-#include "cli_args.hpp"
+#include "cli_args.hpp"  // samples/common
 #include "plant_file.hpp"
 #include "plot.hpp"
 #include "response_log.hpp"
@@ -70,15 +70,15 @@ static double deg(double rad)
     return rad * 180.0 / CV_PI;
 }
 
-static int simulate(const dynblur_calib::Args& args, const std::string& path)
+static int simulate(const dynblur_samples::CliArgs& args, const std::string& path)
 {
-    const double hz = args.number("hz", 14.4), zeta = args.number("zeta", 0.12);
-    const double gain = args.number("gain-deg", 1.0) * CV_PI / 180.0;
+    const double hz = args.num("hz", 14.4), zeta = args.num("zeta", 0.12);
+    const double gain = args.num("gain-deg", 1.0) * CV_PI / 180.0;
     const int stepLevel = args.integer("step-level", 4);
-    const double delay = args.number("delay", 0.05), noise = args.number("noise-deg", 0.01) * CV_PI / 180.0;
-    const double duration = args.number("duration", 1.0), rate = args.number("rate", 1000.0);
+    const double delay = args.num("delay", 0.05), noise = args.num("noise-deg", 0.01) * CV_PI / 180.0;
+    const double duration = args.num("duration", 1.0), rate = args.num("rate", 1000.0);
     const int seed = args.integer("seed", 1);
-    const double latency = args.number("latency", 0.0);
+    const double latency = args.num("latency", 0.0);
     if (!(duration > 0 && rate > 0 && duration * rate >= 2 && duration * rate < 1e7))
         return usageError("--duration and --rate must be > 0 and give 2 to 1e7 samples");
     if (!(noise >= 0))
@@ -111,10 +111,10 @@ int main(int argc, char** argv)
 {
     try
     {
-        dynblur_calib::Args args(argc, argv,
-                                 {"schedule", "out", "max-level", "plot", "simulate", "hz", "zeta", "gain-deg",
-                                  "step-level", "delay", "latency", "noise-deg", "duration", "rate", "seed"},
-                                 {"help", "known-start", "unknown-start", "no-png"});
+        dynblur_samples::CliArgs args(argc, argv,
+                                      {"schedule", "out", "max-level", "plot", "simulate", "hz", "zeta", "gain-deg",
+                                       "step-level", "delay", "latency", "noise-deg", "duration", "rate", "seed"},
+                                      {"help", "known-start", "unknown-start", "no-png"}, true);
         if (args.has("help"))
         {
             std::cout << kUsage;
@@ -124,13 +124,13 @@ int main(int argc, char** argv)
         {
             if (!args.positional().empty())
                 return usageError("--simulate writes a log; give no input file");
-            return simulate(args, args.get("simulate", ""));
+            return simulate(args, args.str("simulate", ""));
         }
         if (args.positional().size() != 1)
             return usageError(args.positional().empty() ? "no log file given" : "give exactly one log file");
         const std::string logPath = args.positional()[0];
-        const std::string out = args.get("out", "plant.yml");
-        const std::string plotPath = args.get("plot", stem(out) + "_fit.png");
+        const std::string out = args.str("out", "plant.yml");
+        const std::string plotPath = args.str("plot", stem(out) + "_fit.png");
         const int maxLevel = args.integer("max-level", 16);
         if (maxLevel < 1)
             return usageError("--max-level must be >= 1");
@@ -149,8 +149,8 @@ int main(int argc, char** argv)
             checkResponseLog(log);
             if (args.has("schedule"))
             {
-                schedule = SwitchSchedule::load(args.get("schedule", ""));
-                commandSource = "schedule " + args.get("schedule", "");
+                schedule = SwitchSchedule::load(args.str("schedule", ""));
+                commandSource = "schedule " + args.str("schedule", "");
             }
             else if (log.hasLevel())
             {

@@ -1,5 +1,6 @@
 #include "cli_args.hpp"
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -7,13 +8,23 @@
 
 namespace dynblur_samples {
 
-CliArgs::CliArgs(int argc, char** argv, const std::set<std::string>& valued, const std::set<std::string>& flags)
+CliArgs::CliArgs(int argc, char** argv, const std::set<std::string>& valued, const std::set<std::string>& flags,
+                 bool allowPositional)
 {
     for (int i = 1; i < argc; ++i)
     {
         std::string arg = argv[i];
-        if (arg.size() < 2 || arg[0] != '-')
-            throw std::runtime_error("unexpected argument '" + arg + "' (options start with --)");
+        const bool isOption = arg.size() >= 2 && arg[0] == '-' && !std::isdigit(static_cast<unsigned char>(arg[1]))
+                              && arg[1] != '.';
+        if (!isOption)
+        {
+            if (!allowPositional)
+                throw std::runtime_error("unexpected argument '" + arg + "' (options start with --)");
+            positional_.push_back(arg);
+            continue;
+        }
+        if (arg == "-h")
+            arg = "--help";
         arg = arg.substr(arg.find_first_not_of('-'));
         std::string name = arg, value;
         const size_t eq = arg.find('=');

@@ -28,7 +28,14 @@ try:  # cv2's loader imports cv2/dynblur, which maps back to this (already regis
     import cv2 as _cv2
     _base_error = getattr(_cv2, "error", Exception)
 except ImportError:
+    _cv2 = None
     _base_error = Exception
+
+if _cv2 is not None and not hasattr(_cv2, "dynblur"):
+    # An editable install has no cv2/dynblur folder for cv2's loader to find: attach ourselves.
+    import sys as _sys
+    _cv2.dynblur = _sys.modules[__name__]
+    _sys.modules.setdefault("cv2.dynblur", _sys.modules[__name__])
 
 
 class error(_base_error):

@@ -12,7 +12,7 @@ namespace dynblur {
 /** @brief When each sensor row integrates light.
 
 Row r integrates over [frameStart + r·lineDelay, frameStart + r·lineDelay + exposure]
-(seconds, the schedule's clock). lineDelay = 0 is a global shutter.
+(seconds, the schedule's clock) @cite Meingast2005Rolling. lineDelay = 0 is a global shutter.
 */
 struct CV_EXPORTS_W_SIMPLE RollingShutter
 {

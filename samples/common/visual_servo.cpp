@@ -1,0 +1,472 @@
+#include "visual_servo.hpp"
+
+#include "plot.hpp"
+#include "scene.hpp"
+
+#include <opencv2/core/utils/filesystem.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <visp3/core/vpCameraParameters.h>
+#include <visp3/core/vpImage.h>
+#include <visp3/core/vpPixelMeterConversion.h>
+#include <visp3/detection/vpDetectorAprilTag.h>
+#include <visp3/visual_features/vpFeaturePoint.h>
+#include <visp3/vs/vpServo.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <exception>
+#include <fstream>
+
+using namespace cv;
+using namespace cv::dynblur;
+
+namespace dynblur_samples {
+
+namespace {
+
+const double kDeg = CV_PI / 180.0;
+const double kDepth = 1.0;  // metres to the plane; only scales the (unused) translation columns
+
+double hostNow()
+{
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// ---- the simulated world ------------------------------------------------------------------------
+
+// The plane as the camera sees it at θ = 0 (linear intensity, grey), wider than the frame by the
+// same margin on each side so rows exposed away from θ = 0 see real content. The tag is placed
+// where the centre pixel looks when θ = target.
+struct World
+{
+    Mat sharpLinear;        // CV_32F, the view at θ = 0
+    Point2d tagAtZero;      // tag centre in the frame's coordinates at θ = 0, pixels
+};
+
+World makeWorld(const Ptr<CameraModel>& camera, double targetRad, int maxShiftPx, int tagCellPx)
+{
+    const Size frame = camera->getImageSize();
+    const int marginX = 40, marginY = maxShiftPx + 40;
+    Mat colour = makeScene(Size(frame.width + 2 * marginX, frame.height + 2 * marginY), 20261122u), grey;
+    cvtColor(colour, grey, COLOR_BGR2GRAY);
+    World world;
+    world.tagAtZero = camera->viewToReference(Point2d(camera->getCx(), camera->getCy()), targetRad);
+    const Mat tag = aprilTag36h11Id0(tagCellPx);
+    const Point topLeft(cvRound(world.tagAtZero.x + marginX - (tag.cols - 1) / 2.0),
+                        cvRound(world.tagAtZero.y + marginY - (tag.rows - 1) / 2.0));
+    tag.copyTo(grey(Rect(topLeft, tag.size())));
+    world.tagAtZero = Point2d(topLeft.x - marginX + (tag.cols - 1) / 2.0, topLeft.y - marginY + (tag.rows - 1) / 2.0);
+    srgbToLinear(grey, world.sharpLinear);
+    return world;
+}
+
+// Where the tag centre appears at tilt θ (the inverse of viewToReference for a pure rotation).
+Point2d tagInView(const Ptr<CameraModel>& camera, const World& world, double thetaRad)
+{
+    return camera->viewToReference(world.tagAtZero, -thetaRad);
+}
+
+// ---- detection -----------------------------------------------------------------------------------
+
+Detection detectTag(vpDetectorAprilTag& detector, const Mat& grey8)
+{
+    vpImage<unsigned char> image(static_cast<unsigned>(grey8.rows), static_cast<unsigned>(grey8.cols));
+    for (int y = 0; y < grey8.rows; ++y)
+        std::copy(grey8.ptr<uchar>(y), grey8.ptr<uchar>(y) + grey8.cols, image[static_cast<unsigned>(y)]);
+    Detection detection;
+    if (!detector.detect(image))
+        return detection;
+    for (size_t i = 0; i < detector.getNbObjects(); ++i)
+    {
+        if (detector.getMessage(i) != "36h11 id: 0")
+            continue;
+        for (const vpImagePoint& p : detector.getPolygon(i))
+            detection.corners.emplace_back(p.get_u(), p.get_v());
+        if (detection.corners.size() != 4)
+            continue;
+        // The centre of a square seen in perspective is where its diagonals cross (the corners'
+        // mean is off by a fraction of a pixel once the plane is tilted).
+        const Point2d a = detection.corners[0], b = detection.corners[2], c = detection.corners[1], d = detection.corners[3];
+        const Point2d r = b - a, q = d - c;
+        const double denominator = r.x * q.y - r.y * q.x;
+        if (std::abs(denominator) < 1e-9)
+            continue;
+        const double t = ((c - a).x * q.y - (c - a).y * q.x) / denominator;
+        detection.centre = a + t * r;
+        detection.found = true;
+        break;
+    }
+    return detection;
+}
+
+// ---- the positioner: the plant directly, or the actuator controller over the bus ------------------
+
+class Positioner
+{
+public:
+    Positioner(const ServoConfig& config, const Ptr<Plant>& plant)
+    {
+        if (config.busUri.empty())
+            return;
+        ActuatorLimits limits;
+        limits.maxLevel = config.maxLevel;
+        limits.minDwell = 1e-3;
+        driver_ = ActuatorDriver::create(ActuatorBus::create(config.busUri, config.busTimeout, 2), limits);
+        const ActuatorInfo info = driver_->connect();
+        if (info.maxLevel < config.maxLevel)
+            CV_Error(Error::StsBadArg, format("the controller at %s accepts levels up to %d, the servo needs %d",
+                                              config.busUri.c_str(), info.maxLevel, config.maxLevel));
+        (void)plant;
+    }
+    ~Positioner()
+    {
+        // The camera holds its last level after a run; on an error it goes to the safe level.
+        if (driver_ && std::uncaught_exceptions() > 0)
+        {
+            try { driver_->stop(); } catch (...) {}
+        }
+    }
+
+    /** Runs a saccade planned to start at `plannedStart` (simulation clock). Returns the schedule
+    as the mechanism executes it, on the simulation clock; latencyMs receives the start delay. */
+    SwitchSchedule run(const SwitchSchedule& planned, double plannedStart, double& latencyMs)
+    {
+        latencyMs = 0;
+        if (!driver_ || planned.times.empty())
+            return planned;
+        driver_->waitUntilDone(2.0);  // the previous saccade (real time) must be over
+        driver_->upload(planned);
+        const double asked = hostNow();
+        const StartReport report = driver_->start();
+        // The controller switched entry 0 at report.hostStartTime; the simulation clock runs at
+        // plannedStart when the start was asked for, so the real start delay carries over.
+        const double simStart = plannedStart + std::max(0.0, report.hostStartTime - asked);
+        latencyMs = 1e3 * (simStart - plannedStart);
+        SwitchSchedule started = planned;
+        for (size_t i = 0; i < started.times.size(); ++i)  // the device holds µs offsets from entry 0
+            started.times[i] = simStart + std::round((planned.times[i] - planned.times[0]) * 1e6) * 1e-6;
+        return started;
+    }
+
+private:
+    Ptr<ActuatorDriver> driver_;
+};
+
+void appendSchedule(SwitchSchedule& history, const SwitchSchedule& saccade)
+{
+    for (size_t i = 0; i < saccade.times.size(); ++i)
+    {
+        history.times.push_back(saccade.times[i]);
+        history.levels.push_back(saccade.levels[i]);
+    }
+}
+
+Mat toGrey8(const Mat& linear)
+{
+    Mat srgb;
+    linearToSrgb(linear, srgb, CV_8U);
+    return srgb;
+}
+
+}  // namespace
+
+Mat aprilTag36h11Id0(int cellPx)
+{
+    // tag36h11 id 0 (AprilTag family table, 36 data bits read row by row from the top-left, 1 = white).
+    const uint64_t code = 0xd5d628584ULL;
+    Mat tag(10 * cellPx, 10 * cellPx, CV_8U, Scalar(255));
+    for (int y = 1; y <= 8; ++y)
+        for (int x = 1; x <= 8; ++x)
+        {
+            bool white = false;
+            if (x >= 2 && x <= 7 && y >= 2 && y <= 7)
+                white = ((code >> (35 - ((y - 2) * 6 + (x - 2)))) & 1u) != 0;
+            tag(Rect(x * cellPx, y * cellPx, cellPx, cellPx)).setTo(white ? 255 : 0);
+        }
+    return tag;
+}
+
+ServoReport runVisualServo(const ServoConfig& config, const std::function<void(const ServoReport&)>& progress)
+{
+    CV_CheckGT(config.cycles, 0, "cycles");
+    CV_CheckGT(config.framesPerCycle, 0, "frames per cycle");
+    CV_CheckGT(config.lambda, 0.0, "lambda");
+    CV_CheckGT(config.gainDegPerLevel, 0.0, "gain");
+    CV_CheckGE(config.maxLevel, 1, "max level");
+    CV_Assert(std::abs(config.startOffsetDeg) < config.maxLevel * config.gainDegPerLevel);
+
+    // The system: positioner, planner, camera, deblurrer.
+    const Ptr<Plant> plant = Plant::create(config.naturalFreqHz, config.dampingRatio, config.gainDegPerLevel * kDeg);
+    const Ptr<SwitchPlanner> planner = SwitchPlanner::create(plant, config.maxLevel, config.plannerMode);
+    const Size size = config.imageSize;
+    const Ptr<CameraModel> camera = CameraModel::create(config.focalPx, config.focalPx, (size.width - 1) / 2.0,
+                                                        (size.height - 1) / 2.0, size.width, size.height);
+    const Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
+    deblurrer->setPsfModel(config.psfModel);
+    RLParams rl = deblurrer->getRLParams();
+    rl.iterations = config.rlIterations;
+    deblurrer->setRLParams(rl);
+    Positioner positioner(config, plant);
+
+    // The scene: the tag sits startOffsetDeg (tilt) away from the image centre.
+    ServoReport report;
+    const double targetRad = config.startOffsetDeg * kDeg;
+    report.targetDeg = config.startOffsetDeg;
+    const int maxShiftPx = cvCeil(config.focalPx * std::tan(std::abs(targetRad) * 1.3 + 2 * kDeg));
+    const World world = makeWorld(camera, targetRad, maxShiftPx, config.tagCellPx);
+
+    // Visual servoing task (ViSP): the tag centre s to the image centre s*, eye-in-hand, only ωx.
+    const vpCameraParameters cam(config.focalPx, config.focalPx, camera->getCx(), camera->getCy());
+    vpFeaturePoint s, sStar;
+    sStar.buildFrom(0.0, 0.0, kDepth);
+    vpServo task;
+    task.setServo(vpServo::EYEINHAND_CAMERA);
+    task.setInteractionMatrixType(vpServo::CURRENT);
+    task.setLambda(config.lambda);
+    vpColVector dof(6, 0.0);
+    dof[3] = 1.0;  // the positioner turns the camera about its +x axis (DESIGN §2)
+    task.setCameraDoF(dof);
+    task.addFeature(s, sStar);
+    vpDetectorAprilTag detector(vpDetectorAprilTag::TAG_36h11);
+
+    const double period = 1.0 / config.fps;
+    // "Moving" for this camera: more than 0.25 px off the final view, or faster than 0.2 px per
+    // exposure (classifyExposure's defaults are these figures at fx = 1230 px).
+    const double angleTol = 0.25 / config.focalPx, velocityTol = 0.2 / config.focalPx / config.exposure;
+    SwitchSchedule history(std::vector<double>(), std::vector<int>(), 0);  // every switch so far: the true motion
+    SwitchSchedule saccade = history;                                      // the command of this cycle
+    int level = 0, frameIndex = 0;
+    Detection latest;
+
+    auto takeFrame = [&](int cycle) {
+        ServoFrame frame;
+        frame.cycle = cycle;
+        frame.index = frameIndex;
+        frame.frameStart = frameIndex * period;
+        const RollingShutter shutter(frame.frameStart, config.exposure, config.lineDelay, size.height);
+        // The camera: the physical forward model along the true trajectory, plus sensor noise.
+        Mat blurred, noisy;
+        renderBlurred(world.sharpLinear, plant, history, camera, shutter, blurred, 0.0);
+        addSensorNoise(blurred, noisy, 4000.0, 8.0, 5.0, config.noiseSeed * 100003ull + static_cast<uint64>(frameIndex));
+        Mat mid(1, 1, CV_64F, Scalar(frame.frameStart + 0.5 * (shutter.readoutInterval()[1] - frame.frameStart))), theta;
+        plant->response(history, mid, theta);
+        frame.thetaDeg = theta.at<double>(0) / kDeg;
+        // Classify and restore with the cycle's command (the library's prediction).
+        frame.window = classifyExposure(plant, saccade, shutter, angleTol, velocityTol);
+        Mat restored;
+        if (saccade.times.empty() || frame.window == EXPOSURE_IV)
+            restored = noisy;  // nothing to undo
+        else
+        {
+            const double t0 = static_cast<double>(getTickCount());
+            deblurrer->deblur(noisy, saccade, shutter, restored);
+            frame.restoreSec = (static_cast<double>(getTickCount()) - t0) / getTickFrequency();
+        }
+        const Mat raw8 = toGrey8(noisy), restored8 = toGrey8(restored);
+        frame.raw = detectTag(detector, raw8);
+        frame.restored = detectTag(detector, restored8);
+        if (config.keepImages)
+        {
+            frame.rawImage = raw8;
+            frame.restoredImage = restored8;
+        }
+        ++frameIndex;
+        return frame;
+    };
+
+    // Frame 0: the camera at rest.
+    report.frames.push_back(takeFrame(-1));
+    latest = report.frames.back().restored;
+
+    for (int c = 0; c < config.cycles; ++c)
+    {
+        ServoCycle cycle;
+        cycle.cycle = c;
+        cycle.fromLevel = level;
+        cycle.trueErrorPx = norm(tagInView(camera, world, plant->restingAngle(level)) -
+                                 Point2d(camera->getCx(), camera->getCy()));
+
+        // 1. Measure: the tag centre in the latest restored frame (the view at the resting angle).
+        double deltaRad = 0;
+        if (latest.found)
+        {
+            cycle.measuredErrorPx = norm(latest.centre - Point2d(camera->getCx(), camera->getCy()));
+            double x = 0, y = 0;
+            vpPixelMeterConversion::convertPoint(cam, latest.centre.x, latest.centre.y, x, y);
+            s.buildFrom(x, y, kDepth);
+            // 2. Control law: camera velocity for one cycle; the tilt keeps ωx.
+            const vpColVector v = task.computeControlLaw();
+            deltaRad = v[3];
+        }
+        cycle.deltaDeg = deltaRad / kDeg;
+
+        // 3. Plan: integer levels, vibration cancelled, starting once the measured frame is read out.
+        const int target = std::max(-config.maxLevel, std::min(config.maxLevel,
+                                    level + static_cast<int>(std::lround(deltaRad / plant->getGain()))));
+        const RollingShutter last(report.frames.back().frameStart, config.exposure, config.lineDelay, size.height);
+        const double plannedStart = last.readoutInterval()[1] + config.latency;
+        saccade = planner->plan(plant->restingAngle(level), plant->restingAngle(target), plannedStart);
+        cycle.switches = saccade.times.size();
+        cycle.settleMs = saccade.times.empty() ? 0.0 : 1e3 * saccade.settleTime;
+
+        // 4. Apply: on the plant, or uploaded to the controller and started.
+        saccade = positioner.run(saccade, plannedStart, cycle.startLatencyMs);
+        appendSchedule(history, saccade);
+        level = target;
+        cycle.toLevel = level;
+
+        // 5. The camera keeps taking frames while the mechanism moves: classify, restore, detect.
+        Detection seen;
+        for (int f = 0; f < config.framesPerCycle; ++f)
+        {
+            report.frames.push_back(takeFrame(c));
+            if (report.frames.back().restored.found)
+                seen = report.frames.back().restored;  // any restored frame shows the view at rest
+        }
+        latest = seen;
+        report.cycles.push_back(cycle);
+        if (progress)
+            progress(report);
+    }
+    return report;
+}
+
+int ServoReport::cyclesToWithin(double px) const
+{
+    int first = -1;
+    for (const ServoCycle& c : cycles)
+    {
+        if (c.trueErrorPx <= px && c.measuredErrorPx >= 0 && c.measuredErrorPx <= px)
+        {
+            if (first < 0)
+                first = c.cycle;
+        }
+        else
+        {
+            first = -1;
+        }
+    }
+    return first;
+}
+
+void ServoReport::detectionCounts(int window, int& count, int& raw, int& restored) const
+{
+    count = raw = restored = 0;
+    for (const ServoFrame& f : frames)
+    {
+        const bool match = window == 0 ? (f.window >= EXPOSURE_I && f.window <= EXPOSURE_III) : f.window == window;
+        if (!match)
+            continue;
+        ++count;
+        raw += f.raw.found ? 1 : 0;
+        restored += f.restored.found ? 1 : 0;
+    }
+}
+
+double ServoReport::meanRestoreSec() const
+{
+    double sum = 0;
+    int n = 0;
+    for (const ServoFrame& f : frames)
+        if (f.restoreSec > 0)
+        {
+            sum += f.restoreSec;
+            ++n;
+        }
+    return n ? sum / n : 0.0;
+}
+
+namespace {
+
+const char* windowName(int window)
+{
+    static const char* names[] = {"?", "I", "II", "III", "IV"};
+    return names[window >= 1 && window <= 4 ? window : 0];
+}
+
+Mat annotated(const Mat& grey8, const Detection& detection, const std::string& label)
+{
+    Mat image;
+    cvtColor(grey8, image, COLOR_GRAY2BGR);
+    const Point2d centre((image.cols - 1) / 2.0, (image.rows - 1) / 2.0);
+    drawMarker(image, Point(cvRound(centre.x), cvRound(centre.y)), Scalar(255, 200, 0), MARKER_CROSS, 14, 1);
+    if (detection.found)
+    {
+        std::vector<Point> polygon;
+        for (const Point2d& p : detection.corners)
+            polygon.emplace_back(cvRound(p.x), cvRound(p.y));
+        polylines(image, polygon, true, Scalar(0, 220, 0), 2, LINE_AA);
+        circle(image, Point(cvRound(detection.centre.x), cvRound(detection.centre.y)), 3, Scalar(0, 0, 255), FILLED);
+    }
+    rectangle(image, Rect(0, 0, image.cols, 18), Scalar(0, 0, 0), FILLED);
+    putText(image, label + (detection.found ? "  tag found" : "  no tag"), Point(4, 13), FONT_HERSHEY_SIMPLEX, 0.4,
+            detection.found ? Scalar(120, 255, 120) : Scalar(120, 120, 255), 1, LINE_AA);
+    return image;
+}
+
+}  // namespace
+
+void writeServoOutputs(const ServoReport& report, const std::string& outDir)
+{
+    utils::fs::createDirectories(outDir);
+    {
+        std::ofstream csv(outDir + "/cycles.csv");
+        csv << "cycle,measured_error_px,true_error_px,from_level,to_level,delta_deg,switches,settle_ms,start_latency_ms\n";
+        for (const ServoCycle& c : report.cycles)
+            csv << format("%d,%.3f,%.3f,%d,%d,%.4f,%zu,%.2f,%.3f\n", c.cycle, c.measuredErrorPx, c.trueErrorPx, c.fromLevel,
+                          c.toLevel, c.deltaDeg, c.switches, c.settleMs, c.startLatencyMs);
+        if (!csv)
+            CV_Error(Error::StsError, "cannot write " + outDir + "/cycles.csv");
+    }
+    {
+        std::ofstream csv(outDir + "/frames.csv");
+        csv << "cycle,frame,frame_start_s,window,theta_deg,raw_found,raw_u,raw_v,restored_found,restored_u,restored_v,restore_ms\n";
+        for (const ServoFrame& f : report.frames)
+            csv << format("%d,%d,%.6f,%s,%.4f,%d,%.2f,%.2f,%d,%.2f,%.2f,%.1f\n", f.cycle, f.index, f.frameStart,
+                          windowName(f.window), f.thetaDeg, f.raw.found ? 1 : 0, f.raw.centre.x, f.raw.centre.y,
+                          f.restored.found ? 1 : 0, f.restored.centre.x, f.restored.centre.y, 1e3 * f.restoreSec);
+        if (!csv)
+            CV_Error(Error::StsError, "cannot write " + outDir + "/frames.csv");
+    }
+
+    // Error per cycle.
+    std::vector<double> x, measured, truth, one;
+    for (const ServoCycle& c : report.cycles)
+    {
+        x.push_back(c.cycle);
+        measured.push_back(c.measuredErrorPx >= 0 ? c.measuredErrorPx : std::numeric_limits<double>::quiet_NaN());
+        truth.push_back(c.trueErrorPx);
+    }
+    dynblur_plot::Figure figure(900, format("Visual servoing: tag %.1f deg off at the start", report.targetDeg), 300);
+    figure.addPanel("image error of the tag centre", "error (px)")
+        .hLine(1.0, "1 px")
+        .line(x, truth, "true (scene geometry)")
+        .line(x, measured, "measured (restored frame)");
+    figure.xLabel("cycle");
+    if (!figure.save(outDir + "/error.png"))
+        CV_Error(Error::StsError, "cannot write " + outDir + "/error.png");
+
+    // Strip: raw | restored for the frames taken while moving (windows I–III).
+    std::vector<Mat> rows;
+    for (const ServoFrame& f : report.frames)
+    {
+        if (f.window == EXPOSURE_IV || f.rawImage.empty() || rows.size() >= 10)
+            continue;
+        const std::string label = format("c%d f%d win %s", f.cycle, f.index, windowName(f.window));
+        Mat row;
+        hconcat(annotated(f.rawImage, f.raw, label + " raw"), annotated(f.restoredImage, f.restored, "restored"), row);
+        rows.push_back(row);
+    }
+    if (!rows.empty())
+    {
+        Mat strip;
+        vconcat(rows, strip);
+        if (!imwrite(outDir + "/strip.png", strip))
+            CV_Error(Error::StsError, "cannot write " + outDir + "/strip.png");
+    }
+}
+
+}  // namespace dynblur_samples

@@ -6,7 +6,8 @@
 // (OpenCV FileStorage: camera_matrix, distortion_coefficients) and cam_views.png (every view with
 // its detected corners and residual; rejected views framed in red). Each file is written to a
 // temporary name and renamed, so none is ever half-written.
-#include "cli_args.hpp"  // samples/common
+#include "atomic_file.hpp"  // samples/common
+#include "cli_args.hpp"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/utility.hpp>
@@ -23,6 +24,9 @@
 
 using namespace cv;
 using namespace cv::dynblur;
+using dynblur_samples::pathStem;
+using dynblur_samples::renameIntoPlace;
+using dynblur_samples::temporaryPathFor;
 
 static const char* const kUsage =
     "Usage: dynblur_calibrate_camera [options] IMAGE|'GLOB'...\n"
@@ -55,29 +59,11 @@ static std::string baseName(const std::string& path)
     return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
-//! FILE.xml -> FILE; anything else is kept whole.
-static std::string stem(const std::string& path)
-{
-    const size_t dot = path.find_last_of('.');
-    const size_t slash = path.find_last_of('/');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash))
-        return path;
-    return path.substr(0, dot);
-}
-
-static void moveInto(const std::string& temporary, const std::string& path)
-{
-    if (std::rename(temporary.c_str(), path.c_str()) != 0)
-    {
-        std::remove(temporary.c_str());
-        CV_Error(Error::StsError, "cannot move '" + temporary + "' to '" + path + "'");
-    }
-}
 
 //! The OpenCV-convention file: K, (k1 = kud, 0, 0, 0, 0), and how it was converted.
 static void writeOpenCVYaml(const std::string& path, const CameraCalibration& calib)
 {
-    const std::string temporary = stem(path) + ".tmp.yml";
+    const std::string temporary = temporaryPathFor(path);
     {
         FileStorage fs(temporary, FileStorage::WRITE);
         if (!fs.isOpened())
@@ -95,7 +81,7 @@ static void writeOpenCVYaml(const std::string& path, const CameraCalibration& ca
         fs << "visp_kud" << calib.kud << "visp_kdu" << calib.kdu;
         fs << "views_used" << calib.usedViews() << "views_given" << static_cast<int>(calib.viewNames.size());
     }
-    moveInto(temporary, path);
+    renameIntoPlace(temporary, path);
 }
 
 //! Every view as a thumbnail with its corners and residual; rejected views framed in red.
@@ -143,10 +129,10 @@ static void writeMosaic(const std::string& path, const std::vector<Mat>& images,
         putText(canvas, status, Point(cell.x + 6, cell.y + thumbH + 34), FONT_HERSHEY_SIMPLEX, 0.42, colour, 1,
                 LINE_AA);
     }
-    const std::string temporary = stem(path) + ".tmp.png";
+    const std::string temporary = temporaryPathFor(path);
     if (!imwrite(temporary, canvas))
         CV_Error(Error::StsError, "cannot write '" + temporary + "'");
-    moveInto(temporary, path);
+    renameIntoPlace(temporary, path);
 }
 
 int main(int argc, char** argv)
@@ -266,17 +252,17 @@ int main(int argc, char** argv)
     std::printf("Intrinsics: px=%.2f py=%.2f u0=%.2f v0=%.2f  kud=%.5f kdu=%.5f  (%dx%d)\n", calib.px, calib.py,
                 calib.u0, calib.v0, calib.kud, calib.kdu, calib.imageSize.width, calib.imageSize.height);
 
-    const std::string yml = stem(out) + ".yml";
-    const std::string mosaic = stem(out) + "_views.png";
+    const std::string yml = pathStem(out) + ".yml";
+    const std::string mosaic = pathStem(out) + "_views.png";
     try
     {
-        const std::string temporary = stem(out) + ".tmp.xml";
+        const std::string temporary = temporaryPathFor(out);
         std::remove(temporary.c_str());
         calib.cameraModel()->save(temporary, name);
         Ptr<CameraModel> back = CameraModel::load(temporary, name);  // never leave a file that does not load
         if (std::abs(back->getFx() - calib.px) > 1e-6 * calib.px)
             CV_Error(Error::StsError, "the written camera file does not read back");
-        moveInto(temporary, out);
+        renameIntoPlace(temporary, out);
         writeOpenCVYaml(yml, calib);
         if (png)
             writeMosaic(mosaic, images, calib, board);

@@ -7,7 +7,8 @@
 //
 // Writes the plant file (naturalFreqHz, dampingRatio, gain, maxLevel; atomically) and a plot of the
 // measured and fitted angle and the residual (PLANT_fit.png).
-#include "cli_args.hpp"  // samples/common
+#include "atomic_file.hpp"  // samples/common
+#include "cli_args.hpp"
 #include "plant_file.hpp"
 #include "plot.hpp"
 #include "response_log.hpp"
@@ -56,14 +57,6 @@ static int usageError(const std::string& message)
     return 2;
 }
 
-static std::string stem(const std::string& path)
-{
-    const size_t dot = path.find_last_of('.');
-    const size_t slash = path.find_last_of('/');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash))
-        return path;
-    return path.substr(0, dot);
-}
 
 static double deg(double rad)
 {
@@ -130,7 +123,7 @@ int main(int argc, char** argv)
             return usageError(args.positional().empty() ? "no log file given" : "give exactly one log file");
         const std::string logPath = args.positional()[0];
         const std::string out = args.str("out", "plant.yml");
-        const std::string plotPath = args.str("plot", stem(out) + "_fit.png");
+        const std::string plotPath = args.str("plot", pathStem(out) + "_fit.png");
         const int maxLevel = args.integer("max-level", 16);
         if (maxLevel < 1)
             return usageError("--max-level must be >= 1");
@@ -232,7 +225,7 @@ int main(int argc, char** argv)
             figure.addPanel("command (shifted by the fitted delay)", "level").line(log.t, levels, "level",
                                                                                 dynblur_plot::paletteColor(3), 2);
             figure.xLabel("time (s)");
-            const std::string temporary = stem(plotPath) + ".tmp.png";
+            const std::string temporary = temporaryPathFor(plotPath);
             if (!figure.save(temporary) || std::rename(temporary.c_str(), plotPath.c_str()) != 0)
             {
                 std::remove(temporary.c_str());

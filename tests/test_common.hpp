@@ -26,6 +26,21 @@ inline std::string dataFile(const std::string& name)
     return stat(path.c_str(), &info) == 0 ? path : std::string();
 }
 
+//! Runs `f` and expects a cv::Exception whose message contains `word` (an argument's name).
+template <typename F>
+void expectErrorNaming(F f, const std::string& word)
+{
+    try
+    {
+        f();
+        ADD_FAILURE() << "no exception; expected one naming '" << word << "'";
+    }
+    catch (const cv::Exception& e)
+    {
+        EXPECT_NE(std::string(e.what()).find(word), std::string::npos) << e.what();
+    }
+}
+
 }  // namespace dynblur_test
 
 //! Skips the current test, with a message, when a data file is missing.

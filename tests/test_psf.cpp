@@ -113,20 +113,6 @@ Point latentFor(const PsfBank& bank, Point p)
     return p - bank.shifts[n0];
 }
 
-template <typename F>
-void expectErrorNaming(F f, const std::string& word)
-{
-    try
-    {
-        f();
-        ADD_FAILURE() << "no exception; expected one naming '" << word << "'";
-    }
-    catch (const cv::Exception& e)
-    {
-        EXPECT_NE(std::string(e.what()).find(word), std::string::npos) << e.what();
-    }
-}
-
 void expectWellFormed(const PsfBank& bank)
 {
     EXPECT_NO_THROW(bank.validate());
@@ -159,16 +145,16 @@ TEST(PsfBank, ValidateCatchesInconsistency)
     EXPECT_FALSE(b.isIdentity());
     PsfBank c = b;
     c.kernels[0] = Mat(2, 1, CV_32F, Scalar(0.5));
-    expectErrorNaming([&] { c.validate(); }, "odd");
+    dynblur_test::expectErrorNaming([&] { c.validate(); }, "odd");
     c = b;
     c.kernels[0] = Mat(1, 1, CV_32F, Scalar(0.5));
-    expectErrorNaming([&] { c.validate(); }, "sum");
+    dynblur_test::expectErrorNaming([&] { c.validate(); }, "sum");
     c = b;
     c.shifts.clear();
-    expectErrorNaming([&] { c.validate(); }, "shifts");
+    dynblur_test::expectErrorNaming([&] { c.validate(); }, "shifts");
     c = b;
     c.nodeRows = {4.5, 2.0};
-    expectErrorNaming([&] { c.validate(); }, "nodeRows");
+    dynblur_test::expectErrorNaming([&] { c.validate(); }, "nodeRows");
 }
 
 TEST(PsfGenerator, StillFrameIsIdentity)
@@ -350,7 +336,7 @@ TEST(PsfGenerator, MaxKernelSizeError)
         EXPECT_NE(msg.find("limit of 9"), std::string::npos) << msg;
         EXPECT_NE(msg.find("raise it with PsfGenerator::setMaxKernelSize"), std::string::npos) << msg;
     }
-    expectErrorNaming([&] { gen->setMaxKernelSize(0); }, "pixels");
+    dynblur_test::expectErrorNaming([&] { gen->setMaxKernelSize(0); }, "pixels");
 }
 
 TEST(PsfGenerator, BadArgumentsNameTheArgument)
@@ -358,15 +344,15 @@ TEST(PsfGenerator, BadArgumentsNameTheArgument)
     Ptr<CameraModel> cam = CameraModel::create(300, 300, 80, 60, 160, 120);
     Ptr<PsfGenerator> gen = PsfGenerator::create(seedPlant(), cam);
     const RollingShutter rs(0.0, 0.008, 1e-4, 120);
-    expectErrorNaming([&] { gen->generate(3, saccade(), rs); }, "model");
-    expectErrorNaming([&] { gen->generate(PSF_ROWS, saccade(), RollingShutter(0, 0.008, 1e-4, 100)); },
+    dynblur_test::expectErrorNaming([&] { gen->generate(3, saccade(), rs); }, "model");
+    dynblur_test::expectErrorNaming([&] { gen->generate(PSF_ROWS, saccade(), RollingShutter(0, 0.008, 1e-4, 100)); },
                       "shutter.rows");
-    expectErrorNaming([&] { gen->generate(PSF_ROWS, saccade(), RollingShutter(0, -1, 1e-4, 120)); },
+    dynblur_test::expectErrorNaming([&] { gen->generate(PSF_ROWS, saccade(), RollingShutter(0, -1, 1e-4, 120)); },
                       "shutter.exposure");
-    expectErrorNaming([&] { gen->generate(PSF_ROWS, saccade(), rs, INFINITY); }, "thetaRef");
+    dynblur_test::expectErrorNaming([&] { gen->generate(PSF_ROWS, saccade(), rs, INFINITY); }, "thetaRef");
     EXPECT_NO_THROW(gen->generate(PSF_ROWS, saccade(), rs, NAN));
-    expectErrorNaming([&] { gen->setBandRows(-1); }, "rows");
-    expectErrorNaming([&] { gen->setTileGrid(Size(-1, 2)); }, "grid");
+    dynblur_test::expectErrorNaming([&] { gen->setBandRows(-1); }, "rows");
+    dynblur_test::expectErrorNaming([&] { gen->setTileGrid(Size(-1, 2)); }, "grid");
     EXPECT_THROW(PsfGenerator::create(Ptr<Plant>(), cam), cv::Exception);
     EXPECT_THROW(PsfGenerator::create(seedPlant(), Ptr<CameraModel>()), cv::Exception);
 }

@@ -75,20 +75,6 @@ Mat testPattern(Size size, int type)
     return out;
 }
 
-template <typename F>
-void expectErrorNaming(F f, const std::string& word)
-{
-    try
-    {
-        f();
-        ADD_FAILURE() << "no exception; expected one naming '" << word << "'";
-    }
-    catch (const cv::Exception& e)
-    {
-        EXPECT_NE(std::string(e.what()).find(word), std::string::npos) << e.what();
-    }
-}
-
 }  // namespace
 
 TEST(RenderSrgb, RoundTripAndEndpoints)
@@ -235,17 +221,17 @@ TEST(RenderBlurred, BadArgumentsNameTheArgument)
     Mat sharp = testPattern(Size(160, 120), CV_32FC3), out;
     Ptr<Plant> p = seedPlant();
     const SwitchSchedule s = saccade();
-    expectErrorNaming([&] { renderBlurred(Mat(), p, s, cam, rs, out); }, "sharp");
-    expectErrorNaming([&] { renderBlurred(Mat(120, 160, CV_16UC1, Scalar(0)), p, s, cam, rs, out); }, "sharp");
-    expectErrorNaming([&] { renderBlurred(Mat(120, 160, CV_32FC(5), Scalar(0)), p, s, cam, rs, out); }, "sharp");
-    expectErrorNaming([&] { renderBlurred(sharp(Rect(0, 0, 150, 120)), p, s, cam, rs, out); }, "sharp");
-    expectErrorNaming([&] { renderBlurred(Mat(121, 161, CV_32FC1, Scalar(0)), p, s, cam, rs, out); }, "sharp");
-    expectErrorNaming([&] { renderBlurred(sharp, p, s, cam, RollingShutter(0, 0.008, 1e-4, 100), out); },
+    dynblur_test::expectErrorNaming([&] { renderBlurred(Mat(), p, s, cam, rs, out); }, "sharp");
+    dynblur_test::expectErrorNaming([&] { renderBlurred(Mat(120, 160, CV_16UC1, Scalar(0)), p, s, cam, rs, out); }, "sharp");
+    dynblur_test::expectErrorNaming([&] { renderBlurred(Mat(120, 160, CV_32FC(5), Scalar(0)), p, s, cam, rs, out); }, "sharp");
+    dynblur_test::expectErrorNaming([&] { renderBlurred(sharp(Rect(0, 0, 150, 120)), p, s, cam, rs, out); }, "sharp");
+    dynblur_test::expectErrorNaming([&] { renderBlurred(Mat(121, 161, CV_32FC1, Scalar(0)), p, s, cam, rs, out); }, "sharp");
+    dynblur_test::expectErrorNaming([&] { renderBlurred(sharp, p, s, cam, RollingShutter(0, 0.008, 1e-4, 100), out); },
                       "shutter.rows");
-    expectErrorNaming([&] { renderBlurred(sharp, p, s, cam, rs, out, INFINITY); }, "thetaRef");
-    expectErrorNaming([&] { renderBlurred(sharp, p, s, cam, rs, out, NAN, 0.0); }, "maxStepPx");
-    expectErrorNaming([&] { renderBlurred(sharp, p, s, cam, rs, out, NAN, 1.5); }, "maxStepPx");
-    expectErrorNaming([&] { renderBlurred(sharp, p, s, cam, rs, out, NAN, 0.25, 99); }, "borderMode");
+    dynblur_test::expectErrorNaming([&] { renderBlurred(sharp, p, s, cam, rs, out, INFINITY); }, "thetaRef");
+    dynblur_test::expectErrorNaming([&] { renderBlurred(sharp, p, s, cam, rs, out, NAN, 0.0); }, "maxStepPx");
+    dynblur_test::expectErrorNaming([&] { renderBlurred(sharp, p, s, cam, rs, out, NAN, 1.5); }, "maxStepPx");
+    dynblur_test::expectErrorNaming([&] { renderBlurred(sharp, p, s, cam, rs, out, NAN, 0.25, 99); }, "borderMode");
     EXPECT_THROW(renderBlurred(sharp, Ptr<Plant>(), s, cam, rs, out), cv::Exception);
     EXPECT_THROW(renderBlurred(sharp, p, s, Ptr<CameraModel>(), rs, out), cv::Exception);
     // NaN thetaRef is allowed (the final resting angle)

@@ -1,5 +1,7 @@
 #include "plant_file.hpp"
 
+#include "atomic_file.hpp"
+
 #include <cstdio>
 
 namespace dynblur_samples {
@@ -37,7 +39,7 @@ PlantFile loadPlantFile(const std::string& path)
 
 void savePlantFile(const std::string& path, const cv::dynblur::Plant& plant, int maxLevel, const std::string& comment)
 {
-    const std::string temporary = path + ".tmp.yml";
+    const std::string temporary = temporaryPathFor(path);
     {
         cv::FileStorage fs(temporary, cv::FileStorage::WRITE);
         if (!fs.isOpened())
@@ -47,11 +49,7 @@ void savePlantFile(const std::string& path, const cv::dynblur::Plant& plant, int
         fs << "naturalFreqHz" << plant.getNaturalFreqHz() << "dampingRatio" << plant.getDampingRatio()
            << "gain" << plant.getGain() << "maxLevel" << maxLevel;
     }
-    if (std::rename(temporary.c_str(), path.c_str()) != 0)
-    {
-        std::remove(temporary.c_str());
-        CV_Error(cv::Error::StsError, "cannot move '" + temporary + "' to '" + path + "'");
-    }
+    renameIntoPlace(temporary, path);
 }
 
 }  // namespace dynblur_samples

@@ -1,5 +1,7 @@
 #include "response_log.hpp"
 
+#include "atomic_file.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -188,11 +190,7 @@ void writeResponseLog(const std::string& path, const ResponseLog& log)
             CV_Error(cv::Error::StsError, "cannot write '" + temporary + "'");
         }
     }
-    if (std::rename(temporary.c_str(), path.c_str()) != 0)
-    {
-        std::remove(temporary.c_str());
-        CV_Error(cv::Error::StsError, "cannot move '" + temporary + "' to '" + path + "'");
-    }
+    renameIntoPlace(temporary, path);
 }
 
 cv::dynblur::SwitchSchedule scheduleFromLevels(const ResponseLog& log)

@@ -332,24 +332,14 @@ void wienerDeconvolve(InputArray blurred, const PsfBank& bank, OutputArray laten
         n = Mat::zeros(size, CV_32F);
     Mat denominator = Mat::zeros(size, CV_32F);
 
-    // Node n's tent weight along one axis (bilinear between nodes, constant beyond the outermost),
-    // the same weights the forward operator blends with.
-    auto tent = [](const std::vector<double>& z, int length, int node) {
-        std::vector<float> w(size_t(length), 0.f);
-        const int last = int(z.size()) - 1;
-        for (int t = 0; t < length; t++)
-        {
-            if (last == 0)
-                w[size_t(t)] = 1.f;
-            else if (t <= z[0])
-                w[size_t(t)] = node == 0 ? 1.f : 0.f;
-            else if (t >= z[size_t(last)])
-                w[size_t(t)] = node == last ? 1.f : 0.f;
-            else if (node > 0 && t >= z[size_t(node - 1)] && t < z[size_t(node)])
-                w[size_t(t)] = float((t - z[size_t(node - 1)]) / (z[size_t(node)] - z[size_t(node - 1)]));
-            else if (node < last && t >= z[size_t(node)] && t < z[size_t(node + 1)])
-                w[size_t(t)] = float((z[size_t(node + 1)] - t) / (z[size_t(node + 1)] - z[size_t(node)]));
-        }
+    // Node `node`'s share of each coordinate along one axis: the blending weights of the forward
+    // operator (detail::tentWeights).
+    auto nodeWeights = [](const std::vector<detail::BankBlurOperator::AxisWeight>& axis, int node) {
+        std::vector<float> w(axis.size(), 0.f);
+        for (size_t t = 0; t < axis.size(); t++)
+            for (int k = 0; k < 2; k++)
+                if (axis[t].node[k] == node)
+                    w[t] += axis[t].weight[k];
         return w;
     };
     auto support = [](const std::vector<float>& w) {
@@ -364,13 +354,15 @@ void wienerDeconvolve(InputArray blurred, const PsfBank& bank, OutputArray laten
     };
 
     const int nx = int(bank.nodeCols.size()), ny = int(bank.nodeRows.size());
+    const auto rowAxis = detail::tentWeights(bank.nodeRows, size.height);
+    const auto colAxis = detail::tentWeights(bank.nodeCols, size.width);
     for (int j = 0; j < ny; j++)
     {
-        const std::vector<float> wy = tent(bank.nodeRows, size.height, j);
+        const std::vector<float> wy = nodeWeights(rowAxis, j);
         const Range rows = support(wy);
         for (int i = 0; i < nx; i++)
         {
-            const std::vector<float> wx = tent(bank.nodeCols, size.width, i);
+            const std::vector<float> wx = nodeWeights(colAxis, i);
             const Range cols = support(wx);
             if (rows.empty() || cols.empty())
                 continue;

@@ -58,8 +58,6 @@ void UniformBlurOperator::adjoint(const Mat& frame, Mat& latent)
 // ---------------------------------------------------------------------------------------------
 // Bank of kernels, spatial domain.
 
-namespace {
-
 /* Bilinear tent weights of every integer coordinate in [0, length) between nodes `z`
    (increasing): constant beyond the outermost nodes, so the weights sum to 1 everywhere. */
 std::vector<BankBlurOperator::AxisWeight> tentWeights(const std::vector<double>& z, int length)
@@ -91,6 +89,8 @@ std::vector<BankBlurOperator::AxisWeight> tentWeights(const std::vector<double>&
     }
     return weights;
 }
+
+namespace {
 
 //! For each node, the range of coordinates where its weight is positive.
 std::vector<Range> supports(const std::vector<BankBlurOperator::AxisWeight>& weights, int nodes)

@@ -98,6 +98,11 @@ private:
     std::vector<std::vector<float>> colWeight_;  // per node col, weights over its support
 };
 
+/** @brief Bilinear tent weights of every integer coordinate in [0, length) between the nodes `z`
+(increasing), constant beyond the outermost nodes: the PsfBank blending weights along one axis,
+shared by the spatial operator and the Wiener path. */
+std::vector<BankBlurOperator::AxisWeight> tentWeights(const std::vector<double>& z, int length);
+
 }  // namespace detail
 }  // namespace dynblur
 }  // namespace cv

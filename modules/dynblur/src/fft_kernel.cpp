@@ -156,30 +156,12 @@ Size FftKernel::linearSize(Size imageSize, Size kernelSize)
 
 Size FftKernel::transformSize() const { return impl_->grid; }
 
-void FftKernel::convolve(const Mat& src, Mat& dst, bool adjoint)
+/* src → spectrum → spectrum[i] = gain(kernel spectrum[i]) · spectrum[i] → dst. FFTW's inverse is
+   unnormalised, so 1/N is folded into the gain. */
+template <typename Gain>
+void FftKernel::filter(const Mat& src, Mat& dst, Gain gain)
 {
     Impl& m = *impl_;
-    m.load(src);
-    fftwf_execute_dft_r2c(m.plans.forward, m.realIn.get(), m.spectrum.get());
-    // FFTW's inverse is unnormalised: fold 1/N into the product.
-    const float scale = 1.f / float(m.grid.area());
-    std::complex<float>* s = reinterpret_cast<std::complex<float>*>(m.spectrum.get());
-    const std::complex<float>* k = reinterpret_cast<const std::complex<float>*>(m.kernelSpectrum.get());
-    const size_t n = m.complexCount();
-    if (adjoint)
-        for (size_t i = 0; i < n; i++)
-            s[i] *= std::conj(k[i]) * scale;
-    else
-        for (size_t i = 0; i < n; i++)
-            s[i] *= k[i] * scale;
-    fftwf_execute_dft_c2r(m.plans.inverse, m.spectrum.get(), m.realOut.get());
-    m.store(dst, src.size());
-}
-
-void FftKernel::wiener(const Mat& src, Mat& dst, float noiseToSignal)
-{
-    Impl& m = *impl_;
-    CV_Assert(src.size() == m.grid);
     m.load(src);
     fftwf_execute_dft_r2c(m.plans.forward, m.realIn.get(), m.spectrum.get());
     const float scale = 1.f / float(m.grid.area());
@@ -187,9 +169,23 @@ void FftKernel::wiener(const Mat& src, Mat& dst, float noiseToSignal)
     const std::complex<float>* k = reinterpret_cast<const std::complex<float>*>(m.kernelSpectrum.get());
     const size_t n = m.complexCount();
     for (size_t i = 0; i < n; i++)
-        s[i] *= std::conj(k[i]) * (scale / (std::norm(k[i]) + noiseToSignal));
+        s[i] *= gain(k[i]) * scale;
     fftwf_execute_dft_c2r(m.plans.inverse, m.spectrum.get(), m.realOut.get());
     m.store(dst, src.size());
+}
+
+void FftKernel::convolve(const Mat& src, Mat& dst, bool adjoint)
+{
+    if (adjoint)
+        filter(src, dst, [](std::complex<float> k) { return std::conj(k); });
+    else
+        filter(src, dst, [](std::complex<float> k) { return k; });
+}
+
+void FftKernel::wiener(const Mat& src, Mat& dst, float noiseToSignal)
+{
+    CV_Assert(src.size() == impl_->grid);
+    filter(src, dst, [noiseToSignal](std::complex<float> k) { return std::conj(k) / (std::norm(k) + noiseToSignal); });
 }
 
 }  // namespace detail

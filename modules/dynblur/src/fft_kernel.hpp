@@ -40,6 +40,10 @@ public:
     void wiener(const Mat& src, Mat& dst, float noiseToSignal);
 
 private:
+    //! src → spectrum × gain(kernel spectrum) → dst (defined and used in fft_kernel.cpp only).
+    template <typename Gain>
+    void filter(const Mat& src, Mat& dst, Gain gain);
+
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

@@ -119,6 +119,24 @@ void warpAccumulateCn(const Mat& sharp, const Mat& coarse, const std::vector<int
 
 }  // namespace
 
+//! `src` as CV_32F (same channels) with `fn` applied to every element, rows in parallel.
+template <typename Fn>
+static Mat mapToFloat(const Mat& src, Fn fn)
+{
+    Mat f;
+    src.convertTo(f, CV_32F);
+    Mat f1 = f.reshape(1);
+    parallel_for_(Range(0, f1.rows), [&](const Range& r) {
+        for (int y = r.start; y < r.end; y++)
+        {
+            float* d = f1.ptr<float>(y);
+            for (int x = 0; x < f1.cols; x++)
+                d[x] = fn(d[x]);
+        }
+    });
+    return f;
+}
+
 void srgbToLinear(InputArray _srgb, OutputArray _linear)
 {
     Mat src = _srgb.getMat();
@@ -142,18 +160,7 @@ void srgbToLinear(InputArray _srgb, OutputArray _linear)
         return;
     }
     CV_CheckType(src.type(), depth == CV_32F || depth == CV_64F, "srgbToLinear: srgb must be CV_8U, CV_32F or CV_64F");
-    Mat f;
-    src.convertTo(f, CV_32F);
-    Mat f1 = f.reshape(1);
-    parallel_for_(Range(0, f1.rows), [&](const Range& r) {
-        for (int y = r.start; y < r.end; y++)
-        {
-            float* d = f1.ptr<float>(y);
-            for (int x = 0; x < f1.cols; x++)
-                d[x] = srgbToLinear1(std::min(1.0, std::max(0.0, (double)d[x])));
-        }
-    });
-    f.copyTo(_linear);
+    mapToFloat(src, [](float v) { return (float)srgbToLinear1(std::min(1.0, std::max(0.0, (double)v))); }).copyTo(_linear);
 }
 
 void linearToSrgb(InputArray _linear, OutputArray _srgb, int depth)
@@ -164,17 +171,7 @@ void linearToSrgb(InputArray _linear, OutputArray _srgb, int depth)
                  "linearToSrgb: linear must be CV_32F (or CV_64F)");
     if (depth != CV_8U && depth != CV_32F)
         CV_Error_(Error::StsBadArg, ("linearToSrgb: depth=%d must be CV_8U or CV_32F", depth));
-    Mat f;
-    src.convertTo(f, CV_32F);
-    Mat f1 = f.reshape(1);
-    parallel_for_(Range(0, f1.rows), [&](const Range& r) {
-        for (int y = r.start; y < r.end; y++)
-        {
-            float* d = f1.ptr<float>(y);
-            for (int x = 0; x < f1.cols; x++)
-                d[x] = (float)linearToSrgb1(d[x]);
-        }
-    });
+    const Mat f = mapToFloat(src, [](float v) { return (float)linearToSrgb1(v); });
     if (depth == CV_8U)
         f.convertTo(_srgb, CV_8U, 255.0);  // saturate_cast rounds to nearest
     else

@@ -9,6 +9,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <atomic>
+#include <iostream>
 #include <random>
 
 namespace {
@@ -263,9 +265,8 @@ TEST(DeconvRichardsonLucy, ToleranceStopsEarly)
 // ---------------------------------------------------------------------------------------------
 // (2) The bank operator's adjoint is exact.
 
-void expectAdjoint(const PsfBank& bank, bool pad)
+void expectAdjoint(cv::dynblur::detail::BlurOperator& op, bool pad)
 {
-    cv::dynblur::detail::BankBlurOperator op(bank, pad);
     Mat x(op.latentSize(), CV_32F), y(op.frameSize(), CV_32F), ax, aty;
     RNG rng(11);
     rng.fill(x, RNG::UNIFORM, -1, 1);
@@ -289,15 +290,40 @@ TEST(DeconvOperator, AdjointIsExactForTileBankWithShifts)
         k = k + noise.mul(used);  // keep zero taps zero
         k /= sum(k)[0];
     }
-    expectAdjoint(bank, true);
-    expectAdjoint(bank, false);
+    for (bool pad : {true, false})
+    {
+        cv::dynblur::detail::BankBlurOperator op(bank, pad);
+        expectAdjoint(op, pad);
+    }
 }
 
+// Both operators of a row bank (the general one and the row gather) have exact adjoints and agree.
 TEST(DeconvOperator, AdjointIsExactForRowBankWithLargeShifts)
 {
-    const PsfBank bank = rowBank(Size(60, 160), 8, 120);
-    expectAdjoint(bank, true);
-    expectAdjoint(bank, false);
+    PsfBank bank = rowBank(Size(150, 160), 8, 120);
+    // Slanted kernels too: taps with column offsets exercise the gather's edge columns.
+    bank.kernels[3] = Mat::zeros(5, 7, CV_32F);
+    for (int i = 0; i < 5; i++)
+        bank.kernels[3].at<float>(i, i + 1) = 0.2f;
+    bank.shifts[3] = Point(-4, 2);
+    for (bool pad : {true, false})
+    {
+        cv::dynblur::detail::BankBlurOperator general(bank, pad);
+        cv::dynblur::detail::RowBankOperator rows(bank, pad);
+        expectAdjoint(general, pad);
+        expectAdjoint(rows, pad);
+        ASSERT_EQ(rows.latentSize(), general.latentSize());
+        ASSERT_EQ(rows.origin(), general.origin());
+        Mat x(rows.latentSize(), CV_32F), y(rows.frameSize(), CV_32F), a, b;
+        RNG(3).fill(x, RNG::UNIFORM, 0, 1);
+        RNG(4).fill(y, RNG::UNIFORM, 0, 1);
+        general.forward(x, a);
+        rows.forward(x, b);
+        EXPECT_LT(norm(a, b, NORM_INF), 1e-5) << "forward, pad=" << pad;
+        general.adjoint(y, a);
+        rows.adjoint(y, b);
+        EXPECT_LT(norm(a, b, NORM_INF), 1e-5) << "adjoint, pad=" << pad;
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -675,6 +701,54 @@ TEST(DeconvArguments, BadInputThrows)
               std::string::npos);
     EXPECT_NE(errorOf([&] { wienerDeconvolve(image, bank, out, 0.0); }).find("noiseToSignal"), std::string::npos);
     EXPECT_NE(errorOf([&] { richardsonLucyVariant(image, wrongSize, out); }).find("'bank'"), std::string::npos);
+    bad = p;
+    bad.colorIterations = -2;
+    EXPECT_NE(errorOf([&] { richardsonLucyVariant(image, bank, out, bad); }).find("params.colorIterations"),
+              std::string::npos);
+}
+
+// Luminance iterations: exact where they must be, and close to full colour on a colourful frame.
+TEST(DeconvColorIterations, LuminancePhaseAgreesWithFullColour)
+{
+    const PsfBank bank = rowBank(Size(120, 90), 6, 20);
+    Mat grey(90, 120, CV_32F), blurredGrey;
+    RNG(21).fill(grey, RNG::UNIFORM, 0.1, 0.9);
+    GaussianBlur(grey, grey, Size(0, 0), 1.0);
+    applyPsfBank(grey, bank, blurredGrey);
+    RLParams params;
+    params.iterations = 8;
+    Mat full, reduced, above;
+
+    /* Equal planes: their mean is each plane, so the luminance phase is colour RL exactly (without
+       acceleration, which restarts with the luminance phase). */
+    params.accelerate = false;
+    Mat equalPlanes;
+    merge(std::vector<Mat>{blurredGrey, blurredGrey, blurredGrey}, equalPlanes);
+    richardsonLucyVariant(equalPlanes, bank, full, params);
+    params.colorIterations = 3;
+    richardsonLucyVariant(equalPlanes, bank, reduced, params);
+    EXPECT_LT(norm(full, reduced, NORM_INF), 1e-4);
+
+    // colorIterations ≥ iterations is every iteration in colour.
+    params.colorIterations = 8;
+    richardsonLucyVariant(equalPlanes, bank, above, params);
+    EXPECT_EQ(norm(full, above, NORM_INF), 0.0);
+
+    // A colourful frame: the luminance phase stays close to full colour RL.
+    params.accelerate = true;
+    Mat colour(90, 120, CV_32FC3), blurred;
+    RNG(22).fill(colour, RNG::UNIFORM, 0.05, 0.95);
+    GaussianBlur(colour, colour, Size(0, 0), 1.5);
+    applyPsfBank(colour, bank, blurred);
+    params.colorIterations = -1;
+    richardsonLucyVariant(blurred, bank, full, params);
+    params.colorIterations = 3;
+    richardsonLucyVariant(blurred, bank, reduced, params);
+    const Rect inner(10, 10, 100, 70);
+    const double fullPsnr = psnr(full(inner), colour(inner)), reducedPsnr = psnr(reduced(inner), colour(inner));
+    std::printf("[ measured ] colourful 120x90, 8 iterations: full colour %.2f dB, 3 colour + 5 luminance %.2f dB\n",
+                fullPsnr, reducedPsnr);
+    EXPECT_GT(reducedPsnr, fullPsnr - 1.0);
 }
 
 }  // namespace
@@ -702,3 +776,80 @@ TEST(DeconvRegularisation, AutomaticDampingFollowsTheFramesNoise)
     EXPECT_LT(stdAuto[0], 0.6 * stdPlain[0]);
     EXPECT_NEAR(meanAuto[0], 0.4, 0.01);
 }
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// (8) Memory: the frame-rate restoration's working set.
+
+/* Counts the bytes of every Mat allocated while it is the default allocator (OpenCV's own
+   allocator does the work), and the peak. */
+class CountingAllocator CV_FINAL : public MatAllocator
+{
+public:
+    UMatData* allocate(int dims, const int* sizes, int type, void* data, size_t* step, AccessFlag flags,
+                       UMatUsageFlags usage) const CV_OVERRIDE
+    {
+        UMatData* u = std_->allocate(dims, sizes, type, data, step, flags, usage);
+        if (u && !data)
+        {
+            u->currAllocator = this;
+            const size_t now = current_ += u->size;
+            size_t peak = peak_.load();
+            while (now > peak && !peak_.compare_exchange_weak(peak, now))
+            {
+            }
+        }
+        return u;
+    }
+    bool allocate(UMatData* u, AccessFlag flags, UMatUsageFlags usage) const CV_OVERRIDE
+    {
+        return std_->allocate(u, flags, usage);
+    }
+    void deallocate(UMatData* u) const CV_OVERRIDE
+    {
+        if (u && !(u->flags & UMatData::USER_ALLOCATED))
+            current_ -= u->size;
+        std_->deallocate(u);
+    }
+    size_t peak() const { return peak_; }
+    void resetPeak() { peak_ = current_.load(); }
+    size_t current() const { return current_; }
+
+private:
+    MatAllocator* std_ = Mat::getStdAllocator();
+    mutable std::atomic<size_t> current_{0}, peak_{0};
+};
+
+// The row-wise restoration of a 1280×960 RGB window III frame (the speed benchmark's) holds at
+// most 4 frame-sized float planes per channel besides its input and output.
+TEST(DeconvMemory, RowWiseRestorationStaysWithinFourFramePlanesPerChannel)
+{
+    Ptr<Plant> plant = Plant::create(14.4, 0.12, CV_PI / 180);
+    Ptr<CameraModel> camera = CameraModel::create(1230, 1230, 639.5, 479.5, 1280, 960);
+    const SwitchSchedule schedule = SwitchPlanner::create(plant, 16, PLAN_ROBUST)->plan(0.0, 10 * CV_PI / 180, 0.0);
+    const RollingShutter shutter{0.012, 0.008, 1.0 / 30 / 960, 960};
+    const PsfBank bank = PsfGenerator::create(plant, camera)->generate(PSF_ROWS, schedule, shutter);
+    Mat frame(960, 1280, CV_32FC3), latent;
+    randu(frame, 0.05f, 0.95f);
+    RLParams params = DynamicDeblurrer::create(plant, camera)->getRLParams();
+    params.iterations = 10;
+    for (int colorIterations : {-1, params.colorIterations})
+    {
+        params.colorIterations = colorIterations;
+        latent.release();
+        CountingAllocator counter;
+        MatAllocator* previous = Mat::getDefaultAllocator();
+        Mat::setDefaultAllocator(&counter);
+        richardsonLucyVariant(frame, bank, latent, params);
+        Mat::setDefaultAllocator(previous);
+        const double plane = double(frame.total()) * sizeof(float);
+        const double extra = (double(counter.peak()) - double(latent.total() * latent.elemSize())) / plane / 3;
+        std::cout << "[ measured ] row-wise RL, 1280x960 RGB, 10 iterations, colorIterations " << colorIterations
+                  << ": peak extra memory " << extra << " frame planes per channel" << std::endl;
+        EXPECT_LE(extra, 4.0);
+        latent.release();  // freed through the counter, which must outlive it
+    }
+}
+
+}  // namespace

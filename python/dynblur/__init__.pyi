@@ -168,8 +168,10 @@ class RLParams:
     boundary: int
     accelerate: bool
     tolerance: float
+    colorIterations: int
     def __init__(self, iterations: int = 20, damping: float = 0.0, tvWeight: float = 0.002,
-                 boundary: int = 1, accelerate: bool = True, tolerance: float = 0.0) -> None: ...
+                 boundary: int = 1, accelerate: bool = True, tolerance: float = 0.0,
+                 colorIterations: int = -1) -> None: ...
 
 def richardsonLucy(blurred: ArrayLike, psf: ArrayLike, params: RLParams = ...,
                    initial: ArrayLike | None = None) -> NDArray[np.float32]: ...

@@ -51,7 +51,7 @@ std::string repr(const RLParams& p)
     std::ostringstream o;
     o << "RLParams(iterations=" << p.iterations << ", damping=" << p.damping << ", tvWeight=" << p.tvWeight
       << ", boundary=" << p.boundary << ", accelerate=" << (p.accelerate ? "True" : "False")
-      << ", tolerance=" << p.tolerance << ")";
+      << ", tolerance=" << p.tolerance << ", colorIterations=" << p.colorIterations << ")";
     return o.str();
 }
 
@@ -233,7 +233,8 @@ camera's image height; thetaRef: radians, NaN = the schedule's final resting ang
     m.attr("RL_BOUNDARY_PAD") = int(RL_BOUNDARY_PAD);
     const RLParams d;
     py::class_<RLParams>(m, "RLParams", "Options of Richardson–Lucy deconvolution.")
-        .def(py::init([](int iterations, double damping, double tvWeight, int boundary, bool accelerate, double tolerance) {
+        .def(py::init([](int iterations, double damping, double tvWeight, int boundary, bool accelerate, double tolerance,
+                         int colorIterations) {
                  RLParams p;
                  p.iterations = iterations;
                  p.damping = damping;
@@ -241,10 +242,12 @@ camera's image height; thetaRef: radians, NaN = the schedule's final resting ang
                  p.boundary = boundary;
                  p.accelerate = accelerate;
                  p.tolerance = tolerance;
+                 p.colorIterations = colorIterations;
                  return p;
              }),
              py::arg("iterations") = d.iterations, py::arg("damping") = d.damping, py::arg("tvWeight") = d.tvWeight,
-             py::arg("boundary") = d.boundary, py::arg("accelerate") = d.accelerate, py::arg("tolerance") = d.tolerance)
+             py::arg("boundary") = d.boundary, py::arg("accelerate") = d.accelerate, py::arg("tolerance") = d.tolerance,
+             py::arg("colorIterations") = d.colorIterations)
         .def_readwrite("iterations", &RLParams::iterations, "iterations, ≥ 1 (default 20)")
         .def_readwrite("damping", &RLParams::damping,
                        "DAMPAR of MATLAB's deconvlucy, linear intensity units, ≥ 0 (0: off); NaN: automatic, 3σ of the "
@@ -254,6 +257,9 @@ camera's image height; thetaRef: radians, NaN = the schedule's final resting ang
         .def_readwrite("accelerate", &RLParams::accelerate, "Biggs–Andrews vector extrapolation")
         .def_readwrite("tolerance", &RLParams::tolerance,
                        "stop early when the relative change of an iteration falls below it, ≥ 0 (0: never)")
+        .def_readwrite("colorIterations", &RLParams::colorIterations,
+                       "iterations on every colour plane of a 3–4 channel image, >= 0; the rest restore the luminance "
+                       "alone and add its change to every plane; -1 (default) or >= iterations: all")
         .def("__repr__", &repr);
 
     m.def("richardsonLucy",

@@ -215,6 +215,9 @@ def test_psf_bank_and_deconvolution(db, small_setup):
     latent, mask = db.richardsonLucyVariant(blurred, bank, db.RLParams(iterations=10), returnMask=True)
     assert latent.shape == blurred.shape and mask.dtype == np.uint8 and mask.shape == (120, 160)
     assert db.richardsonLucyVariant(blurred, bank, params=db.RLParams(iterations=2)).shape == blurred.shape
+    assert db.richardsonLucyVariant(blurred, bank, db.RLParams(iterations=4, colorIterations=1)).shape == blurred.shape
+    with pytest.raises(db.error, match="colorIterations"):
+        db.richardsonLucyVariant(blurred, bank, db.RLParams(colorIterations=-2))
     reblurred = db.applyPsfBank(sharp, bank)
     inner = (slice(10, -10), slice(10, -10))
     assert np.mean(np.abs(reblurred - blurred)[inner]) < 0.5 * np.mean(np.abs(sharp - blurred)[inner])
@@ -237,6 +240,7 @@ def test_rlparams(db):
                     tolerance=1e-4)
     assert (q.iterations, q.damping, q.boundary, q.accelerate, q.tolerance) == (5, 0.01, 0, False, 1e-4)
     assert "RLParams(iterations=5" in repr(q)
+    assert p.colorIterations == -1 and db.RLParams(colorIterations=3).colorIterations == 3
 
 
 def test_deblurrer(db, small_setup):

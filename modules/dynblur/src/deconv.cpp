@@ -10,7 +10,8 @@ namespace cv {
 namespace dynblur {
 
 RLParams::RLParams()
-    : iterations(20), damping(0), tvWeight(0.002), boundary(RL_BOUNDARY_PAD), accelerate(true), tolerance(0)
+    : iterations(20), damping(0), tvWeight(0.002), boundary(RL_BOUNDARY_PAD), accelerate(true), tolerance(0),
+      colorIterations(-1)
 {
 }
 
@@ -19,6 +20,7 @@ namespace {
 using detail::BankBlurOperator;
 using detail::BlurOperator;
 using detail::UniformBlurOperator;
+using detail::kUnobserved;
 
 //! A pixel counts as observed (validMask 255) when at least this fraction of its light reached the frame.
 constexpr float kObservedFraction = 0.1f;
@@ -44,30 +46,41 @@ void checkImage(InputArray image, const char* name, const char* function)
         CV_Error(Error::StsBadArg, format("%s: '%s' contains NaN or Inf; it must be finite", function, name));
 }
 
-/* Noise standard deviation of an image plane by Immerkær's method: the response to a mask that
-   cancels every polynomial up to degree 2 is (nearly) pure noise, and blur makes that truer. */
-double estimateNoiseSigma(const std::vector<Mat>& planes)
+/* Noise standard deviation by Immerkær's method, averaged over the channels: the response to a
+   mask that cancels every polynomial up to degree 2 is (nearly) pure noise, and blur makes that
+   truer. Summed row by row in parallel, without a response image. */
+double estimateNoiseSigma(const Mat& image)
 {
-    const Mat mask = (Mat_<float>(3, 3) << 1, -2, 1, -2, 4, -2, 1, -2, 1);
+    if (image.rows < 3 || image.cols < 3)
+        return 0;
+    const int channels = image.channels(), width = (image.cols - 2) * channels;
+    std::vector<double> rowSums(size_t(image.rows - 2), 0.0);
+    parallel_for_(Range(1, image.rows - 1), [&](const Range& rows) {
+        for (int y = rows.start; y < rows.end; y++)
+        {
+            const float* a = image.ptr<float>(y - 1);
+            const float* m = image.ptr<float>(y);
+            const float* b = image.ptr<float>(y + 1);
+            const int l = 0, c = channels, r = 2 * channels;  // left, centre, right of a pixel
+            float sum = 0.f;
+            for (int i = 0; i < width; i++)
+                sum += std::abs(a[i + l] - 2 * a[i + c] + a[i + r] - 2 * (m[i + l] - 2 * m[i + c] + m[i + r]) +
+                                b[i + l] - 2 * b[i + c] + b[i + r]);
+            rowSums[size_t(y - 1)] = sum;
+        }
+    });
     double total = 0;
-    for (const Mat& plane : planes)
-    {
-        if (plane.rows < 3 || plane.cols < 3)
-            return 0;
-        Mat response;
-        filter2D(plane, response, CV_32F, mask);
-        const Rect interior(1, 1, plane.cols - 2, plane.rows - 2);
-        total += std::sqrt(CV_PI / 2) * sum(abs(response(interior)))[0] / (6.0 * interior.area());
-    }
-    return total / static_cast<double>(planes.size());
+    for (double v : rowSums)
+        total += v;
+    return std::sqrt(CV_PI / 2) * total / (6.0 * (image.rows - 2) * double(width));
 }
 
 //! The parameters with an automatic damping (NaN) replaced by the multiple of the frame's noise.
-RLParams resolveDamping(const RLParams& params, const std::vector<Mat>& planes)
+RLParams resolveDamping(const RLParams& params, const Mat& image)
 {
     RLParams resolved = params;
     if (std::isnan(resolved.damping))
-        resolved.damping = kAutoDampingSigmas * estimateNoiseSigma(planes);
+        resolved.damping = kAutoDampingSigmas * estimateNoiseSigma(image);
     return resolved;
 }
 
@@ -211,6 +224,10 @@ void checkRLParams(const RLParams& params, const char* function)
         CV_Error(Error::StsOutOfRange,
                  format("%s: params.tolerance = %g must be finite and >= 0 (0: never stop early)", function,
                         params.tolerance));
+    if (params.colorIterations < -1)
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: params.colorIterations = %d must be >= 0, or -1 (every iteration in colour)", function,
+                        params.colorIterations));
     if (params.boundary != RL_BOUNDARY_ZERO && params.boundary != RL_BOUNDARY_PAD)
         CV_Error(Error::StsOutOfRange,
                  format("%s: params.boundary = %d must be RL_BOUNDARY_ZERO (0) or RL_BOUNDARY_PAD (1)", function,
@@ -230,12 +247,9 @@ void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, cons
             CV_Error(Error::StsBadSize, format("%s: 'initial' must have the size and type of 'blurred'", fn));
     }
 
-    std::vector<Mat> planes, start;
-    split(blurred.getMat(), planes);
-    if (initial.empty())
-        start = planes;
-    else
-        split(initial.getMat(), start);
+    const Mat observed = blurred.getMat();
+    std::vector<Mat> start;
+    split(initial.empty() ? observed : initial.getMat(), start);
 
     const bool pad = params.boundary == RL_BOUNDARY_PAD;
     UniformBlurOperator op(blurred.size(), kernel, pad);
@@ -245,13 +259,88 @@ void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, cons
     Mat normalizer;  // ZERO: scikit-image's unnormalised update (Aᵀ1 taken as 1)
     if (pad)
         op.adjoint(Mat::ones(blurred.size(), CV_32F), normalizer);
-    detail::iterateRichardsonLucy(op, planes, normalizer, resolveDamping(params, planes), estimate);
+    detail::RLWorkspace workspace;
+    detail::iterateRichardsonLucy(op, observed, normalizer, resolveDamping(params, observed), estimate, workspace);
 
     const Rect frame(op.origin(), op.frameSize());
     for (Mat& e : estimate)
         e = e(frame);
-    writeOutput(estimate, latent);
+    merge(estimate, latent);
 }
+
+namespace detail {
+
+void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& params, RLWorkspace& ws,
+                    OutputArray latent, OutputArray validMask)
+{
+    const bool pad = params.boundary == RL_BOUNDARY_PAD;
+    std::unique_ptr<BlurOperator> blur = createBankOperator(bank, pad);
+    BlurOperator& op = *blur;
+    const Size frameSize = observed.size(), latentSize = op.latentSize();
+    /* The set-up's scratch lives in buffers the iterations fill later (the ratio plane and the
+       first two `other` planes), so it adds nothing to the peak memory. */
+    Mat& plane = ws.ratio;
+    plane.create(frameSize, CV_32F);
+    plane.setTo(1);  // Aᵀ1 and the start's normaliser read a frame of ones
+    op.adjoint(plane, ws.normalizer);
+
+    /* Start: the frame moved back by each node's displacement (the normalised adjoint of the
+       displacement-only blur), so content begins where the view at θ_ref has it and RL only has to
+       sharpen; latent pixels that displacement does not reach start at the channel's mean. */
+    std::unique_ptr<BlurOperator> move = createBankOperator(displacementBank(bank), pad);
+    const Size moveSize = move->latentSize();
+    ws.other.resize(std::max<size_t>(ws.other.size(), 2));
+    for (Mat& m : ws.other)
+        m.create(latentSize, CV_32F);
+    const bool fits = moveSize.width <= latentSize.width && moveSize.height <= latentSize.height;
+    Mat moveNormalizer = fits ? ws.other[0](Rect(Point(), moveSize)) : Mat(moveSize, CV_32F);
+    Mat moved = fits ? ws.other[1](Rect(Point(), moveSize)) : Mat(moveSize, CV_32F);
+    move->adjoint(plane, moveNormalizer);
+    const Rect moveInLatent(op.origin() - move->origin(), moveSize);
+    const Rect common = moveInLatent & Rect(Point(), latentSize);
+    const Scalar channelMean = mean(observed);
+    std::vector<Mat>& estimate = ws.estimate;
+    estimate.resize(size_t(observed.channels()));
+    for (int c = 0; c < observed.channels(); c++)
+    {
+        const float fill = float(std::max(channelMean[c], 0.0));
+        Mat& e = estimate[size_t(c)];
+        e.create(latentSize, CV_32F);
+        e.setTo(fill);
+        extractChannel(observed, plane, c);
+        move->adjoint(plane, moved);
+        parallel_for_(Range(0, moveSize.height), [&](const Range& rows) {
+            for (int y = rows.start; y < rows.end; y++)
+            {
+                float* m = moved.ptr<float>(y);
+                const float* n = moveNormalizer.ptr<float>(y);
+                for (int x = 0; x < moveSize.width; x++)
+                    m[x] = n[x] > kUnobserved ? std::max(m[x] / std::max(n[x], kObservedFraction * 1e-2f), 0.f) : fill;
+            }
+        });
+        moved(common - moveInLatent.tl()).copyTo(e(common));
+    }
+
+    iterateRichardsonLucy(op, observed, ws.normalizer, resolveDamping(params, observed), estimate, ws);
+
+    if (!ws.persistent)
+    {
+        ws.other.clear();
+        ws.step.clear();
+        ws.ratio.release();
+    }
+    const Rect frame(op.origin(), frameSize);
+    compare(ws.normalizer(frame), kObservedFraction, ws.valid, CMP_GT);
+    std::vector<Mat> planes(estimate.size());
+    for (size_t c = 0; c < estimate.size(); c++)
+        planes[c] = estimate[c](frame);
+    fillFromNearest(planes, ws.valid);
+    merge(planes, latent);
+    if (validMask.needed())
+        ws.valid.copyTo(validMask);
+}
+
+}  // namespace detail
 
 void richardsonLucyVariant(InputArray blurred, const PsfBank& bank, OutputArray latent, const RLParams& params,
                            OutputArray validMask)
@@ -260,45 +349,8 @@ void richardsonLucyVariant(InputArray blurred, const PsfBank& bank, OutputArray 
     checkImage(blurred, "blurred", fn);
     checkRLParams(params, fn);
     checkBank(bank, blurred.size(), fn);
-
-    std::vector<Mat> planes;
-    split(blurred.getMat(), planes);
-    const bool pad = params.boundary == RL_BOUNDARY_PAD;
-    BankBlurOperator op(bank, pad);
-    Mat normalizer;
-    op.adjoint(Mat::ones(blurred.size(), CV_32F), normalizer);
-
-    /* Start: the frame moved back by each node's displacement (the normalised adjoint of the
-       displacement-only blur), so content begins where the view at θ_ref has it and RL only has to
-       sharpen; latent pixels that displacement does not reach start at the channel's mean. */
-    BankBlurOperator moveOp(displacementBank(bank), pad);
-    Mat moveNorm, moved;
-    moveOp.adjoint(Mat::ones(blurred.size(), CV_32F), moveNorm);
-    const Rect moveInLatent(op.origin() - moveOp.origin(), moveOp.latentSize());
-    const Rect latentRect(Point(), op.latentSize());
-    const Rect common = moveInLatent & latentRect;
-    std::vector<Mat> estimate(planes.size());
-    for (size_t c = 0; c < planes.size(); c++)
-    {
-        estimate[c].create(op.latentSize(), CV_32F);
-        estimate[c].setTo(std::max(mean(planes[c])[0], 0.0));
-        moveOp.adjoint(planes[c], moved);
-        Mat back = moved / max(moveNorm, kObservedFraction * 1e-2f);
-        back = max(back, 0.f);
-        back.setTo(std::max(mean(planes[c])[0], 0.0), moveNorm <= detail::kUnobserved);
-        back(common - moveInLatent.tl()).copyTo(estimate[c](common));
-    }
-
-    detail::iterateRichardsonLucy(op, planes, normalizer, resolveDamping(params, planes), estimate);
-
-    const Rect frame(op.origin(), op.frameSize());
-    Mat valid = normalizer(frame) > kObservedFraction;
-    for (Mat& e : estimate)
-        e = e(frame).clone();
-    fillFromNearest(estimate, valid);
-    writeOutput(estimate, latent);
-    if (validMask.needed())
-        valid.copyTo(validMask);
+    detail::RLWorkspace workspace;
+    detail::restoreVariant(blurred.getMat(), bank, params, workspace, latent, validMask);
 }
 
 void applyPsfBank(InputArray latent, const PsfBank& bank, OutputArray blurred)
@@ -308,10 +360,10 @@ void applyPsfBank(InputArray latent, const PsfBank& bank, OutputArray blurred)
     checkBank(bank, latent.size(), fn);
     std::vector<Mat> planes;
     split(latent.getMat(), planes);
-    BankBlurOperator op(bank, false);
+    std::unique_ptr<BlurOperator> op = detail::createBankOperator(bank, false);
     std::vector<Mat> out(planes.size());
     for (size_t c = 0; c < planes.size(); c++)
-        op.forward(planes[c], out[c]);
+        op->forward(planes[c], out[c]);
     writeOutput(out, blurred);
 }
 

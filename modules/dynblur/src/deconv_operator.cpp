@@ -111,6 +111,161 @@ std::vector<Range> supports(const std::vector<BankBlurOperator::AxisWeight>& wei
     return result;
 }
 
+//! One non-zero kernel element as a read offset: frame pixel p reads latent p + (dx, dy).
+struct KernelTap
+{
+    int dy, dx;
+    float weight;
+};
+
+//! The non-zero taps of a kernel with its shift, row by row down the kernel.
+std::vector<KernelTap> kernelTaps(const Mat& kernel32f, Point shift)
+{
+    const int cx = (kernel32f.cols - 1) / 2, cy = (kernel32f.rows - 1) / 2;
+    std::vector<KernelTap> taps;
+    for (int v = 0; v < kernel32f.rows; v++)
+        for (int u = 0; u < kernel32f.cols; u++)
+        {
+            const float w = kernel32f.at<float>(v, u);
+            if (w != 0.f)  // motion kernels are mostly empty: skip, do not multiply by zero
+                taps.push_back({-(shift.y + v - cy), -(shift.x + u - cx), w});
+        }
+    return taps;
+}
+
+/* The latent domain: with padding, the bounding box of every pixel a tap reads (offsets in
+   [dxMin, dxMax] × [dyMin, dyMax], which include 0); otherwise the frame. */
+void domain(Size frame, bool pad, int dxMin, int dxMax, int dyMin, int dyMax, Size& latent, Point& origin)
+{
+    latent = frame;
+    origin = Point();
+    if (pad)
+    {
+        origin = Point(-dxMin, -dyMin);
+        latent = Size(frame.width + dxMax - dxMin, frame.height + dyMax - dyMin);
+    }
+}
+
+/* out[x] = Σ_t w_t · source(row_t, x + col_t) for x in [begin, end), every read inside `source`.
+   Eight 8-float sums stay in registers while all taps stream past (one load and one FMA per tap
+   and vector, one store per output vector): with the tap loop outermost each tap would instead
+   load, add and store the whole output row again. */
+DYNBLUR_SIMD_CLONES
+void gatherInterior(float* __restrict out, const float* source, size_t sourceStep,
+                    const RowBankOperator::Tap* taps, int tapCount, int begin, int end)
+{
+    typedef float v8 __attribute__((vector_size(32), aligned(4)));  // aligned(4): unaligned loads allowed
+    int x = begin;
+    for (; x + 64 <= end; x += 64)
+    {
+        v8 s0 = {}, s1 = {}, s2 = {}, s3 = {}, s4 = {}, s5 = {}, s6 = {}, s7 = {};
+        for (int t = 0; t < tapCount; t++)
+        {
+            const float* p = source + size_t(taps[t].row) * sourceStep + (taps[t].col + x);
+            const v8 w = v8{} + taps[t].weight;
+            s0 += w * *(const v8*)(p);
+            s1 += w * *(const v8*)(p + 8);
+            s2 += w * *(const v8*)(p + 16);
+            s3 += w * *(const v8*)(p + 24);
+            s4 += w * *(const v8*)(p + 32);
+            s5 += w * *(const v8*)(p + 40);
+            s6 += w * *(const v8*)(p + 48);
+            s7 += w * *(const v8*)(p + 56);
+        }
+        *(v8*)(out + x) = s0;
+        *(v8*)(out + x + 8) = s1;
+        *(v8*)(out + x + 16) = s2;
+        *(v8*)(out + x + 24) = s3;
+        *(v8*)(out + x + 32) = s4;
+        *(v8*)(out + x + 40) = s5;
+        *(v8*)(out + x + 48) = s6;
+        *(v8*)(out + x + 56) = s7;
+    }
+    for (; x + 8 <= end; x += 8)
+    {
+        v8 s = {};
+        for (int t = 0; t < tapCount; t++)
+            s += (v8{} + taps[t].weight) *
+                 *(const v8*)(source + size_t(taps[t].row) * sourceStep + (taps[t].col + x));
+        *(v8*)(out + x) = s;
+    }
+    for (; x < end; x++)
+    {
+        float s = 0.f;
+        for (int t = 0; t < tapCount; t++)
+            s += taps[t].weight * source[size_t(taps[t].row) * sourceStep + size_t(taps[t].col + x)];
+        out[x] = s;
+    }
+}
+
+//! Columns [begin, end) of one gathered row: where every tap reads inside, fast; elsewhere checked.
+void gatherRowRange(const Mat& source, const RowBankOperator::Tap* t, int count, const RowBankOperator::GatherRow& row,
+                    int begin, int end, float* out)
+{
+    const float* base = source.ptr<float>();
+    const size_t step = source.step1();
+    const int safeBegin = std::max(begin, row.safeBegin), safeEnd = std::min(end, row.safeEnd);
+    if (safeBegin < safeEnd)
+        gatherInterior(out, base, step, t, count, safeBegin, safeEnd);
+    for (int x = begin; x < end; x++)
+    {
+        if (x == safeBegin && safeBegin < safeEnd)
+            x = safeEnd;
+        if (x >= end)
+            break;
+        float s = 0.f;
+        for (int k = 0; k < count; k++)
+        {
+            const int c = x + t[k].col;
+            if (c >= 0 && c < source.cols)
+                s += t[k].weight * base[size_t(t[k].row) * step + size_t(c)];
+        }
+        out[x] = s;
+    }
+}
+
+/* Rows [rows.start, rows.end) of a gather, row r at out + (r − rows.start)·outStep. Columns run
+   in chunks across all the rows before the next chunk: neighbouring rows read nearly the same
+   source rows, so a chunk's source stays in L1 for the whole block instead of every row pulling
+   its ~kernel-height source rows from L2 again. */
+void gatherBlock(const Mat& source, const std::vector<RowBankOperator::Tap>& taps,
+                 const std::vector<RowBankOperator::GatherRow>& gatherRows, const Range& rows, int width, float* out,
+                 size_t outStep)
+{
+    constexpr int kChunk = 128;  // columns: ~50 source rows × 512 B stay within a 32 KiB L1
+    int commonBegin = width, commonEnd = 0;
+    for (int r = rows.start; r < rows.end; r++)
+    {
+        commonBegin = std::min(commonBegin, gatherRows[size_t(r)].safeBegin);
+        commonEnd = std::max(commonEnd, gatherRows[size_t(r)].safeEnd);
+    }
+    for (int r = rows.start; r < rows.end; r++)
+    {
+        commonBegin = std::max(commonBegin, gatherRows[size_t(r)].safeBegin);
+        commonEnd = std::min(commonEnd, gatherRows[size_t(r)].safeEnd);
+    }
+    commonEnd = std::max(commonEnd, commonBegin);
+    const float* base = source.ptr<float>();
+    const size_t step = source.step1();
+    for (int x = commonBegin; x < commonEnd; x += kChunk)
+    {
+        const int end = std::min(x + kChunk, commonEnd);
+        for (int r = rows.start; r < rows.end; r++)
+        {
+            const RowBankOperator::GatherRow& g = gatherRows[size_t(r)];
+            gatherInterior(out + size_t(r - rows.start) * outStep, base, step, taps.data() + g.begin, g.end - g.begin,
+                           x, end);
+        }
+    }
+    for (int r = rows.start; r < rows.end; r++)
+    {
+        const RowBankOperator::GatherRow& g = gatherRows[size_t(r)];
+        float* o = out + size_t(r - rows.start) * outStep;
+        gatherRowRange(source, taps.data() + g.begin, g.end - g.begin, g, 0, commonBegin, o);
+        gatherRowRange(source, taps.data() + g.begin, g.end - g.begin, g, commonEnd, width, o);
+    }
+}
+
 // The inner loops: contiguous, restrict-qualified so the compiler vectorises them.
 inline void accumulateScaled(float* __restrict dst, const float* __restrict src, float w, int begin, int end)
 {
@@ -134,46 +289,30 @@ BankBlurOperator::BankBlurOperator(const PsfBank& bank, bool pad) : frame_(bank.
     int dxMin = 0, dxMax = 0, dyMin = 0, dyMax = 0;
     for (size_t n = 0; n < bank.kernels.size(); n++)
     {
-        Mat kernel;
-        bank.kernels[n].convertTo(kernel, CV_32F);
-        const int cx = (kernel.cols - 1) / 2, cy = (kernel.rows - 1) / 2;
-        const Point s = bank.shifts[n];
         Node& node = nodes_[n];
-        bool first = true;
-        for (int v = 0; v < kernel.rows; v++)
+        for (const KernelTap& tap : kernelTaps(bank.kernels[n], bank.shifts[n]))
         {
-            TapRow row;
-            row.dy = -(s.y + v - cy);
-            for (int u = 0; u < kernel.cols; u++)
+            if (node.rows.empty() || node.rows.back().dy != tap.dy)
             {
-                const float w = kernel.at<float>(v, u);
-                if (w == 0.f)
-                    continue;  // motion kernels are mostly empty: skip, do not multiply by zero
-                const int dx = -(s.x + u - cx);
-                row.dx.push_back(dx);
-                row.weight.push_back(w);
-                dxMin = std::min(dxMin, dx);
-                dxMax = std::max(dxMax, dx);
+                node.rows.emplace_back();
+                node.rows.back().dy = tap.dy;
             }
-            if (row.dx.empty())
-                continue;
-            node.dyMin = first ? row.dy : std::min(node.dyMin, row.dy);
-            node.dyMax = first ? row.dy : std::max(node.dyMax, row.dy);
-            first = false;
-            dyMin = std::min(dyMin, row.dy);
-            dyMax = std::max(dyMax, row.dy);
-            node.rows.push_back(std::move(row));
+            node.rows.back().dx.push_back(tap.dx);
+            node.rows.back().weight.push_back(tap.weight);
+            dxMin = std::min(dxMin, tap.dx);
+            dxMax = std::max(dxMax, tap.dx);
+            dyMin = std::min(dyMin, tap.dy);
+            dyMax = std::max(dyMax, tap.dy);
+        }
+        if (!node.rows.empty())
+        {
+            node.dyMin = node.rows.front().dy;  // kernelTaps runs down the kernel: dy decreases
+            node.dyMax = node.rows.back().dy;
+            if (node.dyMin > node.dyMax)
+                std::swap(node.dyMin, node.dyMax);
         }
     }
-    if (pad)
-    {
-        origin_ = Point(-dxMin, -dyMin);
-        latent_ = Size(frame_.width + dxMax - dxMin, frame_.height + dyMax - dyMin);
-    }
-    else
-    {
-        latent_ = frame_;
-    }
+    domain(frame_, pad, dxMin, dxMax, dyMin, dyMax, latent_, origin_);
 
     rowWeights_ = tentWeights(bank.nodeRows, frame_.height);
     nodeRowSupport_ = supports(rowWeights_, nodeRows_);
@@ -313,6 +452,152 @@ void BankBlurOperator::adjointRows(const Mat& frame, Mat& latent, const Range& r
             }
         }
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bank with one node column: gathered rows.
+
+namespace {
+
+//! Sorts taps by (row, col) and adds up the weights of equal ones.
+void mergeTaps(std::vector<RowBankOperator::Tap>& taps)
+{
+    std::sort(taps.begin(), taps.end(), [](const RowBankOperator::Tap& a, const RowBankOperator::Tap& b) {
+        return a.row != b.row ? a.row < b.row : a.col < b.col;
+    });
+    size_t kept = 0;
+    for (size_t i = 0; i < taps.size(); i++)
+    {
+        if (kept > 0 && taps[kept - 1].row == taps[i].row && taps[kept - 1].col == taps[i].col)
+            taps[kept - 1].weight += taps[i].weight;
+        else
+            taps[kept++] = taps[i];
+    }
+    taps.resize(kept);
+}
+
+//! Output columns [begin, end) of a row of `width` where every tap reads inside [0, sourceWidth).
+void safeColumns(const RowBankOperator::Tap* taps, int count, int width, int sourceWidth, int& begin, int& end)
+{
+    begin = 0;
+    end = width;
+    for (int k = 0; k < count; k++)
+    {
+        begin = std::max(begin, -taps[k].col);
+        end = std::min(end, sourceWidth - taps[k].col);
+    }
+    begin = std::min(begin, width);
+    end = std::max(end, begin);
+}
+
+}  // namespace
+
+RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad) : frame_(bank.imageSize)
+{
+    CV_Assert(bank.nodeCols.size() == 1 && bank.kernels.size() == bank.nodeRows.size());
+    std::vector<std::vector<KernelTap>> nodes(bank.kernels.size());
+    int dxMin = 0, dxMax = 0, dyMin = 0, dyMax = 0;
+    for (size_t n = 0; n < nodes.size(); n++)
+    {
+        nodes[n] = kernelTaps(bank.kernels[n], bank.shifts[n]);
+        for (const KernelTap& t : nodes[n])
+        {
+            dxMin = std::min(dxMin, t.dx);
+            dxMax = std::max(dxMax, t.dx);
+            dyMin = std::min(dyMin, t.dy);
+            dyMax = std::max(dyMax, t.dy);
+        }
+    }
+    domain(frame_, pad, dxMin, dxMax, dyMin, dyMax, latent_, origin_);
+
+    // Each frame row's kernel: its row nodes' taps, tent-weighted and merged; reads of latent rows
+    // outside the domain (possible without padding) read zero and are dropped.
+    const std::vector<BankBlurOperator::AxisWeight> rowWeights = tentWeights(bank.nodeRows, frame_.height);
+    forwardRows_.resize(size_t(frame_.height));
+    std::vector<Tap> row;
+    for (int y = 0; y < frame_.height; y++)
+    {
+        row.clear();
+        const BankBlurOperator::AxisWeight& w = rowWeights[size_t(y)];
+        for (int k = 0; k < 2; k++)
+        {
+            if (w.weight[k] <= 0.f)
+                continue;
+            for (const KernelTap& t : nodes[size_t(w.node[k])])
+            {
+                const int ly = y + t.dy + origin_.y;
+                if (ly >= 0 && ly < latent_.height)
+                    row.push_back({ly, t.dx + origin_.x, w.weight[k] * t.weight});
+            }
+        }
+        mergeTaps(row);
+        GatherRow& g = forwardRows_[size_t(y)];
+        g.begin = int(forwardTaps_.size());
+        forwardTaps_.insert(forwardTaps_.end(), row.begin(), row.end());
+        g.end = int(forwardTaps_.size());
+        safeColumns(row.data(), int(row.size()), frame_.width, latent_.width, g.safeBegin, g.safeEnd);
+    }
+
+    // Transpose: frame pixel (x, y) reads latent (x + col, row) with weight w, so latent row `row`
+    // gathers frame row y at column x − col with the same weight.
+    std::vector<int> count(size_t(latent_.height) + 1, 0);
+    for (const Tap& t : forwardTaps_)
+        count[size_t(t.row) + 1]++;
+    for (size_t l = 1; l < count.size(); l++)
+        count[l] += count[l - 1];
+    adjointTaps_.resize(forwardTaps_.size());
+    adjointRows_.resize(size_t(latent_.height));
+    std::vector<int> fill(count.begin(), count.end() - 1);
+    for (int y = 0; y < frame_.height; y++)
+    {
+        const GatherRow& g = forwardRows_[size_t(y)];
+        for (int i = g.begin; i < g.end; i++)
+        {
+            const Tap& t = forwardTaps_[size_t(i)];
+            adjointTaps_[size_t(fill[size_t(t.row)]++)] = {y, -t.col, t.weight};
+        }
+    }
+    for (int l = 0; l < latent_.height; l++)
+    {
+        GatherRow& g = adjointRows_[size_t(l)];
+        g.begin = count[size_t(l)];
+        g.end = count[size_t(l) + 1];
+        safeColumns(adjointTaps_.data() + g.begin, g.end - g.begin, latent_.width, frame_.width, g.safeBegin,
+                    g.safeEnd);
+    }
+}
+
+void RowBankOperator::forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const
+{
+    gatherBlock(latent, forwardTaps_, forwardRows_, frameRows, frame_.width, out, outStep);
+}
+
+void RowBankOperator::adjointBlock(const Mat& frame, const Range& latentRows, float* out, size_t outStep) const
+{
+    gatherBlock(frame, adjointTaps_, adjointRows_, latentRows, latent_.width, out, outStep);
+}
+
+void RowBankOperator::forward(const Mat& latent, Mat& frame)
+{
+    CV_DbgAssert(latent.type() == CV_32FC1 && latent.size() == latent_);
+    frame.create(frame_, CV_32FC1);
+    parallel_for_(Range(0, frame_.height),
+                  [&](const Range& rows) { forwardBlock(latent, rows, frame.ptr<float>(rows.start), frame.step1()); });
+}
+
+void RowBankOperator::adjoint(const Mat& frame, Mat& latent)
+{
+    CV_DbgAssert(frame.type() == CV_32FC1 && frame.size() == frame_);
+    latent.create(latent_, CV_32FC1);
+    parallel_for_(Range(0, latent_.height),
+                  [&](const Range& rows) { adjointBlock(frame, rows, latent.ptr<float>(rows.start), latent.step1()); });
+}
+
+std::unique_ptr<BlurOperator> createBankOperator(const PsfBank& bank, bool pad)
+{
+    if (bank.nodeCols.size() == 1)
+        return std::unique_ptr<BlurOperator>(new RowBankOperator(bank, pad));
+    return std::unique_ptr<BlurOperator>(new BankBlurOperator(bank, pad));
 }
 
 }  // namespace detail

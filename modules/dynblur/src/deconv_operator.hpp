@@ -8,6 +8,14 @@
 #include <memory>
 #include <vector>
 
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+/* The hot loops are compiled three times and the CPU picks at load time: one build runs on any
+   x86-64 and still uses AVX-512, or AVX2 with FMA, where the CPU has them. */
+#define DYNBLUR_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+#define DYNBLUR_SIMD_CLONES
+#endif
+
 namespace cv {
 namespace dynblur {
 namespace detail {
@@ -28,6 +36,15 @@ public:
     virtual void forward(const Mat& latent, Mat& frame) = 0;
     //! latent = Aᵀ · frame
     virtual void adjoint(const Mat& frame, Mat& latent) = 0;
+
+    /** True when a few rows of A·x (or of Aᵀ·y) can be computed on their own: the RL loop then
+    fuses each block of blurred rows with the element-wise work that follows it while the block is
+    still in cache. */
+    virtual bool gathersRows() const { return false; }
+    //! Rows `frameRows` of A · latent, row r at out + (r − frameRows.start)·outStep. Only when gathersRows().
+    virtual void forwardBlock(const Mat& /*latent*/, const Range& /*frameRows*/, float* /*out*/, size_t /*outStep*/) const {}
+    //! Rows `latentRows` of Aᵀ · frame, laid out likewise. Only when gathersRows().
+    virtual void adjointBlock(const Mat& /*frame*/, const Range& /*latentRows*/, float* /*out*/, size_t /*outStep*/) const {}
 };
 
 /** @brief One kernel everywhere (convolution form), through FFTW. With `pad` the latent domain is
@@ -97,6 +114,50 @@ private:
     std::vector<Range> nodeColSupport_;       // frame cols where each node col's weight > 0
     std::vector<std::vector<float>> colWeight_;  // per node col, weights over its support
 };
+
+/** @brief A bank with one node column (PSF_ROWS, or one kernel): every pixel of a frame row shares
+one kernel, the tent blend of its two row nodes' kernels, so a row of A·x is a weighted sum of
+shifted latent rows and a row of Aᵀ·y a weighted sum of shifted frame rows. Both directions are
+gathers over tap lists merged once per row (the adjoint's are the forward's, transposed), summed
+in registers over 64 columns at a time, a few rows at a time in column chunks that keep their
+source rows in L1, so each output row is written once and a delta kernel costs one pass. Domains and padding as BankBlurOperator. The bank is trusted (validated by the caller). */
+class CV_EXPORTS RowBankOperator CV_FINAL : public BlurOperator
+{
+public:
+    RowBankOperator(const PsfBank& bank, bool pad);
+    Size frameSize() const CV_OVERRIDE { return frame_; }
+    Size latentSize() const CV_OVERRIDE { return latent_; }
+    Point origin() const CV_OVERRIDE { return origin_; }
+    void forward(const Mat& latent, Mat& frame) CV_OVERRIDE;
+    void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE;
+    bool gathersRows() const CV_OVERRIDE { return true; }
+    void forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const CV_OVERRIDE;
+    void adjointBlock(const Mat& frame, const Range& latentRows, float* out, size_t outStep) const CV_OVERRIDE;
+
+    //! One term of a gathered row: out[x] += weight · source(row, x + col).
+    struct Tap
+    {
+        int row;
+        int col;
+        float weight;
+    };
+    //! Taps of one output row, and the output columns where every tap reads inside its source.
+    struct GatherRow
+    {
+        int begin = 0, end = 0;  // into the tap array
+        int safeBegin = 0, safeEnd = 0;
+    };
+
+private:
+    Size frame_, latent_;
+    Point origin_;
+    std::vector<Tap> forwardTaps_, adjointTaps_;
+    std::vector<GatherRow> forwardRows_, adjointRows_;
+};
+
+/** @brief The operator that applies `bank` fastest: RowBankOperator when the bank has one node
+column, BankBlurOperator otherwise. */
+std::unique_ptr<BlurOperator> createBankOperator(const PsfBank& bank, bool pad);
 
 /** @brief Bilinear tent weights of every integer coordinate in [0, length) between the nodes `z`
 (increasing), constant beyond the outermost nodes: the PsfBank blending weights along one axis,

@@ -1,9 +1,11 @@
 #include "deconv_rl.hpp"
 
+#include <opencv2/core/hal/hal.hpp>
 #include <opencv2/core/utility.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace cv {
 namespace dynblur {
@@ -14,184 +16,392 @@ namespace {
 // scikit-image adds this to the reblurred image before dividing; kept so ZERO-boundary results match.
 constexpr float kRatioEpsilon = 1e-12f;
 
-/* ratio = b / (A x), damped as MATLAB's deconvlucy does (White 1994): where the Poisson deviance
-   between b and A x is within the damping threshold, the ratio is pulled to 1 (no update). */
-void relativeBlur(const Mat& blurred, const Mat& reblurred, double damping, Mat& ratio)
+//! Rows blurred at a time by a row-gathering operator, then consumed row by row while in L2.
+constexpr int kBlockRows = 8;
+
+/* ratio = b / (A x) over one row, damped as MATLAB's deconvlucy does (White 1994): where the
+   Poisson deviance between b and A x is within the damping threshold, the ratio is pulled to 1
+   (no update). `logBuffer` holds `n` floats. Branch-free, so it vectorises. */
+DYNBLUR_SIMD_CLONES
+void ratioRow(const float* __restrict b, const float* __restrict ab, float* __restrict r, int n, float invThreshold,
+              float* __restrict logBuffer)
 {
-    ratio.create(blurred.size(), CV_32FC1);
-    const float invThreshold = damping > 0 ? float(2.0 / (damping * damping)) : 0.f;
-    parallel_for_(Range(0, blurred.rows), [&](const Range& rows) {
-        for (int y = rows.start; y < rows.end; y++)
+    for (int x = 0; x < n; x++)
+        r[x] = ab[x] > 0.f ? b[x] / (ab[x] + kRatioEpsilon) : 0.f;
+    if (invThreshold == 0.f)
+        return;
+    for (int x = 0; x < n; x++)
+        logBuffer[x] = r[x] > 0.f ? r[x] : 1.f;
+    hal::log32f(logBuffer, logBuffer, n);  // OpenCV's vectorised log: a scalar one would dominate
+    for (int x = 0; x < n; x++)
+    {
+        float g = (b[x] * logBuffer[x] + ab[x] - b[x]) * invThreshold;
+        g = std::min(std::max(g, 0.f), 1.f);
+        const float g2 = g * g, g4 = g2 * g2, g8 = g4 * g4;
+        const float G = g8 * g * (10.f - 9.f * g);  // g^9 (10 − 9 g): 0 within the noise, 1 beyond
+        r[x] = b[x] > 0.f && ab[x] > 0.f ? 1.f + G * (r[x] - 1.f) : r[x];
+    }
+}
+
+/* The unit gradient n = ∇u/|∇u| of one row (forward differences, zero across the last column and
+   below the last row, where `below` is null). */
+DYNBLUR_SIMD_CLONES
+void unitGradientRow(const float* __restrict p, const float* __restrict below, int cols, float eps2,
+                     float* __restrict nx, float* __restrict ny)
+{
+    if (below)
+        for (int x = 0; x + 1 < cols; x++)
         {
-            const float* b = blurred.ptr<float>(y);
-            const float* ab = reblurred.ptr<float>(y);
-            float* r = ratio.ptr<float>(y);
-            for (int x = 0; x < blurred.cols; x++)
-                r[x] = ab[x] > 0.f ? b[x] / (ab[x] + kRatioEpsilon) : 0.f;
-            if (invThreshold == 0.f)
-                continue;
-            for (int x = 0; x < blurred.cols; x++)
-            {
-                if (!(b[x] > 0.f && ab[x] > 0.f))
-                    continue;
-                float g = (b[x] * std::log(r[x]) + ab[x] - b[x]) * invThreshold;
-                g = std::min(std::max(g, 0.f), 1.f);
-                const float g2 = g * g, g4 = g2 * g2, g8 = g4 * g4;
-                const float G = g8 * g * (10.f - 9.f * g);  // g^9 (10 − 9 g): 0 within the noise, 1 beyond
-                r[x] = 1.f + G * (r[x] - 1.f);
-            }
+            const float gx = p[x + 1] - p[x], gy = below[x] - p[x];
+            const float inv = 1.f / std::sqrt(gx * gx + gy * gy + eps2);
+            nx[x] = gx * inv;
+            ny[x] = gy * inv;
         }
+    else
+        for (int x = 0; x + 1 < cols; x++)
+        {
+            const float gx = p[x + 1] - p[x];
+            nx[x] = gx / std::sqrt(gx * gx + eps2);
+            ny[x] = 0.f;
+        }
+    const int x = cols - 1;
+    const float gy = below ? below[x] - p[x] : 0.f;
+    nx[x] = 0.f;
+    ny[x] = gy / std::sqrt(gy * gy + eps2);
+}
+
+/* div(∇u/|∇u|) row by row down a band: forward differences for the gradient, backward ones for
+   the divergence (the pair that makes −div the adjoint of ∇), zero flux across the edges. The row
+   above's unit gradient is carried, so each row's is computed once, and a row of u is not read
+   after its own curvature: u may be updated in place right behind the walk. The rows just outside
+   the band come from copies taken before any band was updated. */
+class CurvatureWalk
+{
+public:
+    CurvatureWalk(const Mat& u, const Range& rows, float epsilon, const float* rowAbove, const float* rowBelow)
+        : u_(u), end_(rows.end), eps2_(epsilon * epsilon), rowBelow_(rowBelow), buffer_(size_t(u.cols) * 3, 0.f)
+    {
+        nx_ = buffer_.data();
+        ny_ = nx_ + u.cols;
+        nyAbove_ = ny_ + u.cols;
+        if (rows.start > 0 && rowAbove)
+            unitGradientRow(rowAbove, u.ptr<float>(rows.start), u.cols, eps2_, nx_, nyAbove_);
+    }
+
+    //! The curvature of row y; call for each row of the band in order.
+    void next(int y, float* curvature)
+    {
+        const float* below = y + 1 >= u_.rows ? nullptr : y + 1 == end_ ? rowBelow_ : u_.ptr<float>(y + 1);
+        unitGradientRow(u_.ptr<float>(y), below, u_.cols, eps2_, nx_, ny_);
+        curvature[0] = nx_[0] + ny_[0] - nyAbove_[0];
+        for (int x = 1; x < u_.cols; x++)
+            curvature[x] = nx_[x] - nx_[x - 1] + ny_[x] - nyAbove_[x];
+        std::swap(ny_, nyAbove_);
+    }
+
+private:
+    const Mat& u_;
+    int end_;
+    float eps2_;
+    const float* rowBelow_;
+    std::vector<float> buffer_;
+    float *nx_, *ny_, *nyAbove_;
+};
+
+/* x_{k+1} = y ⊙ correction / (norm − λ curvature) over one row, and the data term's step
+   y ⊙ (correction / norm − 1). Pixels whose normaliser is ≤ kUnobserved keep y. `norm` and
+   `curvature` may be null (1 and 0). Branch-free, so it vectorises. */
+DYNBLUR_SIMD_CLONES
+void updateRow(const float* __restrict y, const float* __restrict correction, const float* __restrict norm,
+               const float* __restrict curvature, float tvWeight, int n, float* __restrict out,
+               float* __restrict step)
+{
+    for (int x = 0; x < n; x++)
+    {
+        const float nv = norm ? norm[x] : 1.f;
+        const float yv = y[x], cv = correction[x];
+        float den = curvature ? nv - tvWeight * curvature[x] : nv;
+        den = std::max(den, 0.1f * nv);  // keeps a large λ from flipping the sign
+        const bool seen = nv > kUnobserved;
+        out[x] = seen ? std::max(yv * cv / den, 0.f) : yv;
+        /* The extrapolation follows the data term's step only: TV's curvature term flips sign
+           from one iteration to the next on noise, which would make successive steps look
+           uncorrelated and switch acceleration off. */
+        step[x] = seen ? yv * (cv / nv - 1.f) : 0.f;
+    }
+}
+
+//! Σ a·b and Σ b·b over a row, in eight-lane float sums (a row is short enough for float).
+DYNBLUR_SIMD_CLONES
+void dotRows(const float* __restrict a, const float* __restrict b, int n, double& ab, double& bb)
+{
+    typedef float v8 __attribute__((vector_size(32), aligned(4)));
+    v8 sab = {}, sbb = {};
+    int x = 0;
+    for (; x + 8 <= n; x += 8)
+    {
+        const v8 va = *(const v8*)(a + x), vb = *(const v8*)(b + x);
+        sab += va * vb;
+        sbb += vb * vb;
+    }
+    for (int k = 0; k < 8; k++)
+    {
+        ab += sab[k];
+        bb += sbb[k];
+    }
+    for (; x < n; x++)
+    {
+        ab += double(a[x]) * b[x];
+        bb += double(b[x]) * b[x];
+    }
+}
+
+//! Sums an update accumulates over a band of rows, added up afterwards in band order.
+struct UpdateSums
+{
+    double stepDot = 0, stepBeforeSq = 0, changeSq = 0, sizeSq = 0;
+};
+
+//! Band b of `bands` fixed bands of [0, rows).
+Range bandRange(int rows, int bands, int b)
+{
+    return Range(int(int64_t(rows) * b / bands), int(int64_t(rows) * (b + 1) / bands));
+}
+
+//! Runs body(band, rows) over the bands in parallel: partial sums come out the same on every run.
+template <typename Body>
+void forBands(int rows, int bands, const Body& body)
+{
+    parallel_for_(Range(0, bands), [&](const Range& r) {
+        for (int b = r.start; b < r.end; b++)
+            body(b, bandRange(rows, bands, b));
     });
 }
 
-/* div(∇u/|∇u|) with forward differences for the gradient and backward ones for the divergence
-   (the pair that makes −div the adjoint of ∇), zero flux across the array's edges. */
-void tvCurvature(const Mat& u, float epsilon, Mat& nx, Mat& ny, Mat& curvature)
+//! RL over every plane for params.iterations (colorIterations ignored).
+int iteratePlanes(BlurOperator& op, const Mat& blurred, const Mat& normalizer, const RLParams& params,
+                  std::vector<Mat>& estimate, std::vector<Mat>& other, std::vector<Mat>& step, RLWorkspace& ws)
 {
-    nx.create(u.size(), CV_32FC1);
-    ny.create(u.size(), CV_32FC1);
-    curvature.create(u.size(), CV_32FC1);
-    const int rows = u.rows, cols = u.cols;
-    const float eps2 = epsilon * epsilon;
-    parallel_for_(Range(0, rows), [&](const Range& range) {
-        for (int y = range.start; y < range.end; y++)
-        {
-            const float* p = u.ptr<float>(y);
-            const float* below = u.ptr<float>(std::min(y + 1, rows - 1));
-            float* ox = nx.ptr<float>(y);
-            float* oy = ny.ptr<float>(y);
-            for (int x = 0; x < cols; x++)
-            {
-                const float gx = x + 1 < cols ? p[x + 1] - p[x] : 0.f;
-                const float gy = y + 1 < rows ? below[x] - p[x] : 0.f;
-                const float inv = 1.f / std::sqrt(gx * gx + gy * gy + eps2);
-                ox[x] = gx * inv;
-                oy[x] = gy * inv;
-            }
-        }
-    });
-    parallel_for_(Range(0, rows), [&](const Range& range) {
-        for (int y = range.start; y < range.end; y++)
-        {
-            const float* ox = nx.ptr<float>(y);
-            const float* oy = ny.ptr<float>(y);
-            const float* oyAbove = y > 0 ? ny.ptr<float>(y - 1) : nullptr;
-            float* c = curvature.ptr<float>(y);
-            for (int x = 0; x < cols; x++)
-                c[x] = ox[x] - (x > 0 ? ox[x - 1] : 0.f) + oy[x] - (oyAbove ? oyAbove[x] : 0.f);
-        }
-    });
-}
-
-}  // namespace
-
-int iterateRichardsonLucy(BlurOperator& op, const std::vector<Mat>& blurred, const Mat& normalizer,
-                          const RLParams& params, std::vector<Mat>& estimate)
-{
-    const size_t channels = blurred.size();
+    const size_t channels = size_t(blurred.channels());
     CV_Assert(estimate.size() == channels);
-    const Size latentSize = op.latentSize();
+    const Size latentSize = op.latentSize(), frameSize = op.frameSize();
     const float tvWeight = float(params.tvWeight);
+    const bool fused = op.gathersRows();
+    const float invThreshold = params.damping > 0 ? float(2.0 / (params.damping * params.damping)) : 0.f;
+    const int bands = std::max(1, std::min(latentSize.height, 8 * getNumThreads()));
 
     // TV's |∇u| is regularised at a small fraction of the image level, so it stays scale free.
-    double level = 0;
-    for (const Mat& b : blurred)
-        level += mean(b)[0];
+    const double level = sum(mean(blurred))[0];
     const float tvEpsilon = float(std::max(1e-3 * level / double(std::max<size_t>(channels, 1)), 1e-12));
 
-    std::vector<Mat> previous(channels), predicted(channels), step(channels), stepBefore(channels);
-    Mat reblurred, ratio, correction, nx, ny, curvature, next;
+    /* Per channel: the estimate x_k, `other` (x_{k−1}, overwritten by the extrapolated y_k and then
+       by x_{k+1} in place) and, when accelerating, the last step g_{k−1} (overwritten by g_k while
+       its dot product with g_k is taken). Shared: the ratio and, for operators
+       that cannot gather rows, whole reblurred and correction planes. */
+    // Never shrunk: a workspace keeps its planes for the next frame.
+    other.resize(std::max(other.size(), channels));
+    step.resize(std::max(step.size(), channels));
+    Mat& ratio = ws.ratio;
+    Mat& reblurred = ws.reblurred;
+    Mat& correction = ws.correction;
+    ratio.create(frameSize, CV_32FC1);
+    std::vector<float> halo(size_t(2 * bands) * size_t(latentSize.width));
+    if (params.accelerate)
+        for (size_t c = 0; c < channels; c++)
+        {
+            step[c].create(latentSize, CV_32FC1);
+            step[c].setTo(0);
+        }
     double alpha = 0;
+    UpdateSums previousSums;
     int iteration = 0;
     for (; iteration < params.iterations; iteration++)
     {
         // Biggs–Andrews: extrapolate along the last step, by how well the last two steps agree.
         if (params.accelerate && iteration >= 2)
-        {
-            double num = 0, den = 0;
-            for (size_t c = 0; c < channels; c++)
-            {
-                num += step[c].dot(stepBefore[c]);
-                den += stepBefore[c].dot(stepBefore[c]);
-            }
-            alpha = den > 0 ? std::min(std::max(num / den, 0.0), 1.0) : 0.0;
-        }
-        double changeSq = 0, sizeSq = 0;
+            alpha = previousSums.stepBeforeSq > 0
+                        ? std::min(std::max(previousSums.stepDot / previousSums.stepBeforeSq, 0.0), 1.0)
+                        : 0.0;
+        std::vector<UpdateSums> sums(static_cast<size_t>(bands));
         for (size_t c = 0; c < channels; c++)
         {
             const Mat& x = estimate[c];
-            Mat& y = predicted[c];
+            Mat& next = other[c];
+            next.create(latentSize, CV_32FC1);
+            const Mat* predicted = &x;
             if (alpha > 0)
             {
-                addWeighted(x, 1 + alpha, previous[c], -alpha, 0, y);
-                y = max(y, 0.f);  // RL needs a non-negative estimate
+                const float a = float(alpha);
+                forBands(latentSize.height, bands, [&](int, const Range& rows) {
+                    for (int r = rows.start; r < rows.end; r++)
+                    {
+                        const float* xp = x.ptr<float>(r);
+                        float* yp = next.ptr<float>(r);  // x_{k−1} in, y_k out
+                        for (int col = 0; col < latentSize.width; col++)
+                            yp[col] = std::max(xp[col] + a * (xp[col] - yp[col]), 0.f);  // RL needs y ≥ 0
+                    }
+                });
+                predicted = &next;
             }
-            else
-            {
-                x.copyTo(y);
-            }
+            const Mat& y = *predicted;
 
-            op.forward(y, reblurred);
-            relativeBlur(blurred[c], reblurred, params.damping, ratio);
-            op.adjoint(ratio, correction);
-            if (tvWeight > 0)
-                tvCurvature(y, tvEpsilon, nx, ny, curvature);
-
-            next.create(latentSize, CV_32FC1);
-            if (params.accelerate)
-            {
-                std::swap(stepBefore[c], step[c]);
-                step[c].create(latentSize, CV_32FC1);
-            }
-            Mat& rlStep = step[c];
-            parallel_for_(Range(0, latentSize.height), [&](const Range& rows) {
+            // ratio = damped(b / A y), each row straight from its blur while it is in cache.
+            if (!fused)
+                op.forward(y, reblurred);
+            forBands(frameSize.height, bands, [&](int, const Range& rows) {
+                const int width = frameSize.width, stride = int(channels);
+                std::vector<float> buffer(size_t(width) * (kBlockRows + 2));
+                float* reblurredBlock = buffer.data();
+                float* logBuffer = reblurredBlock + size_t(width) * kBlockRows;
+                float* observed = logBuffer + width;
                 for (int r = rows.start; r < rows.end; r++)
                 {
-                    const float* yp = y.ptr<float>(r);
-                    const float* cp = correction.ptr<float>(r);
-                    const float* np = normalizer.empty() ? nullptr : normalizer.ptr<float>(r);
-                    const float* kp = tvWeight > 0 ? curvature.ptr<float>(r) : nullptr;
+                    const int inBlock = (r - rows.start) % kBlockRows;
+                    if (fused && inBlock == 0)
+                        op.forwardBlock(y, Range(r, std::min(r + kBlockRows, rows.end)), reblurredBlock, size_t(width));
+                    const float* ab = fused ? reblurredBlock + size_t(inBlock) * size_t(width) : reblurred.ptr<float>(r);
+                    const float* b = blurred.ptr<float>(r) + c;
+                    for (int x = 0; x < width; x++)
+                        observed[x] = b[x * stride];
+                    ratioRow(observed, ab, ratio.ptr<float>(r), width, invThreshold, logBuffer);
+                }
+            });
+            // The rows around each band, as they are before any band updates y in place.
+            const int width = latentSize.width;
+            if (tvWeight > 0)
+                for (int b = 0; b < bands; b++)
+                {
+                    const Range rows = bandRange(latentSize.height, bands, b);
+                    float* above = halo.data() + size_t(2 * b) * size_t(width);
+                    if (rows.start > 0)
+                        std::memcpy(above, y.ptr<float>(rows.start - 1), sizeof(float) * size_t(width));
+                    if (rows.end < latentSize.height)
+                        std::memcpy(above + width, y.ptr<float>(rows.end), sizeof(float) * size_t(width));
+                }
+            if (!fused)
+                op.adjoint(ratio, correction);
+
+            // x_{k+1} = y ⊙ Aᵀratio / (Aᵀ1 − λ div(∇y/|∇y|)), row by row from the adjoint's row.
+            const bool accelerate = params.accelerate, measure = params.tolerance > 0;
+            forBands(latentSize.height, bands, [&](int band, const Range& rows) {
+                UpdateSums& s = sums[size_t(band)];
+                std::vector<float> buffer(size_t(width) * (kBlockRows + 3));
+                float* correctionBlock = buffer.data();
+                float* stepRow = correctionBlock + size_t(width) * kBlockRows;
+                float* valueRow = stepRow + width;
+                float* curvatureRow = tvWeight > 0 ? valueRow + width : nullptr;
+                const float* above = halo.data() + size_t(2 * band) * size_t(width);
+                CurvatureWalk curvature(y, rows, tvEpsilon, curvatureRow ? above : nullptr, above + width);
+                for (int r = rows.start; r < rows.end; r++)
+                {
+                    if (curvatureRow)
+                        curvature.next(r, curvatureRow);
+                    const int inBlock = (r - rows.start) % kBlockRows;
+                    if (fused && inBlock == 0)
+                        op.adjointBlock(ratio, Range(r, std::min(r + kBlockRows, rows.end)), correctionBlock,
+                                        size_t(width));
+                    const float* cp = fused ? correctionBlock + size_t(inBlock) * size_t(width)
+                                            : correction.ptr<float>(r);
+                    updateRow(y.ptr<float>(r), cp, normalizer.empty() ? nullptr : normalizer.ptr<float>(r),
+                              curvatureRow, tvWeight, width, valueRow, stepRow);
+                    // Through a row buffer: `next` may be y itself, which the update must not see change.
                     float* out = next.ptr<float>(r);
-                    float* sp = params.accelerate ? rlStep.ptr<float>(r) : nullptr;
-                    for (int col = 0; col < latentSize.width; col++)
+                    std::memcpy(out, valueRow, sizeof(float) * size_t(width));
+                    if (accelerate)
                     {
-                        const float norm = np ? np[col] : 1.f;
-                        if (norm <= kUnobserved)
+                        float* previousStep = step[c].ptr<float>(r);
+                        dotRows(stepRow, previousStep, width, s.stepDot, s.stepBeforeSq);
+                        std::memcpy(previousStep, stepRow, sizeof(float) * size_t(width));
+                    }
+                    if (measure)
+                    {
+                        const float* xp = x.ptr<float>(r);
+                        for (int col = 0; col < width; col++)
                         {
-                            out[col] = yp[col];
-                            if (sp)
-                                sp[col] = 0.f;
-                            continue;
+                            const double change = double(out[col]) - xp[col];
+                            s.changeSq += change * change;
+                            s.sizeSq += double(xp[col]) * xp[col];
                         }
-                        float den = kp ? norm - tvWeight * kp[col] : norm;
-                        den = std::max(den, 0.1f * norm);  // keeps a large λ from flipping the sign
-                        out[col] = std::max(yp[col] * cp[col] / den, 0.f);
-                        /* The extrapolation follows the data term's step only: TV's curvature
-                           term flips sign from one iteration to the next on noise, which would
-                           make successive steps look uncorrelated and switch acceleration off. */
-                        if (sp)
-                            sp[col] = yp[col] * (cp[col] / norm - 1.f);
                     }
                 }
             });
-
-            if (params.tolerance > 0)
-            {
-                const double change = norm(next, x, NORM_L2);
-                changeSq += change * change;
-                const double size = norm(x, NORM_L2);
-                sizeSq += size * size;
-            }
-            std::swap(previous[c], estimate[c]);
-            std::swap(estimate[c], next);
+            std::swap(estimate[c], next);  // next now holds x_k, the next extrapolation's x_{k−1}
         }
-        if (params.tolerance > 0 && sizeSq > 0 && std::sqrt(changeSq / sizeSq) < params.tolerance)
+        UpdateSums total;
+        for (const UpdateSums& s : sums)
+        {
+            total.stepDot += s.stepDot;
+            total.stepBeforeSq += s.stepBeforeSq;
+            total.changeSq += s.changeSq;
+            total.sizeSq += s.sizeSq;
+        }
+        previousSums = total;
+        if (params.tolerance > 0 && total.sizeSq > 0 && std::sqrt(total.changeSq / total.sizeSq) < params.tolerance)
         {
             iteration++;
             break;
         }
     }
     return iteration;
+}
+
+//! mean = the mean of the planes.
+void planeMean(const std::vector<Mat>& planes, Mat& mean)
+{
+    mean.create(planes[0].size(), CV_32FC1);
+    mean.setTo(0);
+    for (const Mat& p : planes)
+        mean += p;
+    mean *= 1.0 / double(planes.size());
+}
+
+}  // namespace
+
+int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& normalizer, const RLParams& params,
+                          std::vector<Mat>& estimate, RLWorkspace& ws)
+{
+    const int colour = params.colorIterations;
+    if (blurred.channels() < 3 || colour < 0 || colour >= params.iterations)
+        return iteratePlanes(op, blurred, normalizer, params, estimate, ws.other, ws.step, ws);
+
+    int done = 0;
+    if (colour > 0)
+    {
+        RLParams first = params;
+        first.iterations = colour;
+        done = iteratePlanes(op, blurred, normalizer, first, estimate, ws.other, ws.step, ws);
+        if (params.tolerance > 0 && done < colour)
+            return done;  // converged in colour already
+    }
+    /* The luminance phase works in the colour phase's buffers (`other` and `step`, which that
+       phase no longer needs), so it adds nothing to the peak memory. */
+    const Size latentSize = op.latentSize();
+    for (std::vector<Mat>* pool : {&ws.other, &ws.step})
+    {
+        pool->resize(std::max<size_t>(pool->size(), 3));
+        for (Mat& m : *pool)
+            m.create(latentSize, CV_32FC1);
+    }
+    Mat luminance = ws.step[1](Rect(Point(), op.frameSize()));
+    Mat& start = ws.other[2];
+    // Blur is linear and the same for every plane, so the planes' mean is blurred by it too.
+    transform(blurred, luminance, Mat(1, blurred.channels(), CV_32F, Scalar(1.0 / blurred.channels())));
+    planeMean(estimate, start);
+    std::vector<Mat> latent{ws.other[1]}, other{ws.other[0]}, step{ws.step[0]};
+    start.copyTo(latent[0]);
+    RLParams rest = params;
+    rest.iterations = params.iterations - colour;
+    done += iteratePlanes(op, luminance, normalizer, rest, latent, other, step, ws);
+    // The luminance's change goes to every plane (the start is no longer needed: reuse it).
+    subtract(latent[0], start, start);
+    for (Mat& e : estimate)
+    {
+        add(e, start, e);
+        max(e, 0.f, e);
+    }
+    ws.other[1] = latent[0];  // the two buffers may have swapped: keep the pool's set intact
+    ws.other[0] = other[0];
+    return done;
 }
 
 }  // namespace detail

@@ -10,17 +10,38 @@ namespace cv {
 namespace dynblur {
 namespace detail {
 
+/** @brief Buffers the restoration keeps between calls. Fresh memory costs a page fault per 4 KiB
+on first touch, which for a 1280×960 RGB frame's dozen planes takes longer than the iterations
+themselves; DynamicDeblurrer keeps one workspace, so a stream of frames allocates nothing. */
+struct RLWorkspace
+{
+    std::vector<Mat> estimate, other, step;
+    Mat ratio, reblurred, correction;  // shared by the planes
+    Mat normalizer, valid;
+    //! Keep the iterations' planes after a call (for the next frame) instead of freeing them before the output is written.
+    bool persistent = false;
+};
+
 /** @brief Runs RL on every channel plane with one operator.
 
 x ← x ⊙ Aᵀ(damped(b / A x)) / (Aᵀ1 − λ div(∇x/|∇x|)), with Biggs–Andrews extrapolation of x when
-params.accelerate, stopping early at params.tolerance.
-@param op the blur. @param blurred frame-sized CV_32FC1 planes.
+params.accelerate, stopping early at params.tolerance. With 3–4 planes and params.colorIterations
+in [0, iterations), the iterations after the first colorIterations run on the planes' mean alone,
+whose change is then added to every plane.
+@param op the blur. @param blurred the frame, CV_32F with one channel per estimate plane.
 @param normalizer Aᵀ1 (latent size); empty: 1 everywhere, the unnormalised update of scikit-image's
 richardson_lucy. Latent pixels whose normaliser is ≤ kUnobserved are not updated.
 @param estimate in: the start (latent-sized planes, ≥ 0); out: the result.
+@param workspace buffers, reused when their sizes fit.
 @return the iterations run. */
-int iterateRichardsonLucy(BlurOperator& op, const std::vector<Mat>& blurred, const Mat& normalizer,
-                          const RLParams& params, std::vector<Mat>& estimate);
+int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& normalizer, const RLParams& params,
+                          std::vector<Mat>& estimate, RLWorkspace& workspace);
+
+/** @brief richardsonLucyVariant in a workspace, without its argument checks (the caller has made
+them): the frame-rate path of DynamicDeblurrer.
+@param observed the frame, CV_32F, 1–4 channels, the bank's size, finite. */
+void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& params, RLWorkspace& workspace,
+                    OutputArray latent, OutputArray validMask);
 
 //! Normaliser below which a latent pixel counts as not seen by any frame pixel.
 constexpr float kUnobserved = 1e-3f;

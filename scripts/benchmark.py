@@ -1,0 +1,192 @@
+#!/usr/bin/env python3
+"""Speed figures of the frame-rate restoration (issue #8), all measured in one run.
+
+Runs the C++ benchmark program (Google Benchmark, JSON), then the peers in Python on the same
+1280x960 RGB frame and row-wise PSF bank: dynblur through its bindings, an RL written with
+cv2.filter2D and a uniform 21x1 kernel, and scikit-image's richardson_lucy. Prints a table of every
+target with PASS/MISS, writes benchmark_out/results.json, results.md and scaling.png (time against
+megapixels and against iterations, with the memory-bandwidth bound beside it), and exits 1 when a
+target is missed. Speed is compared as ratios measured in the same run, since the machine's speed
+drifts. Run it through scripts/benchmark.sh, which builds what it needs first.
+"""
+import argparse
+import datetime
+import json
+import math
+import os
+import pathlib
+import platform
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+REPO = pathlib.Path(__file__).resolve().parents[1]
+
+# The restoration's minimal DRAM traffic per pixel, channel and iteration, bytes: the fused passes
+# read y, b, the ratio, the normaliser, the TV curvature and the step and write the ratio, the
+# curvature, the new estimate and the step (13 floats; the taps' re-reads hit the caches).
+BYTES_PER_PIXEL_ITERATION = 13 * 4
+
+
+def progress(message):
+    print(f"[benchmark] {message}", file=sys.stderr, flush=True)
+
+
+def run_cpp(perf, repetitions):
+    """Runs dynblur_perf and returns {name: median real time in ms, plus counters}."""
+    progress(f"running {perf} ({repetitions} repetitions; a few minutes: the window III frame is rendered once)")
+    out = subprocess.run([str(perf), "--benchmark_format=json", f"--benchmark_repetitions={repetitions}",
+                          "--benchmark_report_aggregates_only=true"],
+                         check=True, stdout=subprocess.PIPE, text=True).stdout
+    results = {}
+    for b in json.loads(out)["benchmarks"]:
+        if b.get("aggregate_name", "median") != "median":
+            continue
+        name = b["run_name"] if "run_name" in b else b["name"]
+        scale = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}[b["time_unit"]]
+        entry = {"ms": b["real_time"] * scale}
+        for key in ("megapixels", "iterations", "kernels", "bytes_per_second"):
+            if key in b:
+                entry[key] = b[key]
+        results[name] = entry
+    return results
+
+
+def median_ms(function, repetitions):
+    times = []
+    for _ in range(repetitions):
+        start = time.perf_counter()
+        function()
+        times.append((time.perf_counter() - start) * 1e3)
+    return float(np.median(times))
+
+
+def run_peers(repetitions):
+    """The same frame and bank through the bindings, cv2.filter2D RL and scikit-image."""
+    import cv2
+    import dynblur
+    from skimage.restoration import richardson_lucy
+
+    plant = dynblur.Plant.create(14.4, 0.12, math.pi / 180)
+    camera = dynblur.CameraModel.create(1230, 1230, 639.5, 479.5, 1280, 960)
+    schedule = dynblur.SwitchPlanner.create(plant, 16, dynblur.PLAN_ROBUST).plan(0.0, math.radians(10), 0.0)
+    shutter = dynblur.RollingShutter(0.012, 0.008, 1.0 / 30 / 960, 960)
+    bank = dynblur.PsfGenerator.create(plant, camera).generate(dynblur.PSF_ROWS, schedule, shutter)
+    rng = np.random.default_rng(1)
+    frame = cv2.GaussianBlur(rng.uniform(0.05, 0.95, (960, 1280, 3)).astype(np.float32), (0, 0), 1.5)
+    params = dynblur.RLParams(iterations=10, damping=float("nan"), colorIterations=5)
+
+    kernel = np.zeros((1, 21), np.float32)
+    kernel[0, :] = 1.0 / 21
+
+    def filter2d_rl():
+        estimate = frame.copy()
+        flipped = kernel[::-1, ::-1].copy()
+        for _ in range(10):
+            reblurred = cv2.filter2D(estimate, cv2.CV_32F, flipped, borderType=cv2.BORDER_REPLICATE)
+            ratio = frame / (reblurred + 1e-12)
+            estimate *= cv2.filter2D(ratio, cv2.CV_32F, kernel, borderType=cv2.BORDER_REPLICATE)
+        return estimate
+
+    def skimage_rl():
+        return np.stack([richardson_lucy(frame[..., c], kernel, num_iter=10, clip=False) for c in range(3)], -1)
+
+    progress("peers: dynblur bindings")
+    dynblur_ms = median_ms(lambda: dynblur.richardsonLucyVariant(frame, bank, params), repetitions)
+    progress("peers: cv2.filter2D RL")
+    filter2d_ms = median_ms(filter2d_rl, repetitions)
+    progress("peers: scikit-image richardson_lucy (slow)")
+    skimage_ms = median_ms(skimage_rl, max(1, repetitions // 2))
+    return {"dynblur_python_ms": dynblur_ms, "filter2d_python_ms": filter2d_ms, "skimage_ms": skimage_ms}
+
+
+def plot(results, bandwidth, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    size = sorted((v["megapixels"], v["ms"]) for k, v in results.items() if k.startswith("BM_RestoreRowsVsSize"))
+    iters = sorted((v["iterations"], v["ms"]) for k, v in results.items() if k.startswith("BM_RestoreRowsVsIterations"))
+    # Channel-iterations of frameRateParams: min(5, n) in colour (3 planes), the rest luminance only.
+    plane_passes = lambda n: 3 * min(5, n) + max(n - 5, 0)
+    bound_ms = lambda mp, n: BYTES_PER_PIXEL_ITERATION * mp * 1e6 * plane_passes(n) / bandwidth * 1e3
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    mp = [s[0] for s in size]
+    axes[0].plot(mp, [s[1] for s in size], "o-", label="row-wise RL, 10 iterations (measured)")
+    axes[0].plot(mp, [bound_ms(m, 10) for m in mp], "--", label=f"memory-bandwidth bound ({bandwidth / 1e9:.1f} GB/s)")
+    axes[0].axhline(33.3, color="grey", lw=0.8, ls=":", label="30 fps (33 ms)")
+    axes[0].set_xlabel("image size, megapixels (RGB)")
+    axes[0].set_ylabel("time, ms")
+    axes[0].set_title("time against image size")
+    axes[0].legend(fontsize=8)
+    n = [i[0] for i in iters]
+    axes[1].plot(n, [i[1] for i in iters], "o-", label="row-wise RL, 1280x960 (measured)")
+    axes[1].plot(n, [bound_ms(1.2288, k) for k in n], "--", label="memory-bandwidth bound")
+    axes[1].axhline(33.3, color="grey", lw=0.8, ls=":", label="30 fps (33 ms)")
+    axes[1].set_xlabel("RL iterations (5 in colour, the rest luminance)")
+    axes[1].set_ylabel("time, ms")
+    axes[1].set_title("time against iterations")
+    axes[1].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--build", default=os.environ.get("DYNBLUR_BUILD_DIR", REPO / "build"), type=pathlib.Path,
+                        help="build folder holding modules/dynblur/dynblur_perf (default: build/)")
+    parser.add_argument("--out", default=REPO / "benchmark_out", type=pathlib.Path, help="output folder")
+    parser.add_argument("--repetitions", default=5, type=int, help="repetitions per benchmark (median reported)")
+    args = parser.parse_args()
+    if args.repetitions < 1:
+        parser.error(f"--repetitions={args.repetitions} must be >= 1")
+    perf = args.build / "modules" / "dynblur" / "dynblur_perf"
+    if not perf.exists():
+        parser.error(f"{perf} not found: build the dynblur_perf target (scripts/benchmark.sh does)")
+    args.out.mkdir(parents=True, exist_ok=True)
+
+    cpp = run_cpp(perf, args.repetitions)
+    peers = run_peers(args.repetitions)
+    ms = lambda name: cpp[name]["ms"]
+    rows = ms("BM_DeblurFrame/psfModel:1/iterations:2/real_time")
+    tiles = ms("BM_DeblurFrame/psfModel:2/iterations:2/real_time")
+    baseline = ms("BM_RichardsonLucyFilter2DBaseline/real_time")
+    bandwidth = cpp["BM_MemoryBandwidth/min_time:0.500/real_time"]["bytes_per_second"]
+    targets = [
+        ("1280x960 RGB, row-wise PSF, 10 RL iterations, whole deblur (median)", f"{rows:.1f} ms", "<= 33 ms",
+         rows <= 33.0),
+        ("same vs RL with cv::filter2D, uniform 21x1 (C++)", f"{baseline / rows:.1f}x", ">= 4x", baseline / rows >= 4),
+        ("same vs scikit-image richardson_lucy (Python bindings)",
+         f"{peers['skimage_ms'] / peers['dynblur_python_ms']:.0f}x", ">= 50x",
+         peers["skimage_ms"] / peers["dynblur_python_ms"] >= 50),
+        ("tile-wise / row-wise time", f"{tiles / rows:.2f}x", "<= 3x", tiles / rows <= 3),
+        ("PSF bank, row-wise, window III frame", f"{ms('BM_PsfRowsWindowIII'):.2f} ms" if "BM_PsfRowsWindowIII" in cpp
+         else f"{ms('BM_PsfRowsAuto'):.2f} ms", "<= 1 ms",
+         cpp.get("BM_PsfRowsWindowIII", cpp["BM_PsfRowsAuto"])["ms"] <= 1.0),
+    ]
+    classify = [v["ms"] for k, v in cpp.items() if k.startswith("BM_Classify")]
+    if classify:
+        targets.append(("classifying a frame", f"{max(classify) * 1e3:.1f} us", "<= 100 us", max(classify) <= 0.1))
+
+    date = datetime.date.today().isoformat()
+    machine = f"{os.cpu_count()} cores, {platform.processor() or platform.machine()}"
+    lines = [f"Measured {date} on {machine}; DRAM bandwidth {bandwidth / 1e9:.1f} GB/s (BM_MemoryBandwidth).", "",
+             "| target | measured | required | |", "|---|---|---|---|"]
+    lines += [f"| {name} | {value} | {required} | {'PASS' if ok else 'MISS'} |" for name, value, required, ok in targets]
+    lines += ["", "| benchmark | median |", "|---|---|"]
+    lines += [f"| `{name}` | {entry['ms']:.3f} ms |" for name, entry in sorted(cpp.items())]
+    lines += [f"| Python: {name} | {value:.1f} ms |" for name, value in peers.items()]
+    report = "\n".join(lines)
+    print(report)
+    (args.out / "results.md").write_text(report + "\n")
+    (args.out / "results.json").write_text(json.dumps({"cpp": cpp, "peers": peers, "date": date}, indent=1))
+    plot(cpp, bandwidth, args.out / "scaling.png")
+    progress(f"wrote {args.out}/results.md, results.json, scaling.png")
+    return 0 if all(t[3] for t in targets) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

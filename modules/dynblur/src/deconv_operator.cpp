@@ -232,7 +232,7 @@ void gatherBlock(const Mat& source, const std::vector<RowBankOperator::Tap>& tap
                  const std::vector<RowBankOperator::GatherRow>& gatherRows, const Range& rows, int width, float* out,
                  size_t outStep)
 {
-    constexpr int kChunk = 128;  // columns: ~50 source rows × 512 B stay within a 32 KiB L1
+    constexpr int kChunk = 64;  // columns: ~60 source rows × 256 B stay well within a 32 KiB L1
     int commonBegin = width, commonEnd = 0;
     for (int r = rows.start; r < rows.end; r++)
     {

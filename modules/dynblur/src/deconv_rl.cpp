@@ -21,13 +21,15 @@ constexpr int kBlockRows = 8;
 
 /* ratio = b / (A x) over one row, damped as MATLAB's deconvlucy does (White 1994): where the
    Poisson deviance between b and A x is within the damping threshold, the ratio is pulled to 1
-   (no update). `logBuffer` holds `n` floats. Branch-free, so it vectorises. */
+   (no update). Intensities are taken times `scale` (1 / the image's level), so the epsilon and the
+   deviance mean the same at any exposure and nothing under- or overflows. `invThreshold` is
+   2 / (damping² · scale); `logBuffer` holds `n` floats. Branch-free, so it vectorises. */
 DYNBLUR_SIMD_CLONES
-void ratioRow(const float* __restrict b, const float* __restrict ab, float* __restrict r, int n, float invThreshold,
-              float* __restrict logBuffer)
+void ratioRow(const float* __restrict b, const float* __restrict ab, float* __restrict r, int n, float scale,
+              float invThreshold, float* __restrict logBuffer)
 {
     for (int x = 0; x < n; x++)
-        r[x] = ab[x] > 0.f ? b[x] / (ab[x] + kRatioEpsilon) : 0.f;
+        r[x] = ab[x] > 0.f ? b[x] * scale / (ab[x] * scale + kRatioEpsilon) : 0.f;
     if (invThreshold == 0.f)
         return;
     for (int x = 0; x < n; x++)
@@ -35,7 +37,8 @@ void ratioRow(const float* __restrict b, const float* __restrict ab, float* __re
     hal::log32f(logBuffer, logBuffer, n);  // OpenCV's vectorised log: a scalar one would dominate
     for (int x = 0; x < n; x++)
     {
-        float g = (b[x] * logBuffer[x] + ab[x] - b[x]) * invThreshold;
+        const float bs = b[x] * scale, abs = ab[x] * scale;
+        float g = (bs * logBuffer[x] + abs - bs) * invThreshold;
         g = std::min(std::max(g, 0.f), 1.f);
         const float g2 = g * g, g4 = g2 * g2, g8 = g4 * g4;
         const float G = g8 * g * (10.f - 9.f * g);  // g^9 (10 − 9 g): 0 within the noise, 1 beyond
@@ -44,15 +47,16 @@ void ratioRow(const float* __restrict b, const float* __restrict ab, float* __re
 }
 
 /* The unit gradient n = ∇u/|∇u| of one row (forward differences, zero across the last column and
-   below the last row, where `below` is null). */
+   below the last row, where `below` is null), from u · scale so the squares neither under- nor
+   overflow. */
 DYNBLUR_SIMD_CLONES
-void unitGradientRow(const float* __restrict p, const float* __restrict below, int cols, float eps2,
+void unitGradientRow(const float* __restrict p, const float* __restrict below, int cols, float scale, float eps2,
                      float* __restrict nx, float* __restrict ny)
 {
     if (below)
         for (int x = 0; x + 1 < cols; x++)
         {
-            const float gx = p[x + 1] - p[x], gy = below[x] - p[x];
+            const float gx = (p[x + 1] - p[x]) * scale, gy = (below[x] - p[x]) * scale;
             const float inv = 1.f / std::sqrt(gx * gx + gy * gy + eps2);
             nx[x] = gx * inv;
             ny[x] = gy * inv;
@@ -60,12 +64,12 @@ void unitGradientRow(const float* __restrict p, const float* __restrict below, i
     else
         for (int x = 0; x + 1 < cols; x++)
         {
-            const float gx = p[x + 1] - p[x];
+            const float gx = (p[x + 1] - p[x]) * scale;
             nx[x] = gx / std::sqrt(gx * gx + eps2);
             ny[x] = 0.f;
         }
     const int x = cols - 1;
-    const float gy = below ? below[x] - p[x] : 0.f;
+    const float gy = below ? (below[x] - p[x]) * scale : 0.f;
     nx[x] = 0.f;
     ny[x] = gy / std::sqrt(gy * gy + eps2);
 }
@@ -78,21 +82,23 @@ void unitGradientRow(const float* __restrict p, const float* __restrict below, i
 class CurvatureWalk
 {
 public:
-    CurvatureWalk(const Mat& u, const Range& rows, float epsilon, const float* rowAbove, const float* rowBelow)
-        : u_(u), end_(rows.end), eps2_(epsilon * epsilon), rowBelow_(rowBelow), buffer_(size_t(u.cols) * 3, 0.f)
+    CurvatureWalk(const Mat& u, const Range& rows, float scale, float epsilon, const float* rowAbove,
+                  const float* rowBelow)
+        : u_(u), end_(rows.end), scale_(scale), eps2_(epsilon * epsilon), rowBelow_(rowBelow),
+          buffer_(size_t(u.cols) * 3, 0.f)
     {
         nx_ = buffer_.data();
         ny_ = nx_ + u.cols;
         nyAbove_ = ny_ + u.cols;
         if (rows.start > 0 && rowAbove)
-            unitGradientRow(rowAbove, u.ptr<float>(rows.start), u.cols, eps2_, nx_, nyAbove_);
+            unitGradientRow(rowAbove, u.ptr<float>(rows.start), u.cols, scale_, eps2_, nx_, nyAbove_);
     }
 
     //! The curvature of row y; call for each row of the band in order.
     void next(int y, float* curvature)
     {
         const float* below = y + 1 >= u_.rows ? nullptr : y + 1 == end_ ? rowBelow_ : u_.ptr<float>(y + 1);
-        unitGradientRow(u_.ptr<float>(y), below, u_.cols, eps2_, nx_, ny_);
+        unitGradientRow(u_.ptr<float>(y), below, u_.cols, scale_, eps2_, nx_, ny_);
         curvature[0] = nx_[0] + ny_[0] - nyAbove_[0];
         for (int x = 1; x < u_.cols; x++)
             curvature[x] = nx_[x] - nx_[x - 1] + ny_[x] - nyAbove_[x];
@@ -102,7 +108,7 @@ public:
 private:
     const Mat& u_;
     int end_;
-    float eps2_;
+    float scale_, eps2_;
     const float* rowBelow_;
     std::vector<float> buffer_;
     float *nx_, *ny_, *nyAbove_;
@@ -131,16 +137,17 @@ void updateRow(const float* __restrict y, const float* __restrict correction, co
     }
 }
 
-//! Σ a·b and Σ b·b over a row, in eight-lane float sums (a row is short enough for float).
+/* Σ a·b and Σ b·b over a row times scale², in eight-lane float sums (a row is short enough for
+   float; the scale keeps the products from under- or overflowing). */
 DYNBLUR_SIMD_CLONES
-void dotRows(const float* __restrict a, const float* __restrict b, int n, double& ab, double& bb)
+void dotRows(const float* __restrict a, const float* __restrict b, int n, float scale, double& ab, double& bb)
 {
     typedef float v8 __attribute__((vector_size(32), aligned(4)));
     v8 sab = {}, sbb = {};
     int x = 0;
     for (; x + 8 <= n; x += 8)
     {
-        const v8 va = *(const v8*)(a + x), vb = *(const v8*)(b + x);
+        const v8 va = *(const v8*)(a + x) * scale, vb = *(const v8*)(b + x) * scale;
         sab += va * vb;
         sbb += vb * vb;
     }
@@ -151,8 +158,8 @@ void dotRows(const float* __restrict a, const float* __restrict b, int n, double
     }
     for (; x < n; x++)
     {
-        ab += double(a[x]) * b[x];
-        bb += double(b[x]) * b[x];
+        ab += double(a[x] * scale) * (b[x] * scale);
+        bb += double(b[x] * scale) * (b[x] * scale);
     }
 }
 
@@ -187,12 +194,19 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const Mat& normalizer, c
     const Size latentSize = op.latentSize(), frameSize = op.frameSize();
     const float tvWeight = float(params.tvWeight);
     const bool fused = op.gathersRows();
-    const float invThreshold = params.damping > 0 ? float(2.0 / (params.damping * params.damping)) : 0.f;
+
     const int bands = std::max(1, std::min(latentSize.height, 8 * getNumThreads()));
 
-    // TV's |∇u| is regularised at a small fraction of the image level, so it stays scale free.
-    const double level = sum(mean(blurred))[0];
-    const float tvEpsilon = float(std::max(1e-3 * level / double(std::max<size_t>(channels, 1)), 1e-12));
+    /* RL is scale-equivariant, and so is this loop: its element-wise work sees intensities divided
+       by the image's level (the ratio's epsilon, the deviance, TV's |∇u| and the step products
+       would otherwise under- or overflow far from [0, 1]). TV's |∇u| is regularised at 1e-3 of
+       the level. */
+    const double level = sum(mean(blurred))[0] / double(channels);
+    const float scale = level > 0 && std::isfinite(1.0 / level) ? float(std::min(1.0 / level, 1e37)) : 1.f;
+    // The deviance is taken on scaled intensities, so its threshold 2 / damping² is divided by the scale.
+    const float invThreshold =
+        params.damping > 0 ? float(std::min(2.0 / (params.damping * params.damping * scale), 1e37)) : 0.f;
+    const float tvEpsilon = 1e-3f;
 
     /* Per channel: the estimate x_k, `other` (x_{k−1}, overwritten by the extrapolated y_k and then
        by x_{k+1} in place) and, when accelerating, the last step g_{k−1} (overwritten by g_k while
@@ -263,7 +277,7 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const Mat& normalizer, c
                     const float* b = blurred.ptr<float>(r) + c;
                     for (int x = 0; x < width; x++)
                         observed[x] = b[x * stride];
-                    ratioRow(observed, ab, ratio.ptr<float>(r), width, invThreshold, logBuffer);
+                    ratioRow(observed, ab, ratio.ptr<float>(r), width, scale, invThreshold, logBuffer);
                 }
             });
             // The rows around each band, as they are before any band updates y in place.
@@ -291,7 +305,7 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const Mat& normalizer, c
                 float* valueRow = stepRow + width;
                 float* curvatureRow = tvWeight > 0 ? valueRow + width : nullptr;
                 const float* above = halo.data() + size_t(2 * band) * size_t(width);
-                CurvatureWalk curvature(y, rows, tvEpsilon, curvatureRow ? above : nullptr, above + width);
+                CurvatureWalk curvature(y, rows, scale, tvEpsilon, curvatureRow ? above : nullptr, above + width);
                 for (int r = rows.start; r < rows.end; r++)
                 {
                     if (curvatureRow)
@@ -310,7 +324,7 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const Mat& normalizer, c
                     if (accelerate)
                     {
                         float* previousStep = step[c].ptr<float>(r);
-                        dotRows(stepRow, previousStep, width, s.stepDot, s.stepBeforeSq);
+                        dotRows(stepRow, previousStep, width, scale, s.stepDot, s.stepBeforeSq);
                         std::memcpy(previousStep, stepRow, sizeof(float) * size_t(width));
                     }
                     if (measure)

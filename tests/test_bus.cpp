@@ -359,6 +359,20 @@ TEST(BusFaults, LateRtuReplyIsNotTakenForTheNextAnswer)
     EXPECT_EQ(rig.sim.faultCounts().byKind[SIM_FAULT_DELAY], 1);
 }
 
+// The safe level is applied even when the status read after it fails, and the message says so.
+TEST(BusFaults, FailedStatusReadAfterTheSafeLevelIsReportedAsSuch)
+{
+    Rig rig(tcpConfig(), 0.2, 0);
+    SimFaults f;
+    f.garbageAfter = 2;  // status read, then the entry write gets garbage: upload fails
+    f.shortAfter = 4;    // the STOP (request 3) is acknowledged, the status read after it is cut short
+    rig.sim.setFaults(f);
+    expectThrowsWith([&] { rig.driver->upload(move10()); }, "safe level applied, device status unreadable");
+    EXPECT_EQ(rig.sim.state(), ACTUATOR_IDLE);
+    EXPECT_EQ(rig.sim.currentLevel(), 0);
+    EXPECT_EQ(rig.sim.startCount(), 0);
+}
+
 TEST(BusFaults, BadArguments)
 {
     EXPECT_THROW(ActuatorBus::create("udp://127.0.0.1:1"), cv::Exception);

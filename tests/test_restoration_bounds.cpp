@@ -140,6 +140,20 @@ PsfBank tileBank(Size size, const std::vector<Kernel>& ks, int reach)
     return b;
 }
 
+// Every kernel as a one-node bank, a delta displaced by the frame width, and 2x2 tile banks with
+// shifts up to the frame width and to three times it.
+std::vector<std::pair<std::string, PsfBank>> banks(Size size)
+{
+    const std::vector<Kernel> ks = kernels();
+    std::vector<std::pair<std::string, PsfBank>> out;
+    for (const Kernel& k : ks)
+        out.push_back({k.name, uniformBank(size, k.k)});
+    out.push_back({"delta shifted by the frame width", uniformBank(size, ks[0].k, Point(size.width, 0))});
+    out.push_back({"2x2 tiles, shifts to the frame width", tileBank(size, ks, size.width)});
+    out.push_back({"2x2 tiles, shifts to 3x the frame width", tileBank(size, ks, 3 * size.width + 2)});
+    return out;
+}
+
 // Spot gain of a bank: a point of brightness v blurs to a peak of at least v·max(k) through one
 // kernel; through a bank whose nodes displace by different shifts it may be seen as one ghost per
 // node, each with a share of its light, so up to N·max over the kernels of 1 / max(k).
@@ -372,17 +386,10 @@ TEST(RestorationBounds, RichardsonLucyZeroBoundaryTwoTaps)
 TEST(RestorationBounds, RichardsonLucyVariant)
 {
     Tally t("richardsonLucyVariant", "M*G");
-    const std::vector<Kernel> ks = kernels();
     for (const Size& size : kSizes)
         for (const Case& c : images(size, true))
         {
-            std::vector<std::pair<std::string, PsfBank>> banks;
-            for (const Kernel& k : ks)
-                banks.push_back({k.name, uniformBank(size, k.k)});
-            banks.push_back({"delta shifted by the frame width", uniformBank(size, ks[0].k, Point(size.width, 0))});
-            banks.push_back({"2x2 tiles, shifts to the frame width", tileBank(size, ks, size.width)});
-            banks.push_back({"2x2 tiles, shifts to 3x the frame width", tileBank(size, ks, 3 * size.width + 2)});
-            for (const auto& b : banks)
+            for (const auto& b : banks(size))
                 for (const auto& p : rlVariants())
                 {
                     if (p.first == "zero boundary, plain" && b.first != "delta")
@@ -408,15 +415,10 @@ TEST(RestorationBounds, RichardsonLucyVariant)
 TEST(RestorationBounds, Wiener)
 {
     Tally t("wienerDeconvolve", "M");
-    const std::vector<Kernel> ks = kernels();
     for (const Size& size : kSizes)
         for (const Case& c : images(size, true))
         {
-            std::vector<std::pair<std::string, PsfBank>> banks;
-            for (const Kernel& k : ks)
-                banks.push_back({k.name, uniformBank(size, k.k)});
-            banks.push_back({"2x2 tiles, shifts to the frame width", tileBank(size, ks, size.width)});
-            for (const auto& b : banks)
+            for (const auto& b : banks(size))
                 for (double nsr : {1e-2, 1e-4})
                 {
                     const std::string what = caseName(c, size, b.first, cv::format("nsr %g", nsr));

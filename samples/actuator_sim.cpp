@@ -12,11 +12,32 @@
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 #include <thread>
 
 using namespace dynblur_samples;
 
 static std::atomic<int> gSignal{0};
+
+// Option spelling of a SimFaultKind: drop-request, drop-reply, delay, exception, garbage, short.
+static std::string kindOption(int kind)
+{
+    static const char* const names[SIM_FAULT_KINDS] = {"drop-request", "drop-reply", "delay", "exception", "garbage", "short"};
+    return names[kind];
+}
+
+// "  faults=N (kind n, ...)", or "" while none was injected.
+static std::string faultLine(const ActuatorSim& sim)
+{
+    const SimFaultCounts c = sim.faultCounts();
+    if (c.total == 0)
+        return "";
+    std::string s = cv::format("  faults=%d (", c.total);
+    for (int k = 0; k < SIM_FAULT_KINDS; ++k)
+        s += cv::format("%s%s %d", k ? ", " : "", simFaultName(k), c.byKind[k]);
+    return s + ")";
+}
+
 static void onSignal(int sig) { gSignal = sig; }
 
 static const char* const kHelp =
@@ -44,6 +65,13 @@ static const char* const kHelp =
     "                      with Modbus exception CODE (default 4)\n"
     "  --garbage-after N   answer request N with random bytes (once)\n"
     "  --short-after N     answer request N with a truncated reply (once)\n"
+    "  --random-faults P   give each request a random fault with probability P in [0, 1] (kinds below)\n"
+    "  --fault-seed N      seed of the random faults (default 1)\n"
+    "  --fault-kinds LIST  comma-separated kinds drawn by --random-faults (default all): drop-request,\n"
+    "                      drop-reply, delay, exception, garbage, short\n"
+    "  --random-delay-ms D delay of a random 'delay' fault, milliseconds (default 300; choose it beyond\n"
+    "                      the host's response timeout)\n"
+    "  The injected faults are counted by kind in the status lines and at exit.\n"
     "  --help              this text\n";
 
 int main(int argc, char** argv)
@@ -53,7 +81,8 @@ int main(int argc, char** argv)
         const CliArgs args(argc, argv,
                            {"tcp-port", "slave", "plant", "max-level", "min-dwell-us", "capacity", "csv", "log-rate",
                             "log-tail", "max-seconds", "status-every", "drop-after", "delay-ms", "exception",
-                            "garbage-after", "short-after"},
+                            "garbage-after", "short-after", "random-faults", "fault-seed", "fault-kinds",
+                            "random-delay-ms"},
                            {"help", "h", "no-tcp", "rtu"});
         if (args.has("help") || args.has("h"))
         {
@@ -98,6 +127,30 @@ int main(int argc, char** argv)
             faults.exceptionCode = code;
         }
 
+        faults.randomRate = args.num("random-faults", 0.0);
+        if (!(faults.randomRate >= 0 && faults.randomRate <= 1))
+            throw std::runtime_error(cv::format("--random-faults = %g must be in [0, 1]", faults.randomRate));
+        faults.randomSeed = static_cast<unsigned>(args.integer("fault-seed", 1));
+        faults.randomDelayMs = args.integer("random-delay-ms", 300);
+        if (faults.randomDelayMs < 0 || faults.delayMs < 0)
+            throw std::runtime_error("--delay-ms and --random-delay-ms must be >= 0");
+        if (args.has("fault-kinds"))
+        {
+            faults.randomKinds = 0;
+            std::stringstream list(args.str("fault-kinds", ""));
+            std::string name;
+            while (std::getline(list, name, ','))
+            {
+                int k = 0;
+                while (k < SIM_FAULT_KINDS && kindOption(k) != name)
+                    ++k;
+                if (k == SIM_FAULT_KINDS)
+                    throw std::runtime_error("--fault-kinds: unknown kind '" + name +
+                                             "' (allowed: drop-request, drop-reply, delay, exception, garbage, short)");
+                faults.randomKinds |= 1 << k;
+            }
+        }
+
         std::signal(SIGINT, onSignal);
         std::signal(SIGTERM, onSignal);
         std::signal(SIGPIPE, SIG_IGN);
@@ -122,14 +175,14 @@ int main(int argc, char** argv)
                 break;
             if (statusEvery > 0 && now >= nextStatus)
             {
-                std::cout << "[sim] " << sim.statusLine() << std::endl;
+                std::cout << "[sim] " << sim.statusLine() << faultLine(sim) << std::endl;
                 nextStatus = now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                        std::chrono::duration<double>(statusEvery));
             }
             std::this_thread::sleep_for(std::chrono::milliseconds(20));
         }
         sim.stop();
-        std::cout << "[sim] stopped (" << (gSignal ? "signal" : "max-seconds") << "): " << sim.statusLine() << std::endl;
+        std::cout << "[sim] stopped (" << (gSignal ? "signal" : "max-seconds") << "): " << sim.statusLine() << faultLine(sim) << std::endl;
         return 0;
     }
     catch (const cv::Exception& e)

@@ -1,5 +1,6 @@
 // dynblur_visual_servo — the system's story in one loop: a camera on the tilt positioner looks at a
-// textured plane carrying an AprilTag (36h11, id 0) that starts 8° off the image centre. Each cycle
+// textured plane carrying an AprilTag (36h11, id 0) that starts 8° off the image centre (--scenario
+// step), or that jumps to a new place 4..12° away every few cycles (--scenario track). Each cycle
 //   detect the tag in the latest RESTORED frame (vpDetectorAprilTag)
 //   → vpServo (image-based, point feature of the tag centre, eye-in-hand, only ωx) → angle increment
 //   → SwitchPlanner: an integer-level saccade without residual vibration
@@ -9,12 +10,16 @@
 // The loop itself is runVisualServo (samples/common/visual_servo.cpp), shared with the tests.
 //
 //   dynblur_visual_servo --cycles 10 --out servo_out
+//   dynblur_visual_servo --scenario track --targets 16
 //   dynblur_actuator_sim --tcp-port 5020 --max-level 400 &
 //   dynblur_visual_servo --bus tcp://127.0.0.1:5020
 #include "cli_args.hpp"
 #include "visual_servo.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <iostream>
 
@@ -26,7 +31,13 @@ namespace {
 const char* const kHelp =
     "Usage: dynblur_visual_servo [options]\n"
     "Closes the loop camera -> restoration -> AprilTag -> vpServo -> planner -> positioner (headless).\n"
-    "  --cycles N            servo cycles (default 10)\n"
+    "  --scenario step|track step: the tag sits --start-deg off and stays (default);\n"
+    "                        track: it jumps to --targets places, 4..12 deg each way, --cycles-per-target\n"
+    "                        cycles each, and the saccade's phase against the frames varies (--jitter-ms)\n"
+    "  --cycles N            servo cycles, step scenario (default 10)\n"
+    "  --targets N           places the tag visits, track scenario (default 16)\n"
+    "  --cycles-per-target N cycles per place, track scenario (default 3)\n"
+    "  --seed N              track scenario: places, jitter and sensor noise (default 1)\n"
     "  --frames-per-cycle N  frames taken during one cycle at 30 fps (default 3)\n"
     "  --start-deg D         initial tilt error of the tag, degrees (default 8)\n"
     "  --lambda L            vpServo gain per cycle, in (0, 2) (default 1: one-step correction)\n"
@@ -37,14 +48,83 @@ const char* const kHelp =
     "  --iterations N        Richardson-Lucy iterations (default 20)\n"
     "  --tag-cell PX         tag cell size on the plane, pixels (default 4: a 32 px black square)\n"
     "  --latency-ms MS       from the end of the measured frame's readout to the saccade start (default 4)\n"
+    "  --jitter-ms MS        plus a random 0..MS per cycle (default 0 for step, one frame period for track)\n"
     "  --bus tcp://HOST:PORT drive the actuator controller (e.g. dynblur_actuator_sim) instead of the plant\n"
-    "  --out DIR             output folder: cycles.csv, frames.csv, error.png, strip.png (default servo_out)\n"
+    "  --out DIR             output folder: cycles.csv, frames.csv, error.png, strip.png, detection.png\n"
+    "                        (default servo_out)\n"
     "  --help                this text\n";
 
-const char* windowName(int window)
+ServoConfig parseOptions(int argc, char** argv, std::string& outDir)
 {
-    static const char* names[] = {"?", "I", "II", "III", "IV"};
-    return names[window >= 1 && window <= 4 ? window : 0];
+    const CliArgs args(argc, argv,
+                       {"scenario", "cycles", "targets", "cycles-per-target", "seed", "frames-per-cycle", "start-deg",
+                        "lambda", "mode", "gain-deg", "max-level", "model", "iterations", "bus", "out", "tag-cell",
+                        "latency-ms", "jitter-ms"},
+                       {"help"});
+    if (args.has("help"))
+    {
+        std::cout << kHelp;
+        std::exit(0);
+    }
+    const std::string scenario = args.str("scenario", "step");
+    if (scenario != "step" && scenario != "track")
+        throw std::runtime_error("--scenario must be step or track (got '" + scenario + "')");
+    const bool track = scenario == "track";
+    for (const char* name : track ? std::vector<const char*>{"cycles"}
+                                  : std::vector<const char*>{"targets", "cycles-per-target", "seed"})
+        if (args.has(name))
+            throw std::runtime_error(std::string("--") + name + " is for --scenario " + (track ? "step" : "track"));
+
+    ServoConfig config;
+    config.startOffsetDeg = args.num("start-deg", config.startOffsetDeg);
+    if (track)
+    {
+        const int targets = args.integer("targets", 16), perTarget = args.integer("cycles-per-target", 3);
+        const int seed = args.integer("seed", 1);
+        if (targets < 1 || targets > 200 || perTarget < 1 || perTarget > 20 || seed < 0)
+            throw std::runtime_error("--targets must be in [1, 200], --cycles-per-target in [1, 20], --seed >= 0");
+        if (!(std::abs(config.startOffsetDeg) <= 12))
+            throw std::runtime_error("--start-deg must be within +-12 deg for --scenario track");
+        config = trackingScenario(targets, perTarget, static_cast<unsigned>(seed), config.startOffsetDeg);
+    }
+    config.cycles = args.integer("cycles", config.cycles);
+    config.framesPerCycle = args.integer("frames-per-cycle", config.framesPerCycle);
+    config.lambda = args.num("lambda", config.lambda);
+    config.gainDegPerLevel = args.num("gain-deg", config.gainDegPerLevel);
+    config.maxLevel = args.integer("max-level", config.maxLevel);
+    config.rlIterations = args.integer("iterations", config.rlIterations);
+    config.busUri = args.str("bus", "");
+    config.tagCellPx = args.integer("tag-cell", config.tagCellPx);
+    config.latency = 1e-3 * args.num("latency-ms", 1e3 * config.latency);
+    config.latencyJitter = 1e-3 * args.num("jitter-ms", 1e3 * config.latencyJitter);
+    if (config.tagCellPx < 2 || config.tagCellPx > 12)
+        throw std::runtime_error("--tag-cell must be in [2, 12] px");
+    if (!(config.latency >= 0 && config.latency < 1) || !(config.latencyJitter >= 0 && config.latencyJitter < 1))
+        throw std::runtime_error("--latency-ms and --jitter-ms must be in [0, 1000)");
+    outDir = args.str("out", "servo_out");
+    const std::string mode = args.str("mode", "robust"), model = args.str("model", "rows");
+    if (mode != "fast" && mode != "robust")
+        throw std::runtime_error("--mode must be fast or robust (got '" + mode + "')");
+    if (model != "rows" && model != "tiles")
+        throw std::runtime_error("--model must be rows or tiles (got '" + model + "')");
+    config.plannerMode = mode == "fast" ? PLAN_FAST : PLAN_ROBUST;
+    config.psfModel = model == "rows" ? PSF_ROWS : PSF_TILES;
+    if (config.cycles < 1 || config.cycles > 1000)
+        throw std::runtime_error("--cycles must be in [1, 1000]");
+    if (config.framesPerCycle < 1 || config.framesPerCycle > 30)
+        throw std::runtime_error("--frames-per-cycle must be in [1, 30]");
+    if (!(config.lambda > 0 && config.lambda < 2))
+        throw std::runtime_error("--lambda must be in (0, 2)");
+    if (!(config.gainDegPerLevel > 0) || config.maxLevel < 1 || config.rlIterations < 1)
+        throw std::runtime_error("--gain-deg, --max-level and --iterations must be positive");
+    double farthest = std::abs(config.startOffsetDeg);
+    for (double deg : config.targetsDeg)
+        farthest = std::max(farthest, std::abs(deg));
+    if (!(farthest < config.maxLevel * config.gainDegPerLevel))
+        throw std::runtime_error("the tag's places must be within the positioner's range (max-level x gain-deg)");
+    if (!config.busUri.empty() && config.busUri.rfind("tcp://", 0) != 0 && config.busUri.rfind("rtu:", 0) != 0)
+        throw std::runtime_error("--bus must be tcp://HOST:PORT or rtu:DEVICE (got '" + config.busUri + "')");
+    return config;
 }
 
 }  // namespace
@@ -55,84 +135,66 @@ int main(int argc, char** argv)
     std::string outDir;
     try
     {
-        const CliArgs args(argc, argv,
-                           {"cycles", "frames-per-cycle", "start-deg", "lambda", "mode", "gain-deg", "max-level", "model",
-                            "iterations", "bus", "out", "tag-cell", "latency-ms"},
-                           {"help"});
-        if (args.has("help"))
-        {
-            std::cout << kHelp;
-            return 0;
-        }
-        config.cycles = args.integer("cycles", config.cycles);
-        config.framesPerCycle = args.integer("frames-per-cycle", config.framesPerCycle);
-        config.startOffsetDeg = args.num("start-deg", config.startOffsetDeg);
-        config.lambda = args.num("lambda", config.lambda);
-        config.gainDegPerLevel = args.num("gain-deg", config.gainDegPerLevel);
-        config.maxLevel = args.integer("max-level", config.maxLevel);
-        config.rlIterations = args.integer("iterations", config.rlIterations);
-        config.busUri = args.str("bus", "");
-        config.tagCellPx = args.integer("tag-cell", config.tagCellPx);
-        config.latency = 1e-3 * args.num("latency-ms", 1e3 * config.latency);
-        if (config.tagCellPx < 2 || config.tagCellPx > 12 || !(config.latency >= 0 && config.latency < 1))
-            throw std::runtime_error("--tag-cell must be in [2, 12] px and --latency-ms in [0, 1000)");
-        outDir = args.str("out", "servo_out");
-        const std::string mode = args.str("mode", "robust"), model = args.str("model", "rows");
-        if (mode != "fast" && mode != "robust")
-            throw std::runtime_error("--mode must be fast or robust (got '" + mode + "')");
-        if (model != "rows" && model != "tiles")
-            throw std::runtime_error("--model must be rows or tiles (got '" + model + "')");
-        config.plannerMode = mode == "fast" ? PLAN_FAST : PLAN_ROBUST;
-        config.psfModel = model == "rows" ? PSF_ROWS : PSF_TILES;
-        if (config.cycles < 1 || config.cycles > 1000)
-            throw std::runtime_error("--cycles must be in [1, 1000]");
-        if (config.framesPerCycle < 1 || config.framesPerCycle > 30)
-            throw std::runtime_error("--frames-per-cycle must be in [1, 30]");
-        if (!(config.lambda > 0 && config.lambda < 2))
-            throw std::runtime_error("--lambda must be in (0, 2)");
-        if (!(config.gainDegPerLevel > 0) || config.maxLevel < 1 || config.rlIterations < 1)
-            throw std::runtime_error("--gain-deg, --max-level and --iterations must be positive");
-        if (!(std::abs(config.startOffsetDeg) < config.maxLevel * config.gainDegPerLevel))
-            throw std::runtime_error("--start-deg must be within the positioner's range (max-level x gain-deg)");
-        if (!config.busUri.empty() && config.busUri.rfind("tcp://", 0) != 0 && config.busUri.rfind("rtu:", 0) != 0)
-            throw std::runtime_error("--bus must be tcp://HOST:PORT or rtu:DEVICE (got '" + config.busUri + "')");
+        config = parseOptions(argc, argv, outDir);
     }
     catch (const std::exception& e)
     {
-        std::fprintf(stderr, "dynblur_visual_servo: %s\n", e.what());
+        const bool hinted = std::string(e.what()).find("--help") != std::string::npos;
+        std::fprintf(stderr, "dynblur_visual_servo: %s%s\n", e.what(), hinted ? "" : " (see --help)");
         return 2;
     }
 
     try
     {
-        std::printf("[servo] tag %.1f deg off; positioner %.3f deg/level, max level %d; %s; %d frames/cycle at 30 fps\n",
-                    config.startOffsetDeg, config.gainDegPerLevel, config.maxLevel,
+        const bool track = config.targetsDeg.size() > 1;
+        if (track)
+            std::printf("[servo] track: the tag visits %zu places (%d cycles each), first %.1f deg off", config.targetsDeg.size(),
+                        config.cyclesPerTarget, config.targetsDeg[0]);
+        else
+            std::printf("[servo] step: tag %.1f deg off", config.startOffsetDeg);
+        std::printf("; positioner %.3f deg/level, max level %d; %s; %d frames/cycle at 30 fps; latency %.0f ms + 0..%.0f ms\n",
+                    config.gainDegPerLevel, config.maxLevel,
                     config.busUri.empty() ? "plant driven directly" : ("bus " + config.busUri).c_str(),
-                    config.framesPerCycle);
-        const ServoReport report = runVisualServo(config, [](const ServoReport& r) {
+                    config.framesPerCycle, 1e3 * config.latency, 1e3 * config.latencyJitter);
+        const int cycles = config.cycles;
+        const ServoReport report = runVisualServo(config, [cycles](const ServoReport& r) {
             const ServoCycle& c = r.cycles.back();
-            std::printf("[servo] cycle %2d: error %6.2f px (true %6.2f), dtheta %+7.3f deg, level %4d -> %4d, frames:",
-                        c.cycle, c.measuredErrorPx, c.trueErrorPx, c.deltaDeg, c.fromLevel, c.toLevel);
+            std::printf("[servo] cycle %2d/%d: place %d, error %6.2f px (true %6.2f), dtheta %+7.3f deg, level %4d -> %4d, frames:",
+                        c.cycle + 1, cycles, c.target, c.measuredErrorPx, c.trueErrorPx, c.deltaDeg, c.fromLevel, c.toLevel);
             for (const ServoFrame& f : r.frames)
                 if (f.cycle == c.cycle)
-                    std::printf(" %s[raw %s, restored %s]", windowName(f.window), f.raw.found ? "tag" : "-",
+                    std::printf(" %s[raw %s, restored %s]", exposureWindowName(f.window), f.raw.found ? "tag" : "-",
                                 f.restored.found ? "tag" : "-");
             std::printf("\n");
             std::fflush(stdout);
         });
         writeServoOutputs(report, outDir);
 
-        std::printf("[servo] error <= 1 px from cycle %d on\n", report.cyclesToWithin(1.0));
-        for (int window : {int(EXPOSURE_I), int(EXPOSURE_II), int(EXPOSURE_III), 0})
+        // Convergence: cycles from each place's arrival until the error stays <= 1 px.
+        int worst = 0, never = 0;
+        for (size_t t = 0; t < report.targetsDeg.size(); ++t)
         {
-            int frames = 0, raw = 0, restored = 0;
-            report.detectionCounts(window, frames, raw, restored);
-            std::printf("[servo] window %-6s %2d frames: tag found raw %2d, restored %2d\n",
-                        window ? windowName(window) : "I-III", frames, raw, restored);
+            const int n = report.cyclesToWithin(1.0, static_cast<int>(t));
+            if (n < 0)
+                ++never;
+            worst = std::max(worst, n);
         }
-        std::printf("[servo] restoration %.0f ms per frame (mean); wrote %s/{cycles.csv,frames.csv,error.png,strip.png}\n",
+        if (track)
+            std::printf("[servo] error <= 1 px within %d cycle(s) of each jump; %d of %zu places never reached it\n", worst,
+                        never, report.targetsDeg.size());
+        else
+            std::printf("[servo] error <= 1 px from cycle %d on\n", report.cyclesToWithin(1.0));
+        std::printf("[servo] tag found while moving       all frames: found raw / restored | tag moved >= %.0f px: raw / restored\n",
+                    kTagBlurredPx);
+        for (const DetectionRow& row : detectionSummary(report))
+            std::printf("[servo]   window %-5s %3d frames: %3d (%3.0f%%) / %3d (%3.0f%%) | %3d frames: %3d (%3.0f%%) / %3d (%3.0f%%)\n",
+                        row.window.c_str(), row.all.frames, row.all.raw, 100 * row.all.rawRate(), row.all.restored,
+                        100 * row.all.restoredRate(), row.tagBlurred.frames, row.tagBlurred.raw,
+                        100 * row.tagBlurred.rawRate(), row.tagBlurred.restored, 100 * row.tagBlurred.restoredRate());
+        std::printf("[servo] restoration %.0f ms per frame (mean); wrote %s/{cycles.csv,frames.csv,error.png,strip.png,"
+                    "detection.png}\n",
                     1e3 * report.meanRestoreSec(), outDir.c_str());
-        return report.cyclesToWithin(1.0) >= 0 ? 0 : 1;
+        return never == 0 ? 0 : 1;
     }
     catch (const std::exception& e)
     {

@@ -336,6 +336,43 @@ TEST(BusFaults, GarbageAndShortRepliesRtu)
     garbageAndShort(cfg);
 }
 
+// A serial line has no transaction id: a reply that comes after the timeout must not be taken
+// for the answer to the next request (issue 9 soak: a stale acknowledgement of a write, then every
+// later answer one request behind).
+TEST(BusFaults, LateRtuReplyIsNotTakenForTheNextAnswer)
+{
+    SimConfig cfg;
+    cfg.tcp = false;
+    cfg.rtu = true;
+    Rig rig(cfg, 0.05, 0);
+    SimFaults late;
+    late.randomRate = 1;  // the next request's reply comes 75 ms late, after the 50 ms timeout
+    late.randomKinds = 1 << SIM_FAULT_DELAY;
+    late.randomDelayMs = 75;
+    rig.sim.setFaults(late);
+    expectThrowsWith([&] { rig.driver->stop(); }, "timed out");
+    rig.sim.setFaults(SimFaults());
+    rig.bus->writeRegister(busmap::HR_SAFE_LEVEL, 2);
+    EXPECT_EQ(rig.bus->readHoldingRegisters(busmap::HR_SAFE_LEVEL, 1)[0], 2);
+    const ActuatorStatus st = rig.driver->status();
+    EXPECT_EQ(st.state, ACTUATOR_IDLE) << st.describe();
+    EXPECT_EQ(rig.sim.faultCounts().byKind[SIM_FAULT_DELAY], 1);
+}
+
+// The safe level is applied even when the status read after it fails, and the message says so.
+TEST(BusFaults, FailedStatusReadAfterTheSafeLevelIsReportedAsSuch)
+{
+    Rig rig(tcpConfig(), 0.2, 0);
+    SimFaults f;
+    f.garbageAfter = 2;  // status read, then the entry write gets garbage: upload fails
+    f.shortAfter = 4;    // the STOP (request 3) is acknowledged, the status read after it is cut short
+    rig.sim.setFaults(f);
+    expectThrowsWith([&] { rig.driver->upload(move10()); }, "safe level applied, device status unreadable");
+    EXPECT_EQ(rig.sim.state(), ACTUATOR_IDLE);
+    EXPECT_EQ(rig.sim.currentLevel(), 0);
+    EXPECT_EQ(rig.sim.startCount(), 0);
+}
+
 TEST(BusFaults, BadArguments)
 {
     EXPECT_THROW(ActuatorBus::create("udp://127.0.0.1:1"), cv::Exception);

@@ -3,6 +3,8 @@
 
 #include <opencv2/dynblur.hpp>
 
+#include <cstdio>
+
 using namespace cv;
 using namespace cv::dynblur;
 
@@ -128,6 +130,116 @@ void expectWellFormed(const PsfBank& bank)
     }
 }
 
+
+//! A kernel in the bank's convention: weights around the centre element, plus an integer shift.
+struct ShiftedKernel
+{
+    Mat k;  // CV_64F
+    Point shift;
+};
+
+/** The straightforward computation of one node's kernel, independent of PsfGenerator's numerics:
+the node's path d(t) = p − viewToReference(p, θ(t) − θ_ref) sampled uniformly in time (the plant's
+own response at every sample) so that consecutive samples are at most `stepPx` apart, splatted
+bilinearly with trapezoid (dwell-time) weights and normalised; shift and extents from the samples'
+bounding box, as documented for PsfBank. */
+ShiftedKernel referenceKernel(const Ptr<Plant>& plant, const SwitchSchedule& sched, const Ptr<CameraModel>& cam,
+                              const RollingShutter& rs, double thetaRef, Point2d pixel, double stepPx)
+{
+    const double a = rs.frameStart + pixel.y * rs.lineDelay, b = a + rs.exposure;
+    auto path = [&](int n, std::vector<Point2d>& d) {
+        Mat t(1, n + 1, CV_64F), theta;
+        for (int i = 0; i <= n; i++)
+            t.at<double>(i) = n == 0 ? a : a + (b - a) * i / n;
+        plant->response(sched, t, theta);
+        d.resize(n + 1);
+        for (int i = 0; i <= n; i++)
+            d[i] = pixel - cam->viewToReference(pixel, theta.at<double>(i) - thetaRef);
+    };
+    std::vector<Point2d> d;
+    int n = b > a ? 256 : 0;
+    path(n, d);
+    double longest = 0;
+    for (int i = 1; i <= n; i++)
+        longest = std::max(longest, norm(d[i] - d[i - 1]));
+    if (longest > stepPx)
+    {
+        n = (int)std::min(4.0e5, std::ceil(n * longest / stepPx) * 1.2);
+        path(n, d);
+    }
+    double x0 = d[0].x, x1 = x0, y0 = d[0].y, y1 = y0;
+    for (const Point2d& p : d)
+    {
+        x0 = std::min(x0, p.x);
+        x1 = std::max(x1, p.x);
+        y0 = std::min(y0, p.y);
+        y1 = std::max(y1, p.y);
+    }
+    ShiftedKernel r;
+    r.shift = Point(cvRound(0.5 * (x0 + x1)), cvRound(0.5 * (y0 + y1)));
+    const int hx = std::max(0, (int)std::ceil(std::max(x1 - r.shift.x, r.shift.x - x0) - 1e-6));
+    const int hy = std::max(0, (int)std::ceil(std::max(y1 - r.shift.y, r.shift.y - y0) - 1e-6));
+    r.k = Mat::zeros(2 * hy + 1, 2 * hx + 1, CV_64F);
+    for (int i = 0; i <= n; i++)
+    {
+        const double w = n == 0 ? 1.0 : (i == 0 || i == n ? 0.5 : 1.0);
+        const double u = std::min((double)hx, std::max((double)-hx, d[i].x - r.shift.x));
+        const double v = std::min((double)hy, std::max((double)-hy, d[i].y - r.shift.y));
+        const int iu = std::min(hx - (hx > 0 ? 1 : 0), cvFloor(u)), iv = std::min(hy - (hy > 0 ? 1 : 0), cvFloor(v));
+        const double fu = u - iu, fv = v - iv;
+        for (int j = 0; j < 2; j++)
+            for (int i2 = 0; i2 < 2; i2++)
+            {
+                const double wk = w * (j ? fv : 1 - fv) * (i2 ? fu : 1 - fu);
+                if (wk != 0)
+                    r.k.at<double>(iv + j + hy, iu + i2 + hx) += wk;
+            }
+    }
+    r.k /= sum(r.k)[0];
+    return r;
+}
+
+//! Σ|a − b| of two kernels with the same shift, each around its centre element.
+double kernelL1(const Mat& a, const Mat& b)
+{
+    const int hx = std::max(a.cols, b.cols) / 2, hy = std::max(a.rows, b.rows) / 2;
+    Mat ca = Mat::zeros(2 * hy + 1, 2 * hx + 1, CV_64F), cb = ca.clone();
+    Mat a64, b64;
+    a.convertTo(a64, CV_64F);
+    b.convertTo(b64, CV_64F);
+    a64.copyTo(ca(Rect(hx - a.cols / 2, hy - a.rows / 2, a.cols, a.rows)));
+    b64.copyTo(cb(Rect(hx - b.cols / 2, hy - b.rows / 2, b.cols, b.rows)));
+    return norm(ca, cb, NORM_L1);
+}
+
+/** Compares every `every`-th kernel of a bank (and the last) with referenceKernel: same shift, L1
+difference at most `tol`. Prints the largest and mean L1. */
+void expectMatchesReference(const PsfBank& bank, const Ptr<Plant>& plant, const SwitchSchedule& sched,
+                            const Ptr<CameraModel>& cam, const RollingShutter& rs, int every, double tol,
+                            const std::string& what)
+{
+    const double thetaRef = plant->restingAngle(sched.finalLevel());
+    const int nx = (int)bank.nodeCols.size(), n = (int)bank.kernels.size();
+    double worst = 0, mean = 0;
+    int count = 0, moving = 0;
+    for (int i = 0; i < n; i = (i + every < n || i == n - 1) ? i + every : n - 1)
+    {
+        const Point2d pixel(bank.nodeCols[i % nx], bank.nodeRows[i / nx]);
+        const ShiftedKernel ref = referenceKernel(plant, sched, cam, rs, thetaRef, pixel, 0.01);
+        EXPECT_EQ(bank.shifts[i], ref.shift) << what << ", kernel " << i << " at " << pixel;
+        const double l1 = kernelL1(bank.kernels[i], ref.k);
+        EXPECT_LE(l1, tol) << what << ", kernel " << i << " at " << pixel << ", " << bank.kernels[i].size()
+                           << " vs reference " << ref.k.size();
+        worst = std::max(worst, l1);
+        mean += l1;
+        count++;
+        moving += ref.k.total() > 1;
+        if (i == n - 1)
+            break;
+    }
+    std::printf("[ measured ] kernels vs dense reference, %s: %d kernels (%d moving), L1 max %.2e, mean %.2e\n",
+                what.c_str(), count, moving, worst, mean / std::max(1, count));
+}
 }  // namespace
 
 TEST(PsfBank, ValidateCatchesInconsistency)
@@ -355,4 +467,48 @@ TEST(PsfGenerator, BadArgumentsNameTheArgument)
     dynblur_test::expectErrorNaming([&] { gen->setTileGrid(Size(-1, 2)); }, "grid");
     EXPECT_THROW(PsfGenerator::create(Ptr<Plant>(), cam), cv::Exception);
     EXPECT_THROW(PsfGenerator::create(seedPlant(), Ptr<CameraModel>()), cv::Exception);
+}
+
+TEST(PsfGenerator, KernelsMatchADenseReference)
+{
+    // The generator's kernels (Hermite trajectory between exact plant samples, exact integration
+    // of the bilinear splat along the path) against the plain computation: same shifts, L1 ≤ 1e-3.
+    const double tol = 1e-3;
+    const Ptr<Plant> plant = seedPlant();
+    {
+        // The benchmark's frames: the three-switch saccade from the frame start, and the robust
+        // plan's window-III frame of the deblurring benchmark.
+        Ptr<CameraModel> cam = CameraModel::create(1230, 1230, 640, 480, 1280, 960);
+        const RollingShutter rs(0.0, 0.008, 1.0 / 30 / 960, 960);
+        const PsfBank rows = PsfGenerator::create(plant, cam)->generate(PSF_ROWS, saccade(), rs);
+        expectMatchesReference(rows, plant, saccade(), cam, rs, 24, tol, "saccade frame, rows");
+    }
+    {
+        Ptr<CameraModel> cam = CameraModel::create(1230, 1230, 639.5, 479.5, 1280, 960);
+        const SwitchSchedule robust = SwitchPlanner::create(plant, 16, PLAN_ROBUST)->plan(0.0, 10 * CV_PI / 180, 0.0);
+        const RollingShutter rs(0.012, 0.008, 1.0 / 30 / 960, 960);
+        ASSERT_EQ(classifyExposure(plant, robust, rs), EXPOSURE_III);
+        Ptr<PsfGenerator> gen = PsfGenerator::create(plant, cam);
+        expectMatchesReference(gen->generate(PSF_ROWS, robust, rs), plant, robust, cam, rs, 20, tol,
+                               "window III frame, rows");
+        expectMatchesReference(gen->generate(PSF_TILES, robust, rs), plant, robust, cam, rs, 331, tol,
+                               "window III frame, tiles");
+        expectMatchesReference(gen->generate(PSF_UNIFORM, robust, RollingShutter(0.02, 0.008, 0, 960)), plant,
+                               robust, cam, RollingShutter(0.02, 0.008, 0, 960), 1, tol, "global shutter, uniform");
+    }
+    {
+        // Window I (still rows far from the reference, rows turning round) with distortion and a
+        // mount axis with a roll component, so that paths curve and vary across x.
+        Ptr<CameraModel> cam = CameraModel::create(800, 800, 320, 240, 640, 480, -0.1, 0.1);
+        cam->setMountAxis(Vec3d(1, 0, 0.6));
+        const RollingShutter rs(-0.01, 0.008, 1.0 / 30 / 480, 480);
+        Ptr<PsfGenerator> gen = PsfGenerator::create(plant, cam);
+        expectMatchesReference(gen->generate(PSF_TILES, saccade(), rs), plant, saccade(), cam, rs, 97, tol,
+                               "window I, distortion, tilted axis, tiles");
+        // a long exposure: the path turns round inside it
+        const RollingShutter slow(0.0, 0.05, 1.0 / 30 / 480, 480);
+        gen->setMaxKernelSize(801);
+        expectMatchesReference(gen->generate(PSF_ROWS, saccade(), slow), plant, saccade(), cam, slow, 40, tol,
+                               "50 ms exposure, distortion, tilted axis, rows");
+    }
 }

@@ -1,6 +1,7 @@
 // The visual-servoing loop (samples/common/visual_servo.cpp, the dynblur_visual_servo program):
-// convergence from 8° off, tag detection raw vs restored while moving, and the loop over the
-// actuator bus against the in-process simulator on a loopback port.
+// convergence from 8° off; tracking a tag that jumps 4..12° each way, with tag detection raw vs
+// restored in the frames taken while moving; and the loop over the actuator bus against the
+// in-process simulator on a loopback port.
 #include "actuator_sim.hpp"
 #include "visual_servo.hpp"
 
@@ -21,35 +22,71 @@ double seconds(std::chrono::steady_clock::time_point since)
 
 }  // namespace
 
-TEST(ServoLoop, ConvergesFromEightDegreesAndRestorationFindsTheTagWhileMoving)
+TEST(ServoLoop, ConvergesFromEightDegreesWithinTwoCycles)
 {
-    ServoConfig config;  // 8° off, λ = 1, 0.05°/level, robust planner, 320×240 at 30 fps, PSF_ROWS
+    ServoConfig config;  // step: 8° off, λ = 1, 0.05°/level, robust planner, 320×240 at 30 fps, PSF_ROWS
     config.cycles = 5;
     config.keepImages = false;
-    const auto start = std::chrono::steady_clock::now();
     const ServoReport report = runVisualServo(config);
     ASSERT_EQ(report.cycles.size(), 5u);
 
     // The error reaches ≤ 1 px (true geometry and as measured in the restored frame) within
     // 2 cycles and stays there.
     const int converged = report.cyclesToWithin(1.0);
+    std::printf("[servo test] step 8 deg: error %.2f px (true %.2f) at cycle 0, <= 1 px from cycle %d on "
+                "(cycle 1: %.2f / %.2f px)\n",
+                report.cycles[0].measuredErrorPx, report.cycles[0].trueErrorPx, converged,
+                report.cycles[1].measuredErrorPx, report.cycles[1].trueErrorPx);
     EXPECT_GE(converged, 0);
     EXPECT_LE(converged, 2);
     EXPECT_GT(report.cycles.front().trueErrorPx, 40.0);  // 8° at fx = 300 px
     EXPECT_LE(report.cycles.back().trueErrorPx, 1.0);
+    EXPECT_LT(report.meanRestoreSec(), 0.5);  // restoration took place, and is well under a second per frame
+}
 
-    // Frames taken while the mechanism moves (windows I–III): the tag is found in the restored
-    // frames at least twice as often as in the raw ones.
-    int frames = 0, raw = 0, restored = 0;
-    report.detectionCounts(0, frames, raw, restored);
-    std::printf("[servo test] converged (<= 1 px) from cycle %d; windows I-III: %d frames, tag raw %d, restored %d; "
-                "restoration %.0f ms/frame; %.1f s\n",
-                converged, frames, raw, restored, 1e3 * report.meanRestoreSec(), seconds(start));
-    EXPECT_GT(frames, 0);
-    EXPECT_GT(restored, 0);
-    EXPECT_GE(restored, 2 * raw);
-    // Restoration is well under a second per frame.
-    EXPECT_LT(report.meanRestoreSec(), 0.5);
+TEST(ServoTrack, RestorationFindsTheBlurredTagWhileMoving)
+{
+    // The tag jumps to 12 places (4..12° each way, 3 cycles each); each cycle's latency jitters over
+    // a frame period, so the saccades start at every phase of the camera's frames.
+    ServoConfig config = trackingScenario(12);
+    config.keepImages = false;
+    const auto start = std::chrono::steady_clock::now();
+    const ServoReport report = runVisualServo(config);
+    ASSERT_EQ(report.cycles.size(), 36u);
+    ASSERT_EQ(report.targetsDeg.size(), 12u);
+
+    // After every jump the error is ≤ 1 px within 2 cycles.
+    for (int t = 0; t < 12; ++t)
+    {
+        const int n = report.cyclesToWithin(1.0, t);
+        EXPECT_GE(n, 0) << "place " << t;
+        EXPECT_LE(n, 2) << "place " << t;
+    }
+
+    // Detection while the mechanism moves, per window; the detector is configured identically for
+    // raw and restored frames.
+    for (const DetectionRow& row : detectionSummary(report))
+        std::printf("[servo test] window %-5s %3d frames: tag found raw %3d, restored %3d | tag moved >= %.0f px: %3d "
+                    "frames, raw %3d, restored %3d\n",
+                    row.window.c_str(), row.all.frames, row.all.raw, row.all.restored, kTagBlurredPx,
+                    row.tagBlurred.frames, row.tagBlurred.raw, row.tagBlurred.restored);
+    std::printf("[servo test] track, 12 places: restoration %.0f ms/frame; %.1f s\n", 1e3 * report.meanRestoreSec(),
+                seconds(start));
+    const DetectionTally all = report.tally(0), blurred = report.tally(0, kTagBlurredPx);
+    EXPECT_GE(all.frames, 30);
+    EXPECT_GT(report.tally(EXPOSURE_I).frames, 0);
+    EXPECT_GT(report.tally(EXPOSURE_II).frames, 0);
+    EXPECT_GT(report.tally(EXPOSURE_III).frames, 0);
+    // Restoration never loses a tag the raw frame showed.
+    for (const ServoFrame& f : report.frames)
+        EXPECT_TRUE(f.restored.found || !f.raw.found) << "frame " << f.index;
+    EXPECT_GE(all.restored, all.raw);
+    // Where the tag itself was blurred (it moved ≥ 2 px while its row was exposed), the restored
+    // frames show it at least twice as often as the raw ones. Over all frames of windows I–III the
+    // ratio is smaller (README): in many of them the tag's rows were exposed before or after the move.
+    EXPECT_GE(blurred.frames, 10);
+    EXPECT_GE(blurred.restoredRate(), 2 * blurred.rawRate());
+    EXPECT_GE(blurred.restoredRate(), 0.5);
 }
 
 TEST(ServoBus, DrivesTheActuatorSimulatorOverModbusTcp)

@@ -11,10 +11,13 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstring>
+#include <deque>
 #include <fstream>
 #include <mutex>
 #include <random>
@@ -41,6 +44,20 @@ void setU64(uint16_t* regs, uint64_t v)
 
 }  // namespace
 
+const char* simFaultName(int kind)
+{
+    switch (kind)
+    {
+    case SIM_FAULT_DROP_REQUEST: return "drop request";
+    case SIM_FAULT_DROP_REPLY: return "drop reply";
+    case SIM_FAULT_DELAY: return "delay";
+    case SIM_FAULT_EXCEPTION: return "exception reply";
+    case SIM_FAULT_GARBAGE: return "garbage reply";
+    case SIM_FAULT_SHORT: return "short reply";
+    default: return "unknown";
+    }
+}
+
 struct ActuatorSim::Impl
 {
     SimConfig cfg;
@@ -63,7 +80,7 @@ struct ActuatorSim::Impl
     // Controller state (guarded by mtx).
     int state = ACTUATOR_IDLE, fault = FAULT_NONE, level = 0, entryIndex = -1;
     uint64_t startUs = 0;
-    int loadedCrc = 0;
+    int loadedCrc = 0, loadedInitial = 0;
     std::vector<uint32_t> offsets;  // loaded schedule, µs from start
     std::vector<int> levels;
     SwitchSchedule history;         // every level change, controller seconds
@@ -80,7 +97,11 @@ struct ActuatorSim::Impl
     int starts = 0, requests = 0;
     SimFaults faults;
     int faultBase = 0;              // requests counted before setFaults()
-    std::mt19937 rng{12345};
+    std::mt19937 rng{12345};        // garbage bytes
+    std::mt19937 faultRng{1};       // random fault decisions (seeded by setFaults)
+    SimFaultCounts counts;
+    std::deque<SimStartRecord> startLog;
+    double historyHorizon = -1;     // s after which a switch no longer moves θ (< 1e-12); -1: keep all
 
     uint64_t clockUs() const
     {
@@ -98,6 +119,24 @@ struct ActuatorSim::Impl
         history.times.push_back(tSec);
         history.levels.push_back(newLevel);
         level = newLevel;
+        pruneHistory(tSec);
+    }
+
+    // θ is only evaluated from now on, where a switch older than the horizon contributes less than
+    // e^-28 of its step: fold such switches into the initial level so that the history (and the
+    // cost of thetaAt) stays bounded however long the simulator runs.
+    void pruneHistory(double nowSec)
+    {
+        if (historyHorizon <= 0 || history.times.size() < 64)
+            return;
+        size_t k = 0;  // entries [0, k) are older than the horizon
+        while (k + 1 < history.times.size() && history.times[k] < nowSec - historyHorizon)
+            ++k;
+        if (k < 32)
+            return;
+        history.initialLevel = history.levels[k - 1];
+        history.times.erase(history.times.begin(), history.times.begin() + k);
+        history.levels.erase(history.levels.begin(), history.levels.begin() + k);
     }
 
     double thetaAt(double tSec) const
@@ -150,6 +189,7 @@ struct ActuatorSim::Impl
             return enterFault(FAULT_BAD_CHECKSUM);
         offsets.assign(n, 0);
         levels.assign(n, 0);
+        loadedInitial = asInt16(hr[HR_INITIAL_LEVEL]);
         if (std::abs(asInt16(hr[HR_INITIAL_LEVEL])) > cfg.maxLevel)
             return enterFault(FAULT_LEVEL_RANGE);
         for (int i = 0; i < n; ++i)
@@ -187,6 +227,16 @@ struct ActuatorSim::Impl
             applyLevel(levels[0], startUs * 1e-6);
             logUntil = (startUs + offsets.back()) * 1e-6 + cfg.logTail;
             ++starts;
+            {
+                SimStartRecord rec;
+                rec.initialLevel = loadedInitial;
+                rec.offsetsUs = offsets;
+                rec.levels = levels;
+                rec.checksum = loadedCrc;
+                startLog.push_back(std::move(rec));
+                if (startLog.size() > 1000)
+                    startLog.pop_front();
+            }
             if (offsets.size() == 1)
                 state = ACTUATOR_DONE;
             break;
@@ -247,50 +297,139 @@ struct ActuatorSim::Impl
             csv.flush();
     }
 
-    // Returns false when the connection must be closed (drop fault).
+    // A write's effect on the controller once its values are in the map: a changed schedule must
+    // be loaded (checked) again, and a command is executed.
+    void afterWrite(int address, int count)
+    {
+        const int end = address + count;
+        const bool touchesSchedule = (address <= HR_CHECKSUM && end > HR_LENGTH) || end > HR_ENTRIES;
+        if (touchesSchedule && state == ACTUATOR_LOADED)
+            state = ACTUATOR_IDLE;
+        if (address <= HR_COMMAND && end > HR_COMMAND)
+        {
+            const int code = map->tab_registers[HR_COMMAND];
+            map->tab_registers[HR_COMMAND] = 0;
+            if (code != CMD_NONE)
+                command(code);
+        }
+    }
+
+    // Executes a write request without answering it (modbus_reply both executes and answers).
+    void executeWrite(const uint8_t* query, int length, int hl, int fc, int address, int count)
+    {
+        if (address + count > map->nb_registers)
+            return;  // out of the map: it would get an exception reply, nothing is written
+        if (fc == 6)
+            map->tab_registers[address] = static_cast<uint16_t>((query[hl + 3] << 8) | query[hl + 4]);
+        else
+        {
+            if (query[hl + 5] != 2 * count || length < hl + 6 + 2 * count)
+                return;
+            for (int i = 0; i < count; ++i)
+                map->tab_registers[address + i] = static_cast<uint16_t>((query[hl + 6 + 2 * i] << 8) | query[hl + 7 + 2 * i]);
+        }
+        afterWrite(address, count);
+    }
+
+    // The fault of this request, if any (under mtx): one-shot faults first, then a random draw.
+    int chooseFault(int n, int fc, int address, int count, bool& executed, int& delayMs, int& exceptionCode)
+    {
+        SimFaults& f = faults;
+        executed = false;
+        delayMs = f.delayMs;
+        exceptionCode = f.exceptionCode;
+        int kind = -1;
+        if (f.dropAfter > 0 && n == f.dropAfter)
+        {
+            f.dropAfter = -1;
+            kind = SIM_FAULT_DROP_REQUEST;
+        }
+        else if (f.garbageAfter > 0 && n == f.garbageAfter)
+        {
+            f.garbageAfter = -1;
+            kind = SIM_FAULT_GARBAGE;
+        }
+        else if (f.shortAfter > 0 && n == f.shortAfter)
+        {
+            f.shortAfter = -1;
+            kind = SIM_FAULT_SHORT;
+        }
+        else if (fc == f.exceptionFunction &&
+                 (f.exceptionRegister < 0 || (f.exceptionRegister >= address && f.exceptionRegister < address + count)))
+            kind = SIM_FAULT_EXCEPTION;
+        else if (f.randomRate > 0 && std::uniform_real_distribution<double>(0.0, 1.0)(faultRng) < f.randomRate)
+        {
+            std::vector<int> kinds;
+            for (int k = 0; k < SIM_FAULT_KINDS; ++k)
+                if (f.randomKinds & (1 << k))
+                    kinds.push_back(k);
+            if (!kinds.empty())
+            {
+                kind = kinds[std::uniform_int_distribution<int>(0, (int)kinds.size() - 1)(faultRng)];
+                const bool coin = (faultRng() & 1) != 0;
+                executed = kind == SIM_FAULT_DROP_REPLY || kind == SIM_FAULT_DELAY ||
+                           ((kind == SIM_FAULT_GARBAGE || kind == SIM_FAULT_SHORT) && coin);
+                if (kind == SIM_FAULT_DELAY)
+                    delayMs = std::max(delayMs, f.randomDelayMs);
+                exceptionCode = f.randomExceptionCode;
+            }
+        }
+        if (kind < 0 && delayMs > 0)
+            kind = SIM_FAULT_DELAY;  // every reply delayed
+        if (kind >= 0)
+        {
+            ++counts.byKind[kind];
+            ++counts.total;
+            if ((fc == 3 || fc == 4) && kind != SIM_FAULT_EXCEPTION)
+                ++counts.retriableOnReads;
+        }
+        return kind;
+    }
+
+    // Returns false when the connection must be closed (drop faults).
     bool handle(modbus_t* ctx, int fd, bool tcp, const uint8_t* query, int length)
     {
-        SimFaults f;
-        int n;
-        {
-            std::lock_guard<std::mutex> lock(mtx);
-            n = ++requests - faultBase;
-            f = faults;
-            if (f.dropAfter > 0 && n == f.dropAfter)
-            {
-                faults.dropAfter = -1;
-                return false;
-            }
-            if (f.garbageAfter > 0 && n == f.garbageAfter)
-                faults.garbageAfter = -1;
-            if (f.shortAfter > 0 && n == f.shortAfter)
-                faults.shortAfter = -1;
-        }
-        if (f.delayMs > 0)
-            std::this_thread::sleep_for(std::chrono::milliseconds(f.delayMs));
         const int hl = modbus_get_header_length(ctx);
         const int fc = query[hl];
         const int address = (query[hl + 1] << 8) | query[hl + 2];
         const int count = (fc == 3 || fc == 4 || fc == 16) ? ((query[hl + 3] << 8) | query[hl + 4]) : 1;
+        const bool write = fc == 6 || fc == 16;
+        bool executed = false;
+        int delayMs = 0, exceptionCode = 4, kind = -1;
+        {
+            std::lock_guard<std::mutex> lock(mtx);
+            kind = chooseFault(++requests - faultBase, fc, address, count, executed, delayMs, exceptionCode);
+        }
+        if (kind == SIM_FAULT_DROP_REQUEST)
+            return false;
+        if (delayMs > 0)
+            std::this_thread::sleep_for(std::chrono::milliseconds(delayMs));
         auto rawSend = [&](const std::vector<uint8_t>& bytes) {
             if (tcp)
                 (void)!::send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL);
             else
                 (void)!::write(fd, bytes.data(), bytes.size());
         };
-        if (f.garbageAfter > 0 && n == f.garbageAfter)
+        if (kind == SIM_FAULT_EXCEPTION)
         {
-            std::vector<uint8_t> junk(11);
-            {
-                std::lock_guard<std::mutex> lock(mtx);
-                for (auto& b : junk)
-                    b = static_cast<uint8_t>(rng() & 0xFF);
-            }
-            rawSend(junk);
+            modbus_reply_exception(ctx, query, static_cast<unsigned>(exceptionCode));
             return true;
         }
-        if (f.shortAfter > 0 && n == f.shortAfter)
+        if (kind == SIM_FAULT_DROP_REPLY || kind == SIM_FAULT_GARBAGE || kind == SIM_FAULT_SHORT)
         {
+            std::lock_guard<std::mutex> lock(mtx);
+            if (executed && write)
+                executeWrite(query, length, hl, fc, address, count);
+            if (kind == SIM_FAULT_DROP_REPLY)
+                return false;
+            if (kind == SIM_FAULT_GARBAGE)
+            {
+                std::vector<uint8_t> junk(11);
+                for (auto& b : junk)
+                    b = static_cast<uint8_t>(rng() & 0xFF);
+                rawSend(junk);
+                return true;
+            }
             // The start of a plausible reply, cut off after two data bytes.
             std::vector<uint8_t> part(query, query + hl);
             if (tcp)
@@ -306,31 +445,13 @@ struct ActuatorSim::Impl
             rawSend(part);
             return true;
         }
-        if (fc == f.exceptionFunction &&
-            (f.exceptionRegister < 0 || (f.exceptionRegister >= address && f.exceptionRegister < address + count)))
-        {
-            modbus_reply_exception(ctx, query, static_cast<unsigned>(f.exceptionCode));
-            return true;
-        }
         std::lock_guard<std::mutex> lock(mtx);
         refreshInputs();
-        const bool write = fc == 6 || fc == 16;
-        if (modbus_reply(ctx, query, length, map) == -1)
-            return true;  // the peer may be gone: the next receive will tell
-        if (write)
-        {
-            const int end = address + count;
-            const bool touchesSchedule = (address <= HR_CHECKSUM && end > HR_LENGTH) || end > HR_ENTRIES;
-            if (touchesSchedule && state == ACTUATOR_LOADED)
-                state = ACTUATOR_IDLE;  // a changed schedule must be loaded (checked) again
-            if (address <= HR_COMMAND && end > HR_COMMAND)
-            {
-                const int code = map->tab_registers[HR_COMMAND];
-                map->tab_registers[HR_COMMAND] = 0;
-                if (code != CMD_NONE)
-                    command(code);
-            }
-        }
+        // modbus_reply executes the request, then answers; the answer may be lost (the peer gave up
+        // waiting), the execution is not: the controller acts on what it received.
+        modbus_reply(ctx, query, length, map);
+        if (write && address + count <= map->nb_registers)
+            afterWrite(address, count);
         return true;
     }
 
@@ -385,9 +506,13 @@ struct ActuatorSim::Impl
                 }
                 ++k;
             }
-            // Clients accepted in this round have no entry in fds yet.
+            // Requests are served in the order the connections were opened, which is the order a
+            // host sends them in: a request left on a connection the host gave up on is executed
+            // before the requests that followed it on a new connection, as by a device that reads
+            // one queue. Clients accepted in this round have no entry in fds yet.
             const size_t polled = fds.size() - k;
-            for (size_t i = polled; i-- > 0;)
+            std::vector<size_t> finished;
+            for (size_t i = 0; i < polled; ++i)
             {
                 if (!(fds[k + i].revents & (POLLIN | POLLHUP | POLLERR)))
                     continue;
@@ -396,8 +521,10 @@ struct ActuatorSim::Impl
                 if (rc > 0)
                     keep = handle(clients[i].ctx, clients[i].fd, true, query.data(), rc);
                 if (!keep)
-                    closeClient(i);
+                    finished.push_back(i);
             }
+            for (size_t j = finished.size(); j-- > 0;)
+                closeClient(finished[j]);
         }
     }
 };
@@ -418,6 +545,9 @@ ActuatorSim::ActuatorSim(const SimConfig& config) : impl_(new Impl)
     if (!s.map)
         CV_Error(cv::Error::StsNoMem, "ActuatorSim: cannot allocate the register map");
     s.history.initialLevel = 0;
+    const double sigma = 2 * CV_PI * s.cfg.plant->getNaturalFreqHz() * s.cfg.plant->getDampingRatio();
+    if (sigma > 0 && std::isfinite(sigma))
+        s.historyHorizon = 28.0 / sigma;  // e^-28 < 1e-12
 }
 
 ActuatorSim::~ActuatorSim()
@@ -514,9 +644,26 @@ std::string ActuatorSim::ptyPath() const { return impl_->ptyName; }
 
 void ActuatorSim::setFaults(const SimFaults& faults)
 {
+    CV_Assert(faults.randomRate >= 0 && faults.randomRate <= 1);
+    CV_Assert(faults.delayMs >= 0 && faults.randomDelayMs >= 0);
     std::lock_guard<std::mutex> lock(impl_->mtx);
     impl_->faults = faults;
     impl_->faultBase = impl_->requests;
+    impl_->faultRng.seed(faults.randomSeed);
+}
+
+SimFaultCounts ActuatorSim::faultCounts() const
+{
+    std::lock_guard<std::mutex> l(impl_->mtx);
+    return impl_->counts;
+}
+
+std::vector<SimStartRecord> ActuatorSim::takeStarts()
+{
+    std::lock_guard<std::mutex> l(impl_->mtx);
+    std::vector<SimStartRecord> out(impl_->startLog.begin(), impl_->startLog.end());
+    impl_->startLog.clear();
+    return out;
 }
 
 int ActuatorSim::state() const { std::lock_guard<std::mutex> l(impl_->mtx); return impl_->state; }

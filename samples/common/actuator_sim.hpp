@@ -7,10 +7,27 @@
 
 #include <opencv2/dynblur.hpp>
 
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace dynblur_samples {
+
+//! Kinds of injected faults (bit i of SimFaults::randomKinds enables kind i).
+enum SimFaultKind
+{
+    SIM_FAULT_DROP_REQUEST = 0,  //!< close the connection; the request is not executed
+    SIM_FAULT_DROP_REPLY = 1,    //!< execute the request, then close the connection without answering
+    SIM_FAULT_DELAY = 2,         //!< execute and answer late (after the delay)
+    SIM_FAULT_EXCEPTION = 3,     //!< answer with a Modbus exception; the request is not executed
+    SIM_FAULT_GARBAGE = 4,       //!< answer with random bytes (random faults: executed or not, at random)
+    SIM_FAULT_SHORT = 5,         //!< answer with the start of a reply (random faults: executed or not, at random)
+    SIM_FAULT_KINDS = 6
+};
+
+//! Name of a SimFaultKind, e.g. "drop request".
+const char* simFaultName(int kind);
 
 //! Faults to inject. Counted requests are those received after setFaults(); -1 disables.
 struct SimFaults
@@ -22,6 +39,32 @@ struct SimFaults
     int exceptionCode = 4;       //!< Modbus exception code sent (4: server device failure)
     int garbageAfter = -1;       //!< answer request N with random bytes, once
     int shortAfter = -1;         //!< answer request N with the first half of its reply, once
+
+    // Random faults: each request gets one fault with probability randomRate, of a kind drawn
+    // uniformly among randomKinds, from a generator seeded with randomSeed (the same seed gives
+    // the same decisions for the same sequence of requests).
+    double randomRate = 0;                             //!< in [0, 1]
+    unsigned randomSeed = 1;
+    int randomKinds = (1 << SIM_FAULT_KINDS) - 1;      //!< bit mask of SimFaultKind
+    int randomDelayMs = 300;                           //!< delay of SIM_FAULT_DELAY (choose beyond the host's timeout)
+    int randomExceptionCode = 4;                       //!< code of SIM_FAULT_EXCEPTION (4: server device failure)
+};
+
+//! Faults injected so far (one-shot and random; a delayMs reply counts as SIM_FAULT_DELAY).
+struct SimFaultCounts
+{
+    int byKind[SIM_FAULT_KINDS] = {};
+    int total = 0;
+    int retriableOnReads = 0;  //!< faults on reads (function 3, 4) other than exception replies: a host may retry these
+};
+
+//! What the simulator started: the loaded schedule as it held it at START.
+struct SimStartRecord
+{
+    int initialLevel = 0;            //!< cells
+    std::vector<uint32_t> offsetsUs; //!< entry offsets from the start, microseconds
+    std::vector<int> levels;         //!< cells
+    int checksum = 0;                //!< CRC the simulator computed at LOAD
 };
 
 struct SimConfig
@@ -55,7 +98,11 @@ public:
     int tcpPort() const;          //!< bound TCP port (0 when TCP is off)
     std::string ptyPath() const;  //!< slave pseudo-terminal path ("" when RTU is off)
 
+    //! Replaces the faults (one-shot counters restart from here); the counts are kept.
     void setFaults(const SimFaults& faults);
+    SimFaultCounts faultCounts() const;
+    //! The schedules started since the last call (at most the last 1000 are kept), oldest first.
+    std::vector<SimStartRecord> takeStarts();
 
     // Inspection (thread-safe).
     int state() const;            //!< cv::dynblur::ActuatorState

@@ -15,12 +15,16 @@ namespace dynblur_samples {
 
 namespace {
 
+//! Every character std::isspace and operator>> treat as blank (the "C" locale): a line that is blank
+//! here is skipped, so a field split by spaces always finds at least one field.
+const char* const kBlank = " \t\r\n\v\f";
+
 std::string trim(const std::string& s)
 {
-    const size_t a = s.find_first_not_of(" \t\r\n");
+    const size_t a = s.find_first_not_of(kBlank);
     if (a == std::string::npos)
         return std::string();
-    const size_t b = s.find_last_not_of(" \t\r\n");
+    const size_t b = s.find_last_not_of(kBlank);
     return s.substr(a, b - a + 1);
 }
 

@@ -14,6 +14,7 @@
 #include <visp3/visual_features/vpFeaturePoint.h>
 #include <visp3/vs/vpServo.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -39,34 +40,67 @@ double hostNow()
 
 // The plane as the camera sees it at θ = 0 (linear intensity, grey), wider than the frame by the
 // same margin on each side so rows exposed away from θ = 0 see real content. The tag is placed
-// where the centre pixel looks when θ = target.
+// where the centre pixel looks when θ = target; moving it to another place keeps the background.
 struct World
 {
-    Mat sharpLinear;        // CV_32F, the view at θ = 0
+    Mat background;         // CV_8U sRGB grey, the plane without the tag, with margins
+    Point margin;           // where the frame's (0, 0) lies in `background` at θ = 0
+    Mat sharpLinear;        // CV_32F, the view at θ = 0 with the tag
     Point2d tagAtZero;      // tag centre in the frame's coordinates at θ = 0, pixels
 };
 
-World makeWorld(const Ptr<CameraModel>& camera, double targetRad, int maxShiftPx, int tagCellPx)
+World makeWorld(const Ptr<CameraModel>& camera, int maxShiftPx)
 {
     const Size frame = camera->getImageSize();
-    const int marginX = 40, marginY = maxShiftPx + 40;
-    Mat colour = makeScene(Size(frame.width + 2 * marginX, frame.height + 2 * marginY), 20261122u), grey;
-    cvtColor(colour, grey, COLOR_BGR2GRAY);
     World world;
-    world.tagAtZero = camera->viewToReference(Point2d(camera->getCx(), camera->getCy()), targetRad);
-    const Mat tag = aprilTag36h11Id0(tagCellPx);
-    const Point topLeft(cvRound(world.tagAtZero.x + marginX - (tag.cols - 1) / 2.0),
-                        cvRound(world.tagAtZero.y + marginY - (tag.rows - 1) / 2.0));
-    tag.copyTo(grey(Rect(topLeft, tag.size())));
-    world.tagAtZero = Point2d(topLeft.x - marginX + (tag.cols - 1) / 2.0, topLeft.y - marginY + (tag.rows - 1) / 2.0);
-    srgbToLinear(grey, world.sharpLinear);
+    world.margin = Point(40, maxShiftPx + 40);
+    Mat colour = makeScene(Size(frame.width + 2 * world.margin.x, frame.height + 2 * world.margin.y), 20261122u);
+    cvtColor(colour, world.background, COLOR_BGR2GRAY);
     return world;
+}
+
+void placeTag(World& world, const Ptr<CameraModel>& camera, double targetRad, int tagCellPx)
+{
+    const Point2d centre = camera->viewToReference(Point2d(camera->getCx(), camera->getCy()), targetRad);
+    const Mat tag = aprilTag36h11Id0(tagCellPx);
+    const Point topLeft(cvRound(centre.x + world.margin.x - (tag.cols - 1) / 2.0),
+                        cvRound(centre.y + world.margin.y - (tag.rows - 1) / 2.0));
+    Mat grey = world.background.clone();
+    tag.copyTo(grey(Rect(topLeft, tag.size())));
+    world.tagAtZero = Point2d(topLeft.x - world.margin.x + (tag.cols - 1) / 2.0,
+                              topLeft.y - world.margin.y + (tag.rows - 1) / 2.0);
+    srgbToLinear(grey, world.sharpLinear);
 }
 
 // Where the tag centre appears at tilt θ (the inverse of viewToReference for a pure rotation).
 Point2d tagInView(const Ptr<CameraModel>& camera, const World& world, double thetaRad)
 {
     return camera->viewToReference(world.tagAtZero, -thetaRad);
+}
+
+// How far the tag centre travels (along the true trajectory) while the sensor row that sees it is
+// exposed, pixels: the blur the detector has to cope with at the tag, whatever the frame's window.
+double tagMotionPx(const Ptr<Plant>& plant, const SwitchSchedule& history, const Ptr<CameraModel>& camera,
+                   const World& world, const RollingShutter& shutter)
+{
+    const int samples = 24;
+    Mat t(samples + 1, 1, CV_64F), theta;
+    double row = camera->getCy();
+    for (int pass = 0; pass < 4; ++pass)  // the row where the tag is seen depends on when that row is exposed
+    {
+        const Vec2d interval = shutter.rowInterval(cvRound(std::min(std::max(row, 0.0), shutter.rows - 1.0)));
+        t.at<double>(0) = 0.5 * (interval[0] + interval[1]);
+        plant->response(history, t.rowRange(0, 1), theta);
+        row = tagInView(camera, world, theta.at<double>(0)).y;
+    }
+    const Vec2d interval = shutter.rowInterval(cvRound(std::min(std::max(row, 0.0), shutter.rows - 1.0)));
+    for (int i = 0; i <= samples; ++i)
+        t.at<double>(i) = interval[0] + (interval[1] - interval[0]) * i / samples;
+    plant->response(history, t, theta);
+    double travel = 0;
+    for (int i = 1; i <= samples; ++i)
+        travel += norm(tagInView(camera, world, theta.at<double>(i)) - tagInView(camera, world, theta.at<double>(i - 1)));
+    return travel;
 }
 
 // ---- detection -----------------------------------------------------------------------------------
@@ -189,6 +223,30 @@ Mat aprilTag36h11Id0(int cellPx)
     return tag;
 }
 
+ServoConfig trackingScenario(int places, int cyclesPerTarget, unsigned seed, double startOffsetDeg, double minJumpDeg,
+                             double maxJumpDeg, double limitDeg)
+{
+    CV_CheckGT(places, 0, "places");
+    CV_CheckGT(cyclesPerTarget, 0, "cycles per place");
+    CV_Assert(0 <= minJumpDeg && minJumpDeg <= maxJumpDeg && maxJumpDeg <= limitDeg && std::abs(startOffsetDeg) <= limitDeg);
+    ServoConfig config;
+    RNG rng(0x7a9u + seed);
+    config.targetsDeg.push_back(startOffsetDeg);
+    for (int i = 1; i < places; ++i)
+    {
+        const double here = config.targetsDeg.back(), jump = rng.uniform(minJumpDeg, maxJumpDeg);
+        double next = rng.uniform(0, 2) ? here + jump : here - jump;
+        if (std::abs(next) > limitDeg)  // the other way is always within ±limit since jump ≤ limit
+            next = 2 * here - next;
+        config.targetsDeg.push_back(next);
+    }
+    config.cyclesPerTarget = cyclesPerTarget;
+    config.cycles = places * cyclesPerTarget;
+    config.latencyJitter = 1.0 / config.fps;
+    config.noiseSeed = 7u + seed;
+    return config;
+}
+
 ServoReport runVisualServo(const ServoConfig& config, const std::function<void(const ServoReport&)>& progress)
 {
     CV_CheckGT(config.cycles, 0, "cycles");
@@ -196,7 +254,14 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
     CV_CheckGT(config.lambda, 0.0, "lambda");
     CV_CheckGT(config.gainDegPerLevel, 0.0, "gain");
     CV_CheckGE(config.maxLevel, 1, "max level");
-    CV_Assert(std::abs(config.startOffsetDeg) < config.maxLevel * config.gainDegPerLevel);
+    CV_CheckGE(config.cyclesPerTarget, 0, "cycles per target");
+    CV_Assert(config.latency >= 0 && config.latencyJitter >= 0);
+    const std::vector<double> targetsDeg = config.targetsDeg.empty() ? std::vector<double>{config.startOffsetDeg}
+                                                                      : config.targetsDeg;
+    double farthestDeg = 0;
+    for (double deg : targetsDeg)
+        farthestDeg = std::max(farthestDeg, std::abs(deg));
+    CV_Assert(farthestDeg < config.maxLevel * config.gainDegPerLevel);
 
     // The system: positioner, planner, camera, deblurrer.
     const Ptr<Plant> plant = Plant::create(config.naturalFreqHz, config.dampingRatio, config.gainDegPerLevel * kDeg);
@@ -204,6 +269,7 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
     const Size size = config.imageSize;
     const Ptr<CameraModel> camera = CameraModel::create(config.focalPx, config.focalPx, (size.width - 1) / 2.0,
                                                         (size.height - 1) / 2.0, size.width, size.height);
+    const Point2d imageCentre(camera->getCx(), camera->getCy());
     const Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
     deblurrer->setPsfModel(config.psfModel);
     RLParams rl = deblurrer->getRLParams();
@@ -211,12 +277,13 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
     deblurrer->setRLParams(rl);
     Positioner positioner(config, plant);
 
-    // The scene: the tag sits startOffsetDeg (tilt) away from the image centre.
+    // The scene: the tag sits targetsDeg[0] (tilt) away from the image centre, later at the next places.
     ServoReport report;
-    const double targetRad = config.startOffsetDeg * kDeg;
-    report.targetDeg = config.startOffsetDeg;
-    const int maxShiftPx = cvCeil(config.focalPx * std::tan(std::abs(targetRad) * 1.3 + 2 * kDeg));
-    const World world = makeWorld(camera, targetRad, maxShiftPx, config.tagCellPx);
+    report.targetsDeg = targetsDeg;
+    const int maxShiftPx = cvCeil(config.focalPx * std::tan(farthestDeg * kDeg * 1.3 + 2 * kDeg));
+    World world = makeWorld(camera, maxShiftPx);
+    int target = 0;
+    placeTag(world, camera, targetsDeg[0] * kDeg, config.tagCellPx);
 
     // Visual servoing task (ViSP): the tag centre s to the image centre s*, eye-in-hand, only ωx.
     const vpCameraParameters cam(config.focalPx, config.focalPx, camera->getCx(), camera->getCy());
@@ -230,6 +297,7 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
     dof[3] = 1.0;  // the positioner turns the camera about its +x axis (DESIGN §2)
     task.setCameraDoF(dof);
     task.addFeature(s, sStar);
+    // One detector, default settings, for the raw and the restored frames alike.
     vpDetectorAprilTag detector(vpDetectorAprilTag::TAG_36h11);
 
     const double period = 1.0 / config.fps;
@@ -239,11 +307,12 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
     SwitchSchedule history(std::vector<double>(), std::vector<int>(), 0);  // every switch so far: the true motion
     SwitchSchedule saccade = history;                                      // the command of this cycle
     int level = 0, frameIndex = 0;
-    Detection latest;
+    RNG jitter(config.noiseSeed * 2654435761ull + 1u);
 
     auto takeFrame = [&](int cycle) {
         ServoFrame frame;
         frame.cycle = cycle;
+        frame.target = target;
         frame.index = frameIndex;
         frame.frameStart = frameIndex * period;
         const RollingShutter shutter(frame.frameStart, config.exposure, config.lineDelay, size.height);
@@ -254,6 +323,7 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
         Mat mid(1, 1, CV_64F, Scalar(frame.frameStart + 0.5 * (shutter.readoutInterval()[1] - frame.frameStart))), theta;
         plant->response(history, mid, theta);
         frame.thetaDeg = theta.at<double>(0) / kDeg;
+        frame.tagMotionPx = tagMotionPx(plant, history, camera, world, shutter);
         // Classify and restore with the cycle's command (the library's prediction).
         frame.window = classifyExposure(plant, saccade, shutter, angleTol, velocityTol);
         Mat restored;
@@ -279,21 +349,34 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
 
     // Frame 0: the camera at rest.
     report.frames.push_back(takeFrame(-1));
-    latest = report.frames.back().restored;
+    Detection latest = report.frames.back().restored;
+    int cycleOfTarget = 0;
 
     for (int c = 0; c < config.cycles; ++c)
     {
+        // The tag moves to its next place between two frames; the camera sees it there first in
+        // the frame this cycle measures.
+        if (config.cyclesPerTarget > 0 && c > 0 && c % config.cyclesPerTarget == 0 &&
+            target + 1 < static_cast<int>(targetsDeg.size()))
+        {
+            ++target;
+            cycleOfTarget = 0;
+            placeTag(world, camera, targetsDeg[static_cast<size_t>(target)] * kDeg, config.tagCellPx);
+            report.frames.push_back(takeFrame(c - 1));
+            latest = report.frames.back().restored;
+        }
         ServoCycle cycle;
         cycle.cycle = c;
+        cycle.target = target;
+        cycle.cycleOfTarget = cycleOfTarget++;
         cycle.fromLevel = level;
-        cycle.trueErrorPx = norm(tagInView(camera, world, plant->restingAngle(level)) -
-                                 Point2d(camera->getCx(), camera->getCy()));
+        cycle.trueErrorPx = norm(tagInView(camera, world, plant->restingAngle(level)) - imageCentre);
 
         // 1. Measure: the tag centre in the latest restored frame (the view at the resting angle).
         double deltaRad = 0;
         if (latest.found)
         {
-            cycle.measuredErrorPx = norm(latest.centre - Point2d(camera->getCx(), camera->getCy()));
+            cycle.measuredErrorPx = norm(latest.centre - imageCentre);
             double x = 0, y = 0;
             vpPixelMeterConversion::convertPoint(cam, latest.centre.x, latest.centre.y, x, y);
             s.buildFrom(x, y, kDepth);
@@ -303,19 +386,22 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
         }
         cycle.deltaDeg = deltaRad / kDeg;
 
-        // 3. Plan: integer levels, vibration cancelled, starting once the measured frame is read out.
-        const int target = std::max(-config.maxLevel, std::min(config.maxLevel,
-                                    level + static_cast<int>(std::lround(deltaRad / plant->getGain()))));
+        // 3. Plan: integer levels, vibration cancelled, starting once the measured frame is read
+        // out and processed (the processing time may jitter).
+        const int goal = std::max(-config.maxLevel, std::min(config.maxLevel,
+                                  level + static_cast<int>(std::lround(deltaRad / plant->getGain()))));
         const RollingShutter last(report.frames.back().frameStart, config.exposure, config.lineDelay, size.height);
-        const double plannedStart = last.readoutInterval()[1] + config.latency;
-        saccade = planner->plan(plant->restingAngle(level), plant->restingAngle(target), plannedStart);
+        const double latency = config.latency + (config.latencyJitter > 0 ? jitter.uniform(0.0, config.latencyJitter) : 0.0);
+        cycle.latencyMs = 1e3 * latency;
+        const double plannedStart = last.readoutInterval()[1] + latency;
+        saccade = planner->plan(plant->restingAngle(level), plant->restingAngle(goal), plannedStart);
         cycle.switches = saccade.times.size();
         cycle.settleMs = saccade.times.empty() ? 0.0 : 1e3 * saccade.settleTime;
 
         // 4. Apply: on the plant, or uploaded to the controller and started.
         saccade = positioner.run(saccade, plannedStart, cycle.startLatencyMs);
         appendSchedule(history, saccade);
-        level = target;
+        level = goal;
         cycle.toLevel = level;
 
         // 5. The camera keeps taking frames while the mechanism moves: classify, restore, detect.
@@ -334,15 +420,17 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
     return report;
 }
 
-int ServoReport::cyclesToWithin(double px) const
+int ServoReport::cyclesToWithin(double px, int target) const
 {
     int first = -1;
     for (const ServoCycle& c : cycles)
     {
+        if (c.target != target)
+            continue;
         if (c.trueErrorPx <= px && c.measuredErrorPx >= 0 && c.measuredErrorPx <= px)
         {
             if (first < 0)
-                first = c.cycle;
+                first = c.cycleOfTarget;
         }
         else
         {
@@ -352,18 +440,19 @@ int ServoReport::cyclesToWithin(double px) const
     return first;
 }
 
-void ServoReport::detectionCounts(int window, int& count, int& raw, int& restored) const
+DetectionTally ServoReport::tally(int window, double minTagMotionPx) const
 {
-    count = raw = restored = 0;
+    DetectionTally t;
     for (const ServoFrame& f : frames)
     {
         const bool match = window == 0 ? (f.window >= EXPOSURE_I && f.window <= EXPOSURE_III) : f.window == window;
-        if (!match)
+        if (!match || f.tagMotionPx < minTagMotionPx)
             continue;
-        ++count;
-        raw += f.raw.found ? 1 : 0;
-        restored += f.restored.found ? 1 : 0;
+        ++t.frames;
+        t.raw += f.raw.found ? 1 : 0;
+        t.restored += f.restored.found ? 1 : 0;
     }
+    return t;
 }
 
 double ServoReport::meanRestoreSec() const
@@ -379,13 +468,22 @@ double ServoReport::meanRestoreSec() const
     return n ? sum / n : 0.0;
 }
 
-namespace {
-
-const char* windowName(int window)
+const char* exposureWindowName(int window)
 {
     static const char* names[] = {"?", "I", "II", "III", "IV"};
     return names[window >= 1 && window <= 4 ? window : 0];
 }
+
+std::vector<DetectionRow> detectionSummary(const ServoReport& report)
+{
+    std::vector<DetectionRow> rows;
+    for (int window : {int(EXPOSURE_I), int(EXPOSURE_II), int(EXPOSURE_III), 0})
+        rows.push_back({window ? exposureWindowName(window) : "I-III", report.tally(window),
+                        report.tally(window, kTagBlurredPx)});
+    return rows;
+}
+
+namespace {
 
 Mat annotated(const Mat& grey8, const Detection& detection, const std::string& label)
 {
@@ -407,6 +505,77 @@ Mat annotated(const Mat& grey8, const Detection& detection, const std::string& l
     return image;
 }
 
+// Bar chart of detection rates: per window, raw and restored over all its frames, then over those
+// whose tag was blurred, with "found/frames" above each bar.
+Mat detectionChart(const std::vector<DetectionRow>& rows, const std::string& title)
+{
+    const int barWidth = 46, groupWidth = 4 * barWidth + 60, left = 60, top = 70, plotHeight = 260, bottom = 50;
+    const int width = left + groupWidth * static_cast<int>(rows.size()) + 10;
+    Mat chart(top + plotHeight + bottom, width, CV_8UC3, Scalar(255, 255, 255));
+    const Scalar ink(40, 40, 40), grid(220, 220, 220);
+    const Scalar colours[4] = {Scalar(150, 150, 235), Scalar(130, 210, 120), Scalar(50, 50, 190), Scalar(40, 130, 30)};
+    const char* names[4] = {"raw, all frames", "restored, all frames",
+                            "raw, tag moved >= 2 px", "restored, tag moved >= 2 px"};
+    putText(chart, title, Point(left, 22), FONT_HERSHEY_SIMPLEX, 0.55, ink, 1, LINE_AA);
+    for (int b = 0; b < 4; ++b)
+    {
+        const Point at(left + b * 230, 42);
+        rectangle(chart, Rect(at.x, at.y - 10, 12, 12), colours[b], FILLED);
+        putText(chart, names[b], at + Point(18, 0), FONT_HERSHEY_SIMPLEX, 0.42, ink, 1, LINE_AA);
+    }
+    for (int percent = 0; percent <= 100; percent += 25)
+    {
+        const int y = top + plotHeight - plotHeight * percent / 100;
+        line(chart, Point(left, y), Point(width - 10, y), grid, 1);
+        putText(chart, format("%d%%", percent), Point(8, y + 4), FONT_HERSHEY_SIMPLEX, 0.4, ink, 1, LINE_AA);
+    }
+    for (size_t g = 0; g < rows.size(); ++g)
+    {
+        const DetectionTally* tallies[4] = {&rows[g].all, &rows[g].all, &rows[g].tagBlurred, &rows[g].tagBlurred};
+        const int x0 = left + groupWidth * static_cast<int>(g) + 30;
+        for (int b = 0; b < 4; ++b)
+        {
+            const DetectionTally& t = *tallies[b];
+            const int found = b % 2 ? t.restored : t.raw;
+            const int height = t.frames ? cvRound(plotHeight * double(found) / t.frames) : 0;
+            const int x = x0 + b * barWidth + (b >= 2 ? 10 : 0);
+            rectangle(chart, Rect(x, top + plotHeight - height, barWidth - 4, std::max(height, 1)), colours[b], FILLED);
+            putText(chart, format("%d/%d", found, t.frames), Point(x, top + plotHeight - height - 5),
+                    FONT_HERSHEY_SIMPLEX, 0.38, ink, 1, LINE_AA);
+        }
+        putText(chart, "window " + rows[g].window, Point(x0 + 2 * barWidth - 30, top + plotHeight + 24),
+                FONT_HERSHEY_SIMPLEX, 0.5, ink, 1, LINE_AA);
+    }
+    line(chart, Point(left, top + plotHeight), Point(width - 10, top + plotHeight), ink, 1);
+    return chart;
+}
+
+// Frames for the strip: per window (I, II, III), those whose tag was blurred (else all), sorted by
+// how far the tag moved while its row was exposed, then up to `perWindow` of them spread over that
+// order (the most and the least blurred tag and some between).
+std::vector<const ServoFrame*> stripFrames(const ServoReport& report, size_t perWindow)
+{
+    std::vector<const ServoFrame*> chosen;
+    for (int window : {int(EXPOSURE_I), int(EXPOSURE_II), int(EXPOSURE_III)})
+    {
+        std::vector<const ServoFrame*> frames;
+        for (bool blurredOnly : {true, false})
+        {
+            for (const ServoFrame& f : report.frames)
+                if (f.window == window && !f.rawImage.empty() && (!blurredOnly || f.tagMotionPx >= kTagBlurredPx))
+                    frames.push_back(&f);
+            if (!frames.empty())
+                break;
+        }
+        std::sort(frames.begin(), frames.end(),
+                  [](const ServoFrame* a, const ServoFrame* b) { return a->tagMotionPx > b->tagMotionPx; });
+        const size_t n = std::min(perWindow, frames.size());
+        for (size_t i = 0; i < n; ++i)
+            chosen.push_back(frames[n > 1 ? i * (frames.size() - 1) / (n - 1) : 0]);
+    }
+    return chosen;
+}
+
 }  // namespace
 
 void writeServoOutputs(const ServoReport& report, const std::string& outDir)
@@ -414,54 +583,83 @@ void writeServoOutputs(const ServoReport& report, const std::string& outDir)
     utils::fs::createDirectories(outDir);
     {
         std::ofstream csv(outDir + "/cycles.csv");
-        csv << "cycle,measured_error_px,true_error_px,from_level,to_level,delta_deg,switches,settle_ms,start_latency_ms\n";
+        csv << "cycle,target,cycle_of_target,target_deg,measured_error_px,true_error_px,from_level,to_level,delta_deg,"
+               "latency_ms,switches,settle_ms,start_latency_ms\n";
         for (const ServoCycle& c : report.cycles)
-            csv << format("%d,%.3f,%.3f,%d,%d,%.4f,%zu,%.2f,%.3f\n", c.cycle, c.measuredErrorPx, c.trueErrorPx, c.fromLevel,
-                          c.toLevel, c.deltaDeg, c.switches, c.settleMs, c.startLatencyMs);
+            csv << format("%d,%d,%d,%.3f,%.3f,%.3f,%d,%d,%.4f,%.2f,%zu,%.2f,%.3f\n", c.cycle, c.target, c.cycleOfTarget,
+                          report.targetsDeg[static_cast<size_t>(c.target)], c.measuredErrorPx, c.trueErrorPx,
+                          c.fromLevel, c.toLevel, c.deltaDeg, c.latencyMs, c.switches, c.settleMs, c.startLatencyMs);
         if (!csv)
             CV_Error(Error::StsError, "cannot write " + outDir + "/cycles.csv");
     }
     {
         std::ofstream csv(outDir + "/frames.csv");
-        csv << "cycle,frame,frame_start_s,window,theta_deg,raw_found,raw_u,raw_v,restored_found,restored_u,restored_v,restore_ms\n";
+        csv << "cycle,target,frame,frame_start_s,window,theta_deg,tag_motion_px,raw_found,raw_u,raw_v,restored_found,"
+               "restored_u,restored_v,restore_ms\n";
         for (const ServoFrame& f : report.frames)
-            csv << format("%d,%d,%.6f,%s,%.4f,%d,%.2f,%.2f,%d,%.2f,%.2f,%.1f\n", f.cycle, f.index, f.frameStart,
-                          windowName(f.window), f.thetaDeg, f.raw.found ? 1 : 0, f.raw.centre.x, f.raw.centre.y,
-                          f.restored.found ? 1 : 0, f.restored.centre.x, f.restored.centre.y, 1e3 * f.restoreSec);
+            csv << format("%d,%d,%d,%.6f,%s,%.4f,%.2f,%d,%.2f,%.2f,%d,%.2f,%.2f,%.1f\n", f.cycle, f.target, f.index,
+                          f.frameStart, exposureWindowName(f.window), f.thetaDeg, f.tagMotionPx, f.raw.found ? 1 : 0,
+                          f.raw.centre.x, f.raw.centre.y, f.restored.found ? 1 : 0, f.restored.centre.x,
+                          f.restored.centre.y, 1e3 * f.restoreSec);
         if (!csv)
             CV_Error(Error::StsError, "cannot write " + outDir + "/frames.csv");
     }
 
-    // Error per cycle.
-    std::vector<double> x, measured, truth, one;
+    // Error per cycle; with jumps of tens of pixels a second panel shows the last pixels.
+    std::vector<double> x, measured, truth;
+    double largest = 0;
     for (const ServoCycle& c : report.cycles)
     {
         x.push_back(c.cycle);
         measured.push_back(c.measuredErrorPx >= 0 ? c.measuredErrorPx : std::numeric_limits<double>::quiet_NaN());
         truth.push_back(c.trueErrorPx);
+        largest = std::max(largest, c.trueErrorPx);
     }
-    dynblur_plot::Figure figure(900, format("Visual servoing: tag %.1f deg off at the start", report.targetDeg), 300);
+    const std::string title = report.targetsDeg.size() == 1
+                                  ? format("Visual servoing: tag %.1f deg off at the start", report.targetsDeg[0])
+                                  : format("Visual servoing: the tag jumps to %zu places", report.targetsDeg.size());
+    dynblur_plot::Figure figure(900, title, 300);
     figure.addPanel("image error of the tag centre", "error (px)")
         .hLine(1.0, "1 px")
         .line(x, truth, "true (scene geometry)")
         .line(x, measured, "measured (restored frame)");
+    if (largest > 6.0)
+        figure.addPanel("the same, 0..3 px", "error (px)")
+            .yLimits(0.0, 3.0)
+            .hLine(1.0, "1 px")
+            .line(x, truth, "true")
+            .line(x, measured, "measured");
     figure.xLabel("cycle");
     if (!figure.save(outDir + "/error.png"))
         CV_Error(Error::StsError, "cannot write " + outDir + "/error.png");
 
-    // Strip: raw | restored for the frames taken while moving (windows I–III).
-    std::vector<Mat> rows;
-    for (const ServoFrame& f : report.frames)
+    // Detection rates per window, raw vs restored.
+    if (!imwrite(outDir + "/detection.png",
+                 detectionChart(detectionSummary(report), "Tag found in the frames taken while moving (" + report.detector + ")")))
+        CV_Error(Error::StsError, "cannot write " + outDir + "/detection.png");
+
+    // Strip: raw | restored for frames taken while moving (windows I–III), two pairs per row.
+    std::vector<Mat> pairs;
+    for (const ServoFrame* f : stripFrames(report, 4))
     {
-        if (f.window == EXPOSURE_IV || f.rawImage.empty() || rows.size() >= 10)
-            continue;
-        const std::string label = format("c%d f%d win %s", f.cycle, f.index, windowName(f.window));
-        Mat row;
-        hconcat(annotated(f.rawImage, f.raw, label + " raw"), annotated(f.restoredImage, f.restored, "restored"), row);
-        rows.push_back(row);
+        const std::string label = format("f%d win %s tag moved %.0fpx", f->index, exposureWindowName(f->window), f->tagMotionPx);
+        Mat pair;
+        hconcat(annotated(f->rawImage, f->raw, label + " raw"), annotated(f->restoredImage, f->restored, "restored"), pair);
+        copyMakeBorder(pair, pair, 0, 4, 0, 4, BORDER_CONSTANT, Scalar(255, 255, 255));
+        pairs.push_back(pair);
     }
-    if (!rows.empty())
+    if (!pairs.empty())
     {
+        std::vector<Mat> rows;
+        for (size_t i = 0; i < pairs.size(); i += 2)
+        {
+            Mat row;
+            if (i + 1 < pairs.size())
+                hconcat(pairs[i], pairs[i + 1], row);
+            else
+                hconcat(pairs[i], Mat(pairs[i].size(), pairs[i].type(), Scalar(255, 255, 255)), row);
+            rows.push_back(row);
+        }
         Mat strip;
         vconcat(rows, strip);
         if (!imwrite(outDir + "/strip.png", strip))

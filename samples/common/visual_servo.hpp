@@ -5,6 +5,10 @@
 // angle increment → SwitchPlanner saccade (directly on the plant, or uploaded to the actuator
 // controller over the bus) → the frames the camera takes meanwhile, classified (windows I–IV),
 // restored with DynamicDeblurrer, and searched for the tag both raw and restored.
+// Two scenarios: "step" (the tag sits startOffsetDeg off and stays; convergence) and "track" (the
+// tag jumps to a new place every few cycles, 4..12° each way, and the saccade's phase against the
+// camera's frames varies from cycle to cycle, so that many frames are taken in windows I, II and III;
+// the detection figure raw vs restored).
 // ViSP stays inside visual_servo.cpp: this header needs OpenCV only.
 #ifndef DYNBLUR_SAMPLES_VISUAL_SERVO_HPP
 #define DYNBLUR_SAMPLES_VISUAL_SERVO_HPP
@@ -38,6 +42,15 @@ struct ServoConfig
     double exposure = 0.008;         //!< seconds
     double lineDelay = 125e-6;       //!< seconds per row
     double latency = 0.004;          //!< from the end of a frame's readout to the saccade's start, seconds
+    //! Each cycle's latency is latency + U[0, latencyJitter) seconds (seeded by noiseSeed): the
+    //! processing time varies, and so does the saccade's phase against the camera's frames.
+    double latencyJitter = 0.0;
+    // Scenario. The tag's successive places: its tilt from the image centre seen at θ = 0, degrees
+    // (empty: the one place startOffsetDeg). The tag moves to the next place every cyclesPerTarget
+    // cycles (0: never), between two frames; the camera then takes one frame, which the next cycle
+    // measures, before it moves.
+    std::vector<double> targetsDeg;
+    int cyclesPerTarget = 0;
     // Restoration.
     int psfModel = cv::dynblur::PSF_ROWS;
     int rlIterations = 20;
@@ -56,11 +69,13 @@ struct Detection
 
 struct ServoFrame
 {
-    int cycle = 0;
+    int cycle = 0;                //!< the cycle whose saccade the frame saw (-1 or c − 1: taken before cycle c moved)
+    int target = 0;               //!< index of the tag's place
     int index = 0;                //!< frame number since the start
     double frameStart = 0;        //!< seconds, simulation clock
     int window = 0;               //!< cv::dynblur::ExposureWindow
     double thetaDeg = 0;          //!< true tilt at mid-readout, degrees
+    double tagMotionPx = 0;       //!< how far the tag centre travelled (true motion) while its sensor row was exposed, pixels
     Detection raw, restored;
     double restoreSec = 0;        //!< DynamicDeblurrer::deblur time, seconds (0 when not called)
     cv::Mat rawImage, restoredImage;  //!< 8-bit grey (when ServoConfig::keepImages)
@@ -69,38 +84,78 @@ struct ServoFrame
 struct ServoCycle
 {
     int cycle = 0;
+    int target = 0;               //!< index of the tag's place
+    int cycleOfTarget = 0;        //!< cycles since the tag moved to this place (0: the first)
     double measuredErrorPx = -1;  //!< |tag centre − image centre| in the restored frame the control used (-1: not seen)
     double trueErrorPx = 0;       //!< the same from the scene geometry at the commanded resting angle
     int fromLevel = 0, toLevel = 0;
     double deltaDeg = 0;          //!< angle increment vpServo asked for, degrees
+    double latencyMs = 0;         //!< from the end of the measured frame's readout to the planned start, ms
     size_t switches = 0;          //!< switches of the saccade
     double settleMs = 0;          //!< predicted settle time of the saccade, ms
     double startLatencyMs = 0;    //!< bus only: controller start minus planned start, ms
+};
+
+//! Frames of some kind and how many of them had the tag detected, raw and restored.
+struct DetectionTally
+{
+    int frames = 0, raw = 0, restored = 0;
+    double rawRate() const { return frames ? double(raw) / frames : 0.0; }
+    double restoredRate() const { return frames ? double(restored) / frames : 0.0; }
 };
 
 struct ServoReport
 {
     std::vector<ServoCycle> cycles;
     std::vector<ServoFrame> frames;
-    double targetDeg = 0;         //!< tilt that centres the tag, degrees
+    std::vector<double> targetsDeg;  //!< the tag's places (tilt that centres each), degrees
     std::string detector = "vpDetectorAprilTag 36h11 id 0";
-    //! First cycle whose true error is ≤ px and stays so until the end; -1 if none.
-    int cyclesToWithin(double px) const;
-    //! Frames in window (0: windows I–III together) and how many had the tag detected raw / restored.
-    void detectionCounts(int window, int& frames, int& raw, int& restored) const;
+    /** Cycles from the tag's arrival at place `target` until the first cycle whose error (true and
+    measured) is ≤ px and stays so while the tag is there: 0 if already, 1 after one saccade; -1 if
+    never. */
+    int cyclesToWithin(double px, int target = 0) const;
+    /** Frames in `window` (0: windows I–III together) whose tag travelled at least minTagMotionPx
+    while its row was exposed, tallied raw and restored. */
+    DetectionTally tally(int window, double minTagMotionPx = 0.0) const;
     double meanRestoreSec() const;   //!< over frames that were restored
 };
+
+/** The tracking scenario: the tag visits `places` places, the first startOffsetDeg off, each next one
+a jump of U[minJumpDeg, maxJumpDeg] up or down (random, within ±limitDeg), cyclesPerTarget cycles
+each; each cycle's latency jitters over one frame period. Other fields keep their defaults. */
+ServoConfig trackingScenario(int places, int cyclesPerTarget = 3, unsigned seed = 1u, double startOffsetDeg = 8.0,
+                             double minJumpDeg = 4.0, double maxJumpDeg = 12.0, double limitDeg = 12.0);
 
 /** Runs the loop. @param progress called after each cycle (may be empty). Throws cv::Exception or
 std::runtime_error on bad configuration or a bus failure. */
 ServoReport runVisualServo(const ServoConfig& config,
                            const std::function<void(const ServoReport&)>& progress = {});
 
+//! "I", "II", "III", "IV" for cv::dynblur::ExposureWindow values, "?" otherwise.
+const char* exposureWindowName(int window);
+
+//! A tag that travels at least this far while its sensor row is exposed counts as blurred, pixels
+//! (half a tag cell at the default size).
+constexpr double kTagBlurredPx = 2.0;
+
+//! One row of the detection figure: all frames of a window, and those whose tag was blurred.
+struct DetectionRow
+{
+    std::string window;           //!< "I", "II", "III" or "I-III"
+    DetectionTally all;           //!< every frame of the window(s)
+    DetectionTally tagBlurred;    //!< those whose tag moved at least kTagBlurredPx while its row was exposed
+};
+
+//! The detection figure of a run: windows I, II, III and I–III together.
+std::vector<DetectionRow> detectionSummary(const ServoReport& report);
+
 //! The 36h11 tag id 0 as a (cells·10)² 8-bit image: black 8×8 square with a white one-cell quiet zone.
 cv::Mat aprilTag36h11Id0(int cellPx);
 
-/** Writes cycles.csv and frames.csv, error.png (plot of the error) and strip.png (raw vs restored
-frames of windows I–III with detections drawn) into outDir. */
+/** Writes cycles.csv and frames.csv, error.png (plot of the error), strip.png (raw vs restored
+frames of windows I–III with detections drawn: per window up to four frames whose tag was blurred,
+from the most to the least blurred) and detection.png (bar chart: tag found raw vs restored per
+window) into outDir. */
 void writeServoOutputs(const ServoReport& report, const std::string& outDir);
 
 }  // namespace dynblur_samples

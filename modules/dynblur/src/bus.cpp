@@ -4,8 +4,12 @@
 
 #include <modbus/modbus.h>
 
+#include <poll.h>
+
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <thread>
@@ -259,16 +263,31 @@ private:
         return {};
     }
 
-    // After a transport error the stream may hold stray bytes: resynchronise.
+    // After a transport error the stream may hold stray bytes: resynchronise. A TCP stream out of
+    // step cannot be trusted: reconnect on the next call (the transaction id then tells replies
+    // apart). A serial line has no such id: a reply that comes after the timeout would be taken for
+    // the answer to the next request (a stale acknowledgement or stale register values), so wait
+    // until the line has been quiet for one response timeout, discarding what arrives (at most
+    // four timeouts): a reply up to twice the timeout late is then never mistaken.
     void recover()
     {
         if (!ctx_)
             return;
         if (tcp_)
-            close();  // a TCP stream out of step cannot be trusted: reconnect on the next call
-        else
         {
-            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+            close();
+            return;
+        }
+        const int fd = modbus_get_socket(ctx_);
+        const int quietMs = std::max(1, (int)std::ceil(timeout_ * 1e3));
+        const double deadline = steadyNow() + 4 * timeout_;
+        modbus_flush(ctx_);
+        while (steadyNow() < deadline)
+        {
+            pollfd p{fd, POLLIN, 0};
+            if (::poll(&p, 1, quietMs) <= 0)
+                break;  // quiet for a whole timeout
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));  // let the rest of the frame arrive
             modbus_flush(ctx_);
         }
     }

@@ -351,15 +351,20 @@ private:
         catch (const cv::Exception& e)
         {
             verified_ = false;
+            // Apply the safe level, then read the status: a failed status read does not mean that
+            // the acknowledged stop was not applied.
             std::string after;
+            bool stopped = false;
             try
             {
                 bus_->writeRegister(HR_COMMAND, CMD_STOP);
+                stopped = true;
                 after = "; safe level applied, device status: " + status().describe();
             }
             catch (const cv::Exception& e2)
             {
-                after = "; could not apply the safe level: " + e2.err;
+                after = stopped ? "; safe level applied, device status unreadable: " + e2.err
+                                : "; could not apply the safe level: " + e2.err;
             }
             CV_Error(Error::StsError, std::string("ActuatorDriver::") + what + " failed: " + e.err + after);
         }

@@ -98,7 +98,9 @@ CV_EXPORTS std::vector<int> encodeSchedule(const SwitchSchedule& schedule);
 
 Every call is bounded in time: connecting, and each request, waits at most the response timeout;
 reads are retried (after reconnecting a TCP link or flushing a serial one) up to getRetries()
-times. Failures throw cv::Exception with the URI, the register range and the Modbus error (for
+times. After a transport error on a serial line, what arrives is discarded until the line has been
+quiet for one response timeout (at most four), so that a late reply is not taken for the answer to
+the next request. Failures throw cv::Exception with the URI, the register range and the Modbus error (for
 example "Illegal data address" for an exception reply, "Connection timed out", "Invalid CRC").
 */
 class CV_EXPORTS_W ActuatorBus : public Algorithm

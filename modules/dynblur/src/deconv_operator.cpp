@@ -17,6 +17,9 @@ namespace detail {
 UniformBlurOperator::UniformBlurOperator(Size frameSize, const Mat& kernel32f, bool pad) : frame_(frameSize)
 {
     CV_Assert(kernel32f.type() == CV_32FC1);
+    double peak = 0;
+    minMaxLoc(kernel32f, nullptr, &peak);
+    spotGain_ = peak > 0 ? 1.0 / peak : 1.0;
     if (pad)
     {
         origin_ = Point((kernel32f.cols - 1) / 2, (kernel32f.rows - 1) / 2);
@@ -281,7 +284,20 @@ inline void multiplyInto(float* __restrict dst, const float* __restrict a, const
 
 }  // namespace
 
-BankBlurOperator::BankBlurOperator(const PsfBank& bank, bool pad) : frame_(bank.imageSize)
+double bankSpotGain(const PsfBank& bank)
+{
+    double smallestPeak = 1;
+    for (const Mat& k : bank.kernels)
+    {
+        double peak = 0;
+        minMaxLoc(k, nullptr, &peak);
+        smallestPeak = std::min(smallestPeak, peak);
+    }
+    const double blended = double(std::min<size_t>(bank.nodeRows.size(), 2) * std::min<size_t>(bank.nodeCols.size(), 2));
+    return smallestPeak > 0 ? blended / smallestPeak : 1.0;
+}
+
+BankBlurOperator::BankBlurOperator(const PsfBank& bank, bool pad) : frame_(bank.imageSize), spotGain_(bankSpotGain(bank))
 {
     nodeCols_ = int(bank.nodeCols.size());
     nodeRows_ = int(bank.nodeRows.size());
@@ -492,7 +508,7 @@ void safeColumns(const RowBankOperator::Tap* taps, int count, int width, int sou
 
 }  // namespace
 
-RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad) : frame_(bank.imageSize)
+RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad) : frame_(bank.imageSize), spotGain_(bankSpotGain(bank))
 {
     CV_Assert(bank.nodeCols.size() == 1 && bank.kernels.size() == bank.nodeRows.size());
     std::vector<std::vector<KernelTap>> nodes(bank.kernels.size());

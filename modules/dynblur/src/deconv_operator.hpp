@@ -36,6 +36,10 @@ public:
     virtual void forward(const Mat& latent, Mat& frame) = 0;
     //! latent = Aᵀ · frame
     virtual void adjoint(const Mat& frame, Mat& latent) = 0;
+    /** The most a latent pixel can hold per unit of the brightest frame pixel: 1 / (the smallest
+    weight with which it reaches its most-weighted frame pixel), bounded from the kernels' peaks
+    and the number of kernels blended at a pixel. For data A x, x ≤ spotGain · max(A x). */
+    virtual double spotGain() const = 0;
 
     /** True when a few rows of A·x (or of Aᵀ·y) can be computed on their own: the RL loop then
     fuses each block of blurred rows with the element-wise work that follows it while the block is
@@ -59,10 +63,12 @@ public:
     Point origin() const CV_OVERRIDE { return origin_; }
     void forward(const Mat& latent, Mat& frame) CV_OVERRIDE;
     void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE;
+    double spotGain() const CV_OVERRIDE { return spotGain_; }
 
 private:
     Size frame_, latent_;
     Point origin_;
+    double spotGain_ = 1;
     std::unique_ptr<FftKernel> fft_;
     Mat scratch_;
 };
@@ -81,6 +87,7 @@ public:
     Point origin() const CV_OVERRIDE { return origin_; }
     void forward(const Mat& latent, Mat& frame) CV_OVERRIDE;
     void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE;
+    double spotGain() const CV_OVERRIDE { return spotGain_; }
 
     struct TapRow
     {
@@ -107,6 +114,7 @@ private:
 
     Size frame_, latent_;
     Point origin_;
+    double spotGain_ = 1;
     int nodeCols_ = 1, nodeRows_ = 1;
     std::vector<Node> nodes_;                 // row-major, nodeRows_ × nodeCols_
     std::vector<AxisWeight> rowWeights_;      // per frame row
@@ -130,6 +138,7 @@ public:
     Point origin() const CV_OVERRIDE { return origin_; }
     void forward(const Mat& latent, Mat& frame) CV_OVERRIDE;
     void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE;
+    double spotGain() const CV_OVERRIDE { return spotGain_; }
     bool gathersRows() const CV_OVERRIDE { return true; }
     void forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const CV_OVERRIDE;
     void adjointBlock(const Mat& frame, const Range& latentRows, float* out, size_t outStep) const CV_OVERRIDE;
@@ -151,9 +160,13 @@ public:
 private:
     Size frame_, latent_;
     Point origin_;
+    double spotGain_ = 1;
     std::vector<Tap> forwardTaps_, adjointTaps_;
     std::vector<GatherRow> forwardRows_, adjointRows_;
 };
+
+/** @brief spotGain of a bank: blended kernels per pixel / the smallest kernel peak. */
+double bankSpotGain(const PsfBank& bank);
 
 /** @brief The operator that applies `bank` fastest: RowBankOperator when the bank has one node
 column, BankBlurOperator otherwise. */

@@ -326,9 +326,14 @@ BankBlurOperator::BankBlurOperator(const PsfBank& bank, bool pad) : frame_(bank.
             node.dyMax = node.rows.back().dy;
             if (node.dyMin > node.dyMax)
                 std::swap(node.dyMin, node.dyMax);
+            node.rowOfDy.assign(size_t(node.dyMax - node.dyMin + 1), -1);
+            for (size_t k = 0; k < node.rows.size(); k++)
+                node.rowOfDy[size_t(node.rows[k].dy - node.dyMin)] = int(k);
         }
     }
     domain(frame_, pad, dxMin, dxMax, dyMin, dyMax, latent_, origin_);
+    dyMin_ = dyMin;
+    dyMax_ = dyMax;
 
     rowWeights_ = tentWeights(bank.nodeRows, frame_.height);
     nodeRowSupport_ = supports(rowWeights_, nodeRows_);
@@ -363,6 +368,25 @@ void BankBlurOperator::adjoint(const Mat& frame, Mat& latent)
 {
     CV_DbgAssert(frame.type() == CV_32FC1 && frame.size() == frame_);
     latent.create(latent_, CV_32FC1);
+    if (nodeCols_ > 1)
+    {
+        /* The frame weighted by each node column's tent, once per call rather than once per tap
+           row: columns of one parity have disjoint supports, so two planes hold them all. */
+        for (Mat& w : weighted_)
+            w.create(frame_, CV_32FC1);
+        parallel_for_(Range(0, frame_.height), [&](const Range& rows) {
+            for (int r = rows.start; r < rows.end; r++)
+            {
+                const float* src = frame.ptr<float>(r);
+                for (int i = 0; i < nodeCols_; i++)
+                {
+                    const Range cols = nodeColSupport_[size_t(i)];
+                    multiplyInto(weighted_[i % 2].ptr<float>(r) + cols.start, colWeight_[size_t(i)].data(),
+                                 src + cols.start, cols.size());
+                }
+            }
+        });
+    }
     parallel_for_(Range(0, latent_.height), [&](const Range& rows) { adjointRows(frame, latent, rows); });
 }
 
@@ -422,14 +446,18 @@ void BankBlurOperator::forwardRows(const Mat& latent, Mat& frame, const Range& r
 
 void BankBlurOperator::adjointRows(const Mat& frame, Mat& latent, const Range& rows) const
 {
-    const int width = frame_.width;
-    std::vector<float> tile(nodeCols_ > 1 ? size_t(width) : 0);
     for (int ly = rows.start; ly < rows.end; ly++)
     {
         float* out = latent.ptr<float>(ly);
         std::memset(out, 0, sizeof(float) * size_t(latent_.width));
         const int qy = ly - origin_.y;  // frame coordinate of this latent row
-        for (int j = 0; j < nodeRows_; j++)
+        /* Frame rows that read this latent row lie in [qy − dyMax_, qy − dyMin_]; node rows are in
+           order, so only those whose support meets that range need a look. */
+        const int rowLow = qy - dyMax_, rowHigh = qy - dyMin_;
+        int j = int(std::lower_bound(nodeRowSupport_.begin(), nodeRowSupport_.end(), rowLow,
+                                     [](const Range& r, int row) { return r.end <= row; }) -
+                    nodeRowSupport_.begin());
+        for (; j < nodeRows_ && nodeRowSupport_[size_t(j)].start <= rowHigh; j++)
         {
             const Range support = nodeRowSupport_[size_t(j)];
             for (int i = 0; i < nodeCols_; i++)
@@ -440,21 +468,20 @@ void BankBlurOperator::adjointRows(const Mat& frame, Mat& latent, const Range& r
                 if (node.rows.empty() || qy - node.dyMin < support.start || qy - node.dyMax >= support.end)
                     continue;
                 const Range cols = nodeColSupport_[size_t(i)];
-                for (const TapRow& tr : node.rows)
+                // Only the tap rows whose frame row r = qy − dy lies in the support: look them up by dy.
+                const int dyLow = std::max(node.dyMin, qy - support.end + 1);
+                const int dyHigh = std::min(node.dyMax, qy - support.start);
+                for (int dy = dyLow; dy <= dyHigh; dy++)
                 {
-                    const int r = qy - tr.dy;
-                    if (r < support.start || r >= support.end)
+                    const int k = node.rowOfDy[size_t(dy - node.dyMin)];
+                    if (k < 0)
                         continue;
+                    const TapRow& tr = node.rows[size_t(k)];
+                    const int r = qy - tr.dy;
                     const float a = rowWeight(j, r);
                     if (a <= 0.f)
                         continue;
-                    const float* src = frame.ptr<float>(r);
-                    if (nodeCols_ > 1)
-                    {
-                        multiplyInto(tile.data() + cols.start, colWeight_[size_t(i)].data(), src + cols.start,
-                                     cols.size());
-                        src = tile.data();
-                    }
+                    const float* src = nodeCols_ > 1 ? weighted_[i % 2].ptr<float>(r) : frame.ptr<float>(r);
                     for (size_t t = 0; t < tr.dx.size(); t++)
                     {
                         // Frame col x read latent col x + off: scatter back along the row.

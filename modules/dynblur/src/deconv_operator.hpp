@@ -99,6 +99,7 @@ public:
     {
         std::vector<TapRow> rows;
         int dyMin = 0, dyMax = 0;
+        std::vector<int> rowOfDy;  // index into rows of each dy in [dyMin, dyMax], -1 where none
     };
     //! Tent weight along one axis: up to two (node index, weight) pairs per coordinate.
     struct AxisWeight
@@ -116,11 +117,13 @@ private:
     Point origin_;
     double spotGain_ = 1;
     int nodeCols_ = 1, nodeRows_ = 1;
+    int dyMin_ = 0, dyMax_ = 0;  // the bank's range of row offsets (latent row − frame row)
     std::vector<Node> nodes_;                 // row-major, nodeRows_ × nodeCols_
     std::vector<AxisWeight> rowWeights_;      // per frame row
     std::vector<Range> nodeRowSupport_;       // frame rows where each node row's weight > 0
     std::vector<Range> nodeColSupport_;       // frame cols where each node col's weight > 0
     std::vector<std::vector<float>> colWeight_;  // per node col, weights over its support
+    Mat weighted_[2];  // adjoint's input times the even / odd node columns' weights
 };
 
 /** @brief A bank with one node column (PSF_ROWS, or one kernel): every pixel of a frame row shares

@@ -1,6 +1,7 @@
 // How the frame-rate restoration's cost grows: DynamicDeblurrer with the row-wise model (the
 // PSF_ROWS bank a C270-like camera sees in window III of a 10° saccade, scaled with the image)
-// against image size and iteration count, and the machine's memory bandwidth, which bounds any
+// in its frame-rate setting (5 colour iterations, the rest luminance) against image size and
+// iteration count, and the machine's memory bandwidth, which bounds any
 // restoration that streams its planes from DRAM. scripts/benchmark.py plots these beside the
 // bandwidth line.
 #include <opencv2/dynblur.hpp>
@@ -33,8 +34,9 @@ struct ScaledDeblur
                                                       (height - 1) / 2.0, width, height);
         deblurrer = DynamicDeblurrer::create(plant, camera);
         deblurrer->setPsfModel(PSF_ROWS);
-        RLParams params = deblurrer->getRLParams();  // defaults: 5 colour iterations, damping, TV
+        RLParams params = deblurrer->getRLParams();  // defaults (damping, TV, acceleration) at frame rate:
         params.iterations = iterations;
+        params.colorIterations = 5;
         deblurrer->setRLParams(params);
         frame.create(height, width, CV_32FC3);
         randu(frame, 0.05f, 0.95f);

@@ -13,9 +13,6 @@ public:
     {
         // Webcam frames carry shot and read noise: damp at the frame's own noise level.
         params_.damping = std::numeric_limits<double>::quiet_NaN();
-        /* Colour for the first 5 iterations, luminance after: the quality tests hold their figures
-           (and a colourful scene loses nothing) at under two thirds of full-colour cost. */
-        params_.colorIterations = 5;
         workspace_.persistent = true;
     }
 

@@ -247,6 +247,15 @@ struct Projector
     }
 };
 
+//! Storage for at least n elements of a scratch vector that only grows (its values are not kept).
+template <typename T>
+T* scratch(std::vector<T>& v, size_t n)
+{
+    if (v.size() < n)
+        v.resize(std::max(n, 2 * v.size()));
+    return v.data();
+}
+
 //! One knot interval of a node's path, clipped to the node's exposure: d(s) = (x(s), y(s)),
 //! s ∈ [s0, s1] seconds from the interval's start.
 struct PathPiece
@@ -291,6 +300,19 @@ struct PathPiece
     }
 };
 
+//! Per-thread scratch space of kernel generation (vectors that only grow, see scratch()).
+struct KernelScratch
+{
+    std::vector<Point2d> d, dd;  // a node's path and its rate at the knots
+    std::vector<PathPiece> pieces;
+    std::vector<double> acc;     // the kernel being accumulated
+    std::vector<double> su, sv;  // crossing times of x and of y in a monotonic stretch
+    std::vector<double> tb, tm;  // its pieces' bounds and midpoints,
+    std::vector<double> ub, vb, um, vm;  // the path there,
+    std::vector<int> cx, cy;     // the cell of each piece
+    std::vector<double> wu, wv, wuv;  // and its ∫fu, ∫fv, ∫fu·fv
+};
+
 /** Accumulates the dwell-time-weighted bilinear splat of a path into a (2hy+3)×(2hx+3) buffer whose
 element (hy+1, hx+1) is the kernel's centre: kernel coordinates −hx−1…hx+1 and −hy−1…hy+1, one
 element of margin for round-off that the caller folds back into the border. */
@@ -298,25 +320,23 @@ struct Splatter
 {
     double* acc;
     int stride, hx, hy;
-    std::vector<double>& su;  // scratch: crossing times of x and of y
-    std::vector<double>& sv;
+    KernelScratch& sc;
 
     /** The times in [lo, hi] where a cubic that is monotonic there crosses the integers strictly
     between its values clo = c(lo) and chi = c(hi), increasing. First guess from the inverse
     function's Hermite cubic when the slope at both ends is comparable (the common case), else from
-    the chord; then Newton steps on all crossings together (independent, so they pipeline) until every
-    crossing is within ~1e-6 px; a crossing still off (next to a turning point) is solved with the
-    safeguarded solver. */
-    static void crossings(const Cubic& c, double lo, double hi, double clo, double chi, std::vector<double>& out)
+    the chord; then, if any crossing is more than 1e-3 px off, Newton steps on all of them together
+    (independent, so they pipeline); a crossing still off (next to a turning point) is solved with
+    the safeguarded solver. */
+    static int crossings(const Cubic& c, double lo, double hi, double clo, double chi, std::vector<double>& out)
     {
         const double dir = chi >= clo ? 1.0 : -1.0;
-        const double first = dir > 0 ? std::floor(clo) + 1 : std::ceil(clo) - 1;
-        const double last = dir > 0 ? std::ceil(chi) - 1 : std::floor(chi) + 1;
+        const double first = dir > 0 ? cvFloor(clo) + 1 : cvCeil(clo) - 1;
+        const double last = dir > 0 ? cvCeil(chi) - 1 : cvFloor(chi) + 1;
         const int count = (int)std::max(0.0, dir * (last - first) + 1);
-        out.resize(count);
         if (count == 0)
-            return;
-        double* s = out.data();
+            return 0;
+        double* s = scratch(out, count);
         const double g0 = dir * c.slope(lo), g1 = dir * c.slope(hi), tiny = 1e-300;
         if (g0 > 0 && g1 > 0 && g0 < 4 * g1 && g1 < 4 * g0)
         {
@@ -330,24 +350,27 @@ struct Splatter
             for (int j = 0; j < count; j++)
                 s[j] = std::min(hi, std::max(lo, lo + (first + dir * j - clo) * scale));
         }
+        // A crossing placed δ px off misplaces a kink of the weights, which costs O(δ²) of the
+        // piece: 1e-3 px is plenty.
+        const double tol = 1e-3;
         for (int it = 0; it < 4; it++)
         {
-            // Newton's error after a step of δ is about |c''|·δ²/2 (pixels)
             double worst = 0;
+            for (int j = 0; j < count; j++)
+                worst = std::max(worst, std::abs(c(s[j]) - (first + dir * j)));
+            if (worst <= tol)
+                return count;
             for (int j = 0; j < count; j++)
             {
                 const double f = c(s[j]) - (first + dir * j);
                 const double g = dir * std::max(dir * c.slope(s[j]), tiny);
-                const double step = f / g, curvature = 2 * c.c2 + 6 * c.c3 * s[j];
-                s[j] = std::min(hi, std::max(lo, s[j] - step));
-                worst = std::max(worst, std::abs(curvature) * step * step);
+                s[j] = std::min(hi, std::max(lo, s[j] - f / g));
             }
-            if (worst <= 1e-6)
-                return;
         }
         for (int j = 0; j < count; j++)
-            if (!(std::abs(c(s[j]) - (first + dir * j)) <= 1e-6))
+            if (!(std::abs(c(s[j]) - (first + dir * j)) <= tol))
                 s[j] = c.solve(first + dir * j, lo, hi);
+        return count;
     }
 
     /** Splat of the piece between cuts i and i+1, where both coordinates are monotonic: split where
@@ -358,66 +381,74 @@ struct Splatter
     {
         const double lo = p.cut[i], hi = p.cut[i + 1];
         const double ulo = p.xc[i], uhi = p.xc[i + 1], vlo = p.yc[i], vhi = p.yc[i + 1];
-        crossings(p.x, lo, hi, ulo, uhi, su);
-        crossings(p.y, lo, hi, vlo, vhi, sv);
-        const double du = uhi >= ulo ? 1.0 : -1.0, dv = vhi >= vlo ? 1.0 : -1.0;
-        double nu = du > 0 ? std::floor(ulo) + 1 : std::ceil(ulo) - 1;  // the next integer each crosses
-        double nv = dv > 0 ? std::floor(vlo) + 1 : std::ceil(vlo) - 1;
-        const int cu = (int)su.size(), cv = (int)sv.size();
+        const int cu = crossings(p.x, lo, hi, ulo, uhi, sc.su), cv = crossings(p.y, lo, hi, vlo, vhi, sc.sv);
+        const double *Su = sc.su.data(), *Sv = sc.sv.data();
+        // Merge the crossings into the pieces' bounds, tracking the cell each piece lies in.
+        const int du = uhi >= ulo ? 1 : -1, dv = vhi >= vlo ? 1 : -1;
+        int iu = du > 0 ? cvFloor(ulo) : cvCeil(ulo) - 1, iv = dv > 0 ? cvFloor(vlo) : cvCeil(vlo) - 1;
+        const int m = cu + cv + 1;  // pieces
+        double* TB = scratch(sc.tb, m + 1);  // bounds
+        double* TM = scratch(sc.tm, m);      // midpoints
+        int* CX = scratch(sc.cx, m);
+        int* CY = scratch(sc.cy, m);
         int ju = 0, jv = 0;
-        double sa = lo, ua = ulo, va = vlo;
-        for (;;)
+        TB[0] = lo;
+        for (int j = 0; j < m; j++)
         {
-            // the next boundary: a crossing of x, of y, or the end; the crossing coordinate is known
-            double sb, ub, vb;
-            const double tu = ju < cu ? su[ju] : hi, tv = jv < cv ? sv[jv] : hi;
-            const bool end = ju == cu && jv == cv;
-            if (end)
+            CX[j] = iu;
+            CY[j] = iv;
+            double next = hi;
+            if (ju < cu && (jv == cv || Su[ju] <= Sv[jv]))
             {
-                sb = hi;
-                ub = uhi;
-                vb = vhi;
+                next = Su[ju++];
+                iu += du;
             }
-            else if (ju < cu && tu <= tv)
+            else if (jv < cv)
             {
-                sb = tu;
-                ub = nu;
-                vb = p.y(sb);
-                nu += du;
-                ju++;
+                next = Sv[jv++];
+                iv += dv;
             }
-            else
-            {
-                sb = tv;
-                ub = p.x(sb);
-                vb = nv;
-                nv += dv;
-                jv++;
-            }
-            sb = std::max(sa, sb);
-            if (sb > sa)
-            {
-                const double sm = 0.5 * (sa + sb), um = p.x(sm), vm = p.y(sm);
-                const int iu = std::min(hx, std::max(-hx - 1, cvFloor(um)));
-                const int iv = std::min(hy, std::max(-hy - 1, cvFloor(vm)));
-                const double w = (sb - sa) * (1.0 / 6.0);
-                const double fu0 = std::min(1.0, std::max(0.0, ua - iu)), fv0 = std::min(1.0, std::max(0.0, va - iv));
-                const double fum = std::min(1.0, std::max(0.0, um - iu)), fvm = std::min(1.0, std::max(0.0, vm - iv));
-                const double fu1 = std::min(1.0, std::max(0.0, ub - iu)), fv1 = std::min(1.0, std::max(0.0, vb - iv));
-                // ∫fu, ∫fv, ∫fu·fv and ∫1 over the piece; the four corner weights follow
-                const double Iu = w * (fu0 + 4 * fum + fu1), Iv = w * (fv0 + 4 * fvm + fv1);
-                const double Iuv = w * (fu0 * fv0 + 4 * fum * fvm + fu1 * fv1), I = sb - sa;
-                double* r0 = acc + (size_t)(iv + hy + 1) * stride + (iu + hx + 1);
-                r0[0] += I - Iu - Iv + Iuv;
-                r0[1] += Iu - Iuv;
-                r0[stride] += Iv - Iuv;
-                r0[stride + 1] += Iuv;
-            }
-            if (end)
-                break;
-            sa = sb;
-            ua = ub;
-            va = vb;
+            TB[j + 1] = std::max(TB[j], next);
+            TM[j] = 0.5 * (TB[j] + TB[j + 1]);
+        }
+        // The path at every bound and midpoint (local copies of the cubics: the stores cannot
+        // alias them, so the loops vectorise).
+        double *UB = scratch(sc.ub, m + 1), *VB = scratch(sc.vb, m + 1), *UM = scratch(sc.um, m), *VM = scratch(sc.vm, m);
+        const Cubic X = p.x, Y = p.y;
+        for (int j = 0; j <= m; j++)
+        {
+            UB[j] = X(TB[j]);
+            VB[j] = Y(TB[j]);
+        }
+        for (int j = 0; j < m; j++)
+        {
+            UM[j] = X(TM[j]);
+            VM[j] = Y(TM[j]);
+        }
+        // Simpson's rule per piece for ∫fu, ∫fv and ∫fu·fv, with fu = u − cx and fv = v − cy the
+        // position in the piece's cell (within [0, 1] but for the crossings' 1e-3 px tolerance,
+        // whose O(δ²) effect the linear extension keeps; no clamp, so that the loop vectorises).
+        double *Wu = scratch(sc.wu, m), *Wv = scratch(sc.wv, m), *Wuv = scratch(sc.wuv, m);
+        for (int j = 0; j < m; j++)
+        {
+            const double x = CX[j], y = CY[j];
+            const double fu0 = UB[j] - x, fum = UM[j] - x, fu1 = UB[j + 1] - x;
+            const double fv0 = VB[j] - y, fvm = VM[j] - y, fv1 = VB[j + 1] - y;
+            const double w = (TB[j + 1] - TB[j]) * (1.0 / 6.0);
+            Wu[j] = w * (fu0 + 4 * fum + fu1);
+            Wv[j] = w * (fv0 + 4 * fvm + fv1);
+            Wuv[j] = w * (fu0 * fv0 + 4 * fum * fvm + fu1 * fv1);
+        }
+        // the four corner weights of each piece: ∫(1−fu)(1−fv), ∫fu(1−fv), ∫(1−fu)fv, ∫fu·fv
+        for (int j = 0; j < m; j++)
+        {
+            const int x = std::min(hx, std::max(-hx - 1, CX[j])), y = std::min(hy, std::max(-hy - 1, CY[j]));
+            const double I = TB[j + 1] - TB[j];
+            double* r0 = acc + (size_t)(y + hy + 1) * stride + (x + hx + 1);
+            r0[0] += I - Wu[j] - Wv[j] + Wuv[j];
+            r0[1] += Wu[j] - Wuv[j];
+            r0[stride] += Wv[j] - Wuv[j];
+            r0[stride + 1] += Wuv[j];
         }
     }
 
@@ -447,14 +478,6 @@ struct Node
     Point2d pixel;   // where the kernel is evaluated, pixels
     double tStart;   // its row's exposure interval, seconds
     double tEnd;
-};
-
-//! Per-thread scratch space of kernel generation.
-struct KernelScratch
-{
-    std::vector<Point2d> d, dd;    // path and its rate at the node's knots
-    std::vector<PathPiece> pieces;
-    std::vector<double> acc, su, sv;
 };
 
 class PsfGeneratorImpl CV_FINAL : public PsfGenerator
@@ -649,7 +672,7 @@ void PsfGeneratorImpl::kernel(const Trajectory& tr, const Projector& pr, const N
     // normalised to sum 1.
     const int stride = kw + 2;
     sc.acc.assign((size_t)stride * (kh + 2), 0.0);
-    Splatter sp{sc.acc.data(), stride, hx, hy, sc.su, sc.sv};
+    Splatter sp{sc.acc.data(), stride, hx, hy, sc};
     if (sc.pieces.empty())
         sp.point(p0.x - shift.x, p0.y - shift.y);
     else
@@ -669,14 +692,18 @@ void PsfGeneratorImpl::kernel(const Trajectory& tr, const Projector& pr, const N
         A[stride + x] += A[x];
         A[(size_t)kh * stride + x] += A[(size_t)(kh + 1) * stride + x];
     }
+    // A weight that is zero but for round-off, or for the crossings' tolerance (see monotone()),
+    // can come out slightly negative (≥ −1e-5 of the kernel): it is zero.
     double total = 0;
     for (int y = 1; y <= kh; y++)
+    {
+        double* row = A + (size_t)y * stride;
         for (int x = 1; x <= kw; x++)
         {
-            double& v = A[(size_t)y * stride + x];
-            v = std::max(0.0, v);  // a weight that is zero but for round-off (−1e-17) must not be negative
-            total += v;
+            row[x] = row[x] > 0 ? row[x] : 0.0;
+            total += row[x];
         }
+    }
     k.create(kh, kw, CV_32F);
     const double scale = 1.0 / total;
     for (int y = 0; y < kh; y++)

@@ -2,6 +2,8 @@
 // timing (seed equations 4–7, generalised to rolling shutters and to column variation).
 #include "precomp.hpp"
 
+#include <cstring>
+
 namespace cv {
 namespace dynblur {
 
@@ -247,15 +249,6 @@ struct Projector
     }
 };
 
-//! Storage for at least n elements of a scratch vector that only grows (its values are not kept).
-template <typename T>
-T* scratch(std::vector<T>& v, size_t n)
-{
-    if (v.size() < n)
-        v.resize(std::max(n, 2 * v.size()));
-    return v.data();
-}
-
 //! One knot interval of a node's path, clipped to the node's exposure: d(s) = (x(s), y(s)),
 //! s ∈ [s0, s1] seconds from the interval's start.
 struct PathPiece
@@ -300,77 +293,88 @@ struct PathPiece
     }
 };
 
-//! Per-thread scratch space of kernel generation (vectors that only grow, see scratch()).
+//! Per-thread scratch space of kernel generation.
 struct KernelScratch
 {
     std::vector<Point2d> d, dd;  // a node's path and its rate at the knots
     std::vector<PathPiece> pieces;
     std::vector<double> acc;     // the kernel being accumulated
-    std::vector<double> su, sv;  // crossing times of x and of y in a monotonic stretch
-    std::vector<double> tb, tm;  // its pieces' bounds and midpoints,
-    std::vector<double> ub, vb, um, vm;  // the path there,
-    std::vector<int> cx, cy;     // the cell of each piece
-    std::vector<double> wu, wv, wuv;  // and its ∫fu, ∫fv, ∫fu·fv
 };
 
-/** Accumulates the dwell-time-weighted bilinear splat of a path into a (2hy+3)×(2hx+3) buffer whose
-element (hy+1, hx+1) is the kernel's centre: kernel coordinates −hx−1…hx+1 and −hy−1…hy+1, one
-element of margin for round-off that the caller folds back into the border. */
+/** The integers a cubic crosses on [lo, hi], where it is monotonic, one after the other: `time` is
+when it crosses `target` (+∞ when no integer is left before hi). First guess from the inverse
+function's Hermite cubic when the slope at both ends is comparable (the common case), else from the
+chord; Newton steps only when the guess is more than 1e-3 px off (a crossing placed δ px off
+misplaces a kink of the bilinear weights, which costs O(δ²) of the piece), the safeguarded solver
+when those do not get there (next to a turning point). */
+struct Crossings
+{
+    const Cubic& c;
+    double lo, hi, clo, chi, dir, target, last, time;
+    bool inverseGuess;
+    Cubic inverse;  // s(value − clo) when inverseGuess
+    double scale;   // else (hi − lo) / (chi − clo)
+
+    Crossings(const Cubic& c_, double lo_, double hi_, double clo_, double chi_)
+        : c(c_), lo(lo_), hi(hi_), clo(clo_), chi(chi_), dir(chi_ >= clo_ ? 1.0 : -1.0),
+          target(dir > 0 ? cvFloor(clo_) + 1 : cvCeil(clo_) - 1), last(dir > 0 ? cvCeil(chi_) - 1 : cvFloor(chi_) + 1),
+          time(0), inverseGuess(false), inverse(), scale(0)
+    {
+        if (dir * (last - target) < 0)
+        {
+            time = std::numeric_limits<double>::infinity();
+            return;
+        }
+        const double g0 = dir * c.slope(lo), g1 = dir * c.slope(hi);
+        inverseGuess = g0 > 0 && g1 > 0 && g0 < 4 * g1 && g1 < 4 * g0;
+        if (inverseGuess)
+            inverse = Cubic::hermite(lo, dir / g0, hi, dir / g1, chi - clo);
+        else
+            scale = (hi - lo) / (chi - clo);
+        time = solve();
+    }
+    //! On to the next integer.
+    void advance()
+    {
+        target += dir;
+        time = dir * (last - target) < 0 ? std::numeric_limits<double>::infinity() : solve();
+    }
+    double solve() const
+    {
+        const double tol = 1e-3;
+        double s = inverseGuess ? inverse(target - clo) : lo + (target - clo) * scale;
+        s = std::min(hi, std::max(lo, s));
+        for (int it = 0; it < 4; it++)
+        {
+            const double f = c(s) - target;
+            if (std::abs(f) <= tol)
+                return s;
+            const double g = dir * std::max(dir * c.slope(s), 1e-300);
+            s = std::min(hi, std::max(lo, s - f / g));
+        }
+        return std::abs(c(s) - target) <= tol ? s : c.solve(target, lo, hi);
+    }
+};
+
+/** Accumulates the dwell-time-weighted bilinear splat of a path into a (2hy+3)×(2hx+1) buffer whose
+element (hy+1, hx) is the kernel's centre: kernel rows −hy−1…hy+1, one of margin each side for
+round-off that the caller folds back into the border; a corner beyond the columns −hx…hx (round-off
+too) goes to the border column, as a clamp of the path would. */
 struct Splatter
 {
     double* acc;
-    int stride, hx, hy;
-    KernelScratch& sc;
+    int stride, hx, hy;  // stride = 2hx + 1
 
-    /** The times in [lo, hi] where a cubic that is monotonic there crosses the integers strictly
-    between its values clo = c(lo) and chi = c(hi), increasing. First guess from the inverse
-    function's Hermite cubic when the slope at both ends is comparable (the common case), else from
-    the chord; then, if any crossing is more than 1e-3 px off, Newton steps on all of them together
-    (independent, so they pipeline); a crossing still off (next to a turning point) is solved with
-    the safeguarded solver. */
-    static int crossings(const Cubic& c, double lo, double hi, double clo, double chi, std::vector<double>& out)
+    //! Adds the corner weights of cell (iu, iv): (iu, iv), (iu+1, iv), (iu, iv+1), (iu+1, iv+1).
+    void add(int iu, int iv, double a00, double a01, double a10, double a11)
     {
-        const double dir = chi >= clo ? 1.0 : -1.0;
-        const double first = dir > 0 ? cvFloor(clo) + 1 : cvCeil(clo) - 1;
-        const double last = dir > 0 ? cvCeil(chi) - 1 : cvFloor(chi) + 1;
-        const int count = (int)std::max(0.0, dir * (last - first) + 1);
-        if (count == 0)
-            return 0;
-        double* s = scratch(out, count);
-        const double g0 = dir * c.slope(lo), g1 = dir * c.slope(hi), tiny = 1e-300;
-        if (g0 > 0 && g1 > 0 && g0 < 4 * g1 && g1 < 4 * g0)
-        {
-            const Cubic inverse = Cubic::hermite(lo, dir / g0, hi, dir / g1, chi - clo);
-            for (int j = 0; j < count; j++)
-                s[j] = std::min(hi, std::max(lo, inverse(first + dir * j - clo)));
-        }
-        else
-        {
-            const double scale = (hi - lo) / (chi - clo);
-            for (int j = 0; j < count; j++)
-                s[j] = std::min(hi, std::max(lo, lo + (first + dir * j - clo) * scale));
-        }
-        // A crossing placed δ px off misplaces a kink of the weights, which costs O(δ²) of the
-        // piece: 1e-3 px is plenty.
-        const double tol = 1e-3;
-        for (int it = 0; it < 4; it++)
-        {
-            double worst = 0;
-            for (int j = 0; j < count; j++)
-                worst = std::max(worst, std::abs(c(s[j]) - (first + dir * j)));
-            if (worst <= tol)
-                return count;
-            for (int j = 0; j < count; j++)
-            {
-                const double f = c(s[j]) - (first + dir * j);
-                const double g = dir * std::max(dir * c.slope(s[j]), tiny);
-                s[j] = std::min(hi, std::max(lo, s[j] - f / g));
-            }
-        }
-        for (int j = 0; j < count; j++)
-            if (!(std::abs(c(s[j]) - (first + dir * j)) <= tol))
-                s[j] = c.solve(first + dir * j, lo, hi);
-        return count;
+        const int y = std::min(hy, std::max(-hy - 1, iv));
+        const int x0 = std::min(hx, std::max(-hx, iu)) + hx, x1 = std::min(hx, std::max(-hx, iu + 1)) + hx;
+        double* r0 = acc + (size_t)(y + hy + 1) * stride;
+        r0[x0] += a00;
+        r0[x1] += a01;
+        r0[stride + x0] += a10;
+        r0[stride + x1] += a11;
     }
 
     /** Splat of the piece between cuts i and i+1, where both coordinates are monotonic: split where
@@ -380,75 +384,43 @@ struct Splatter
     void monotone(const PathPiece& p, int i)
     {
         const double lo = p.cut[i], hi = p.cut[i + 1];
-        const double ulo = p.xc[i], uhi = p.xc[i + 1], vlo = p.yc[i], vhi = p.yc[i + 1];
-        const int cu = crossings(p.x, lo, hi, ulo, uhi, sc.su), cv = crossings(p.y, lo, hi, vlo, vhi, sc.sv);
-        const double *Su = sc.su.data(), *Sv = sc.sv.data();
-        // Merge the crossings into the pieces' bounds, tracking the cell each piece lies in.
-        const int du = uhi >= ulo ? 1 : -1, dv = vhi >= vlo ? 1 : -1;
-        int iu = du > 0 ? cvFloor(ulo) : cvCeil(ulo) - 1, iv = dv > 0 ? cvFloor(vlo) : cvCeil(vlo) - 1;
-        const int m = cu + cv + 1;  // pieces
-        double* TB = scratch(sc.tb, m + 1);  // bounds
-        double* TM = scratch(sc.tm, m);      // midpoints
-        int* CX = scratch(sc.cx, m);
-        int* CY = scratch(sc.cy, m);
-        int ju = 0, jv = 0;
-        TB[0] = lo;
-        for (int j = 0; j < m; j++)
-        {
-            CX[j] = iu;
-            CY[j] = iv;
-            double next = hi;
-            if (ju < cu && (jv == cv || Su[ju] <= Sv[jv]))
-            {
-                next = Su[ju++];
-                iu += du;
-            }
-            else if (jv < cv)
-            {
-                next = Sv[jv++];
-                iv += dv;
-            }
-            TB[j + 1] = std::max(TB[j], next);
-            TM[j] = 0.5 * (TB[j] + TB[j + 1]);
-        }
-        // The path at every bound and midpoint (local copies of the cubics: the stores cannot
-        // alias them, so the loops vectorise).
-        double *UB = scratch(sc.ub, m + 1), *VB = scratch(sc.vb, m + 1), *UM = scratch(sc.um, m), *VM = scratch(sc.vm, m);
         const Cubic X = p.x, Y = p.y;
-        for (int j = 0; j <= m; j++)
+        Crossings cu(X, lo, hi, p.xc[i], p.xc[i + 1]), cv(Y, lo, hi, p.yc[i], p.yc[i + 1]);
+        // the cell each piece lies in, tracked from crossing to crossing
+        const int du = (int)cu.dir, dv = (int)cv.dir;
+        int iu = du > 0 ? cvFloor(cu.clo) : cvCeil(cu.clo) - 1, iv = dv > 0 ? cvFloor(cv.clo) : cvCeil(cv.clo) - 1;
+        double sa = lo, ua = cu.clo, va = cv.clo;
+        for (;;)
         {
-            UB[j] = X(TB[j]);
-            VB[j] = Y(TB[j]);
-        }
-        for (int j = 0; j < m; j++)
-        {
-            UM[j] = X(TM[j]);
-            VM[j] = Y(TM[j]);
-        }
-        // Simpson's rule per piece for ∫fu, ∫fv and ∫fu·fv, with fu = u − cx and fv = v − cy the
-        // position in the piece's cell (within [0, 1] but for the crossings' 1e-3 px tolerance,
-        // whose O(δ²) effect the linear extension keeps; no clamp, so that the loop vectorises).
-        double *Wu = scratch(sc.wu, m), *Wv = scratch(sc.wv, m), *Wuv = scratch(sc.wuv, m);
-        for (int j = 0; j < m; j++)
-        {
-            const double x = CX[j], y = CY[j];
-            const double fu0 = UB[j] - x, fum = UM[j] - x, fu1 = UB[j + 1] - x;
-            const double fv0 = VB[j] - y, fvm = VM[j] - y, fv1 = VB[j + 1] - y;
-            const double w = (TB[j + 1] - TB[j]) * (1.0 / 6.0);
-            Wu[j] = w * (fu0 + 4 * fum + fu1);
-            Wv[j] = w * (fv0 + 4 * fvm + fv1);
-            Wuv[j] = w * (fu0 * fv0 + 4 * fum * fvm + fu1 * fv1);
-        }
-        // the four corner weights of each piece: ∫(1−fu)(1−fv), ∫fu(1−fv), ∫(1−fu)fv, ∫fu·fv
-        for (int j = 0; j < m; j++)
-        {
-            const int x = std::min(hx, std::max(-hx - 1, CX[j])), y = std::min(hy, std::max(-hy - 1, CY[j]));
-            const double I = TB[j + 1] - TB[j];
-            double* r0 = acc + (size_t)(y + hy + 1) * stride + (x + hx + 1);
-            r0[0] += I - Wu[j] - Wv[j] + Wuv[j];
-            r0[1] += Wu[j] - Wuv[j];
-            r0[stride] += Wv[j] - Wuv[j];
-            r0[stride + 1] += Wuv[j];
+            // the piece's end: the next crossing of x or y, or the stretch's end
+            const bool crossU = cu.time <= cv.time && cu.time < hi, crossV = !crossU && cv.time < hi;
+            const double sb = std::max(sa, crossU ? cu.time : crossV ? cv.time : hi);
+            const double ub = crossU || crossV ? X(sb) : cu.chi, vb = crossU || crossV ? Y(sb) : cv.chi;
+            // Simpson's rule for ∫fu, ∫fv and ∫fu·fv, with fu = u − iu and fv = v − iv the position
+            // in the cell (within [0, 1] but for the crossings' tolerance, whose O(δ²) effect the
+            // linear extension keeps); then the four corner weights
+            const double sm = 0.5 * (sa + sb), um = X(sm), vm = Y(sm);
+            const double fu0 = ua - iu, fum = um - iu, fu1 = ub - iu;
+            const double fv0 = va - iv, fvm = vm - iv, fv1 = vb - iv;
+            const double I = sb - sa, w = I * (1.0 / 6.0);
+            const double Iu = w * (fu0 + 4 * fum + fu1), Iv = w * (fv0 + 4 * fvm + fv1);
+            const double Iuv = w * (fu0 * fv0 + 4 * fum * fvm + fu1 * fv1);
+            add(iu, iv, I - Iu - Iv + Iuv, Iu - Iuv, Iv - Iuv, Iuv);
+            if (crossU)
+            {
+                iu += du;
+                cu.advance();
+            }
+            else if (crossV)
+            {
+                iv += dv;
+                cv.advance();
+            }
+            else
+                break;
+            sa = sb;
+            ua = ub;
+            va = vb;
         }
     }
 
@@ -462,14 +434,9 @@ struct Splatter
     //! A single sample (zero exposure): the bilinear splat of one point.
     void point(double u, double v)
     {
-        const int iu = std::min(hx, std::max(-hx - 1, cvFloor(u)));
-        const int iv = std::min(hy, std::max(-hy - 1, cvFloor(v)));
+        const int iu = cvFloor(u), iv = cvFloor(v);
         const double fu = std::min(1.0, std::max(0.0, u - iu)), fv = std::min(1.0, std::max(0.0, v - iv));
-        double* r0 = acc + (size_t)(iv + hy + 1) * stride + (iu + hx + 1);
-        r0[0] += (1 - fu) * (1 - fv);
-        r0[1] += fu * (1 - fv);
-        r0[stride] += (1 - fu) * fv;
-        r0[stride + 1] += fu * fv;
+        add(iu, iv, (1 - fu) * (1 - fv), fu * (1 - fv), (1 - fu) * fv, fu * fv);
     }
 };
 
@@ -670,9 +637,12 @@ void PsfGeneratorImpl::kernel(const Trajectory& tr, const Projector& pr, const N
     // Bilinear splat with dwell-time weights, integrated exactly along the path, in double; then
     // the margin is folded into the border (the clamp of a path touching it) and the kernel
     // normalised to sum 1.
-    const int stride = kw + 2;
-    sc.acc.assign((size_t)stride * (kh + 2), 0.0);
-    Splatter sp{sc.acc.data(), stride, hx, hy, sc};
+    const size_t n = (size_t)kh * kw;
+    if (sc.acc.size() < n + 2 * kw)
+        sc.acc.resize(n + 2 * kw);
+    double* A = sc.acc.data();
+    std::memset(A, 0, (n + 2 * kw) * sizeof(double));
+    Splatter sp{A, kw, hx, hy};
     if (sc.pieces.empty())
         sp.point(p0.x - shift.x, p0.y - shift.y);
     else
@@ -681,38 +651,25 @@ void PsfGeneratorImpl::kernel(const Trajectory& tr, const Projector& pr, const N
             p.translate(-shift.x, -shift.y);
             sp.piece(p);
         }
-    double* A = sc.acc.data();
-    for (int y = 0; y < kh + 2; y++)
+    double* K = A + kw;  // the kernel's rows, contiguous; the margin rows fold into the border ones
+    for (int x = 0; x < kw; x++)
     {
-        A[(size_t)y * stride + 1] += A[(size_t)y * stride];
-        A[(size_t)y * stride + kw] += A[(size_t)y * stride + kw + 1];
-    }
-    for (int x = 1; x <= kw; x++)
-    {
-        A[stride + x] += A[x];
-        A[(size_t)kh * stride + x] += A[(size_t)(kh + 1) * stride + x];
+        K[x] += A[x];
+        K[n - kw + x] += K[n + x];
     }
     // A weight that is zero but for round-off, or for the crossings' tolerance (see monotone()),
     // can come out slightly negative (≥ −1e-5 of the kernel): it is zero.
     double total = 0;
-    for (int y = 1; y <= kh; y++)
+    for (size_t i = 0; i < n; i++)
     {
-        double* row = A + (size_t)y * stride;
-        for (int x = 1; x <= kw; x++)
-        {
-            row[x] = row[x] > 0 ? row[x] : 0.0;
-            total += row[x];
-        }
+        K[i] = K[i] > 0 ? K[i] : 0.0;
+        total += K[i];
     }
     k.create(kh, kw, CV_32F);
     const double scale = 1.0 / total;
-    for (int y = 0; y < kh; y++)
-    {
-        const double* src = A + (size_t)(y + 1) * stride + 1;
-        float* dst = k.ptr<float>(y);
-        for (int x = 0; x < kw; x++)
-            dst[x] = (float)(src[x] * scale);
-    }
+    float* dst = k.ptr<float>();
+    for (size_t i = 0; i < n; i++)
+        dst[i] = (float)(K[i] * scale);
 }
 
 int PsfGeneratorImpl::autoColumns(const Trajectory& tr, const Projector& pr, const RollingShutter& shutter) const
@@ -756,20 +713,22 @@ std::vector<double> PsfGeneratorImpl::autoBands(const Trajectory& tr, const Proj
     const int H = camera_->getImageSize().height;
     const int nc = (int)columns.size();
     std::vector<Point2d> sig((size_t)H * nc * 3);
-    for (int r = 0; r < H; r++)
-    {
-        const double a = shutter.frameStart + r * shutter.lineDelay, b = a + shutter.exposure;
-        const Matx33d R[3] = {tr.rotation(tr.angleAt(a)), tr.rotation(tr.angleAt(0.5 * (a + b))),
-                              tr.rotation(tr.angleAt(b))};
-        for (int c = 0; c < nc; c++)
+    parallel_for_(Range(0, H), [&](const Range& rows) {
+        for (int r = rows.start; r < rows.end; r++)
         {
-            const Point2d p(columns[c], r);
-            const Point2d m = pr.undistort(p);
-            const Point2d dm = pr.distort(m.x, m.y);
-            for (int j = 0; j < 3; j++)
-                sig[((size_t)r * nc + c) * 3 + j] = pr.displacement(m, dm, R[j]);
+            const double a = shutter.frameStart + r * shutter.lineDelay, b = a + shutter.exposure;
+            const Matx33d R[3] = {tr.rotation(tr.angleAt(a)), tr.rotation(tr.angleAt(0.5 * (a + b))),
+                                  tr.rotation(tr.angleAt(b))};
+            for (int c = 0; c < nc; c++)
+            {
+                const Point2d p(columns[c], r);
+                const Point2d m = pr.undistort(p);
+                const Point2d dm = pr.distort(m.x, m.y);
+                for (int j = 0; j < 3; j++)
+                    sig[((size_t)r * nc + c) * 3 + j] = pr.displacement(m, dm, R[j]);
+            }
         }
-    }
+    }, 8);
     std::vector<double> centres;
     int start = 0;
     for (int r = 1; r <= H; r++)
@@ -854,6 +813,7 @@ PsfBank PsfGeneratorImpl::generate(int model, const SwitchSchedule& schedule, co
     const int nx = (int)bank.nodeCols.size(), n = (int)(bank.nodeRows.size() * nx);
     bank.kernels.resize(n);
     bank.shifts.resize(n);
+    // Stripes of many kernels (one scratch space each), enough of them to balance the threads.
     parallel_for_(Range(0, n), [&](const Range& range) {
         KernelScratch scratch;
         for (int i = range.start; i < range.end; i++)
@@ -864,7 +824,7 @@ PsfBank PsfGeneratorImpl::generate(int model, const SwitchSchedule& schedule, co
             node.tEnd = node.tStart + shutter.exposure;
             kernel(tr, pr, node, scratch, bank.kernels[i], bank.shifts[i]);
         }
-    });
+    }, std::min(n, 64));
     return bank;
 }
 

@@ -13,7 +13,7 @@
 // The same over Modbus RTU on a pseudo-terminal, shorter. Size: DYNBLUR_SOAK_CYCLES (TCP, default
 // 2000), DYNBLUR_SOAK_RTU_CYCLES (default 300), DYNBLUR_SOAK_SEED (default 9), DYNBLUR_SOAK_RATE
 // (faults per request, default 0.01), DYNBLUR_SOAK_TIMEOUT_MS (response timeout, default 50 TCP,
-// 100 RTU; delay faults are 1.25 times it).
+// 100 RTU; delay faults are 50 ms longer).
 #include "actuator_sim.hpp"
 
 #include <gtest/gtest.h>
@@ -110,7 +110,7 @@ bool startedSchedule(const SimStartRecord& r, const SwitchSchedule& s)
 struct SoakFigures
 {
     int cycles = 0, cleanCycles = 0, cyclesWithFaults = 0, failedCycles = 0;
-    int callsThrew = 0, recoveryCalls = 0, absorbedByRetry = 0;
+    int callsThrew = 0, recoveryCalls = 0, absorbedByRetry = 0, lateRepliesAccepted = 0;
     int faultsInCallsThatThrew = 0, faultsInRecovery = 0, unreportedFaults = 0;
     int starts = 0, partialStarts = 0, doubleStarts = 0, startsWithoutSuccess = 0, spuriousErrors = 0;
     int notSafeAfterCycle = 0, refusedStartAfterFailedUpload = 0;
@@ -279,6 +279,7 @@ private:
         const SimFaultCounts after = sim_.faultCounts();
         const int faults = after.total - before.total;
         const int retriable = after.retriableOnReads - before.retriableOnReads;
+        const int delays = after.byKind[SIM_FAULT_DELAY] - before.byKind[SIM_FAULT_DELAY];
         if (faults == 0)
             return;
         if (retries_ > 0 && faults == retriable)
@@ -286,7 +287,17 @@ private:
             fig_.absorbedByRetry += faults;  // transport faults on reads, retried by the bus
             return;
         }
-        fig_.unreportedFaults += faults - (retries_ > 0 ? retriable : 0);
+        if (faults == delays)
+        {
+            // A reply delayed beyond the timeout, yet accepted: libmodbus times its wait from the moment
+            // it starts waiting, so a host thread that was not scheduled for (delay - timeout) after
+            // sending receives the reply in time. Only a loaded machine does that; counted, bounded.
+            fig_.lateRepliesAccepted += faults;
+            return;
+        }
+        const int absorbed = retries_ > 0 ? retriable : 0;
+        fig_.absorbedByRetry += absorbed;
+        fig_.unreportedFaults += faults - absorbed;
         ADD_FAILURE() << what << "() succeeded although " << faults << " fault(s) were injected into it ("
                       << retriable << " on reads, retries = " << retries_ << ")";
     }
@@ -357,7 +368,9 @@ void soak(bool tcp, int defaultCycles, double defaultTimeoutMs)
     SimFaults faults;
     faults.randomRate = rate;
     faults.randomSeed = seed;
-    faults.randomDelayMs = (int)std::lround(1.25 * timeout * 1e3);  // beyond the timeout, within twice it
+    // Delay faults: 50 ms beyond the timeout (room for the host thread's scheduling), within twice it
+    // on RTU (where ActuatorBus discards a reply up to twice the timeout late).
+    faults.randomDelayMs = (int)std::lround(timeout * 1e3 + 50);
     sim.setFaults(faults);
 
     std::mt19937 rng(seed);
@@ -398,8 +411,9 @@ void soak(bool tcp, int defaultCycles, double defaultTimeoutMs)
     for (int k = 0; k < SIM_FAULT_KINDS; ++k)
         std::printf(" %s %d%s", simFaultName(k), counts.byKind[k], k + 1 < SIM_FAULT_KINDS ? "," : "\n");
     std::printf("[ measured ] %s: %d in calls that threw, %d met while recovering, %d absorbed by retried reads "
-                "(retries 2 blocks), %d unreported\n",
-                name, fig.faultsInCallsThatThrew, fig.faultsInRecovery, fig.absorbedByRetry, fig.unreportedFaults);
+                "(retries 2 blocks), %d delayed replies accepted in time (a host thread late to wait), %d unreported\n",
+                name, fig.faultsInCallsThatThrew, fig.faultsInRecovery, fig.absorbedByRetry, fig.lateRepliesAccepted,
+                fig.unreportedFaults);
     std::printf("[ measured ] %s: cycles clean %d, with faults %d, failed %d; calls that threw %d (%d without a "
                 "fault: late replies); recovery calls %d; fault-free cycles right after a failed one: %d worked, "
                 "%d failed\n",
@@ -419,7 +433,8 @@ void soak(bool tcp, int defaultCycles, double defaultTimeoutMs)
     EXPECT_EQ(fig.unreportedFaults, 0);
     EXPECT_EQ(fig.notSafeAfterCycle, 0);
     EXPECT_LE(fig.failedAfterFailure, fig.spuriousErrors) << "the driver does not recover after an error";
-    EXPECT_EQ(counts.total, fig.faultsInCallsThatThrew + fig.faultsInRecovery + fig.absorbedByRetry + fig.unreportedFaults)
+    EXPECT_EQ(counts.total, fig.faultsInCallsThatThrew + fig.faultsInRecovery + fig.absorbedByRetry +
+                                fig.lateRepliesAccepted + fig.unreportedFaults)
         << "every injected fault is accounted for";
     if (cycles >= 1000)
     {
@@ -428,7 +443,9 @@ void soak(bool tcp, int defaultCycles, double defaultTimeoutMs)
             EXPECT_GT(counts.byKind[k], 0) << simFaultName(k);
         EXPECT_GT(fig.starts, cycles / 2);
     }
-    // Spurious errors (a reply later than the timeout without a fault) are tolerated when rare.
+    // A loaded machine bends the timing both ways: a reply later than the timeout without a fault,
+    // a delayed reply the host still waited for. Tolerated when rare.
+    EXPECT_LE(fig.lateRepliesAccepted, std::max(2, counts.byKind[SIM_FAULT_DELAY] / 20));
     EXPECT_LE(fig.spuriousErrors, std::max(2, cycles / 100));
     EXPECT_EQ(fdsEnd, fdsWarm) << "file descriptors leak";
     EXPECT_LT(rssEnd - rssWarm, 2.0) << "resident memory grows (MiB)";

@@ -68,11 +68,16 @@ public:
         else
             cam.initPersProjWithoutDistortion(fx_, fy_, cx_, cy_);
         // vpXmlParserCamera appends to an existing file and refuses a duplicate camera:
-        // CameraModel::save overwrites, like every OpenCV writer.
+        // CameraModel::save overwrites, like every OpenCV writer. It also reports success when it
+        // cannot write the file at all (a missing folder): check that it can be created first.
+        std::remove(filename.c_str());
+        if (!std::ofstream(filename))
+            CV_Error(Error::StsError, "CameraModel::save: cannot write '" + filename + "'");
         std::remove(filename.c_str());
         vpXmlParserCamera parser;
         if (parser.save(cam, filename, cameraName, (unsigned)size_.width, (unsigned)size_.height) !=
-            vpXmlParserCamera::SEQUENCE_OK)
+                vpXmlParserCamera::SEQUENCE_OK ||
+            !std::ifstream(filename))
             CV_Error(Error::StsError, "CameraModel::save: ViSP could not write camera '" + cameraName + "' to '" +
                                           filename + "'");
     }

@@ -35,6 +35,8 @@ int SwitchSchedule::finalLevel() const
 
 int SwitchSchedule::levelAt(double t) const
 {
+    if (!std::isfinite(t))
+        CV_Error(Error::StsBadArg, format("SwitchSchedule::levelAt: t = %g must be finite (seconds)", t));
     // Level i holds on [times[i], times[i+1]): the last switch at or before t wins.
     const auto after = std::upper_bound(times.begin(), times.end(), t);
     const size_t switched = static_cast<size_t>(after - times.begin());

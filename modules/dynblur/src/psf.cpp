@@ -2,6 +2,8 @@
 // timing (seed equations 4–7, generalised to rolling shutters and to column variation).
 #include "precomp.hpp"
 
+#include <cstring>
+
 namespace cv {
 namespace dynblur {
 
@@ -291,63 +293,88 @@ struct PathPiece
     }
 };
 
-/** Accumulates the dwell-time-weighted bilinear splat of a path into a (2hy+3)×(2hx+3) buffer whose
-element (hy+1, hx+1) is the kernel's centre: kernel coordinates −hx−1…hx+1 and −hy−1…hy+1, one
-element of margin for round-off that the caller folds back into the border. */
+//! Per-thread scratch space of kernel generation.
+struct KernelScratch
+{
+    std::vector<Point2d> d, dd;  // a node's path and its rate at the knots
+    std::vector<PathPiece> pieces;
+    std::vector<double> acc;     // the kernel being accumulated
+};
+
+/** The integers a cubic crosses on [lo, hi], where it is monotonic, one after the other: `time` is
+when it crosses `target` (+∞ when no integer is left before hi). First guess from the inverse
+function's Hermite cubic when the slope at both ends is comparable (the common case), else from the
+chord; Newton steps only when the guess is more than 1e-3 px off (a crossing placed δ px off
+misplaces a kink of the bilinear weights, which costs O(δ²) of the piece), the safeguarded solver
+when those do not get there (next to a turning point). */
+struct Crossings
+{
+    const Cubic& c;
+    double lo, hi, clo, chi, dir, target, last, time;
+    bool inverseGuess;
+    Cubic inverse;  // s(value − clo) when inverseGuess
+    double scale;   // else (hi − lo) / (chi − clo)
+
+    Crossings(const Cubic& c_, double lo_, double hi_, double clo_, double chi_)
+        : c(c_), lo(lo_), hi(hi_), clo(clo_), chi(chi_), dir(chi_ >= clo_ ? 1.0 : -1.0),
+          target(dir > 0 ? cvFloor(clo_) + 1 : cvCeil(clo_) - 1), last(dir > 0 ? cvCeil(chi_) - 1 : cvFloor(chi_) + 1),
+          time(0), inverseGuess(false), inverse(), scale(0)
+    {
+        if (dir * (last - target) < 0)
+        {
+            time = std::numeric_limits<double>::infinity();
+            return;
+        }
+        const double g0 = dir * c.slope(lo), g1 = dir * c.slope(hi);
+        inverseGuess = g0 > 0 && g1 > 0 && g0 < 4 * g1 && g1 < 4 * g0;
+        if (inverseGuess)
+            inverse = Cubic::hermite(lo, dir / g0, hi, dir / g1, chi - clo);
+        else
+            scale = (hi - lo) / (chi - clo);
+        time = solve();
+    }
+    //! On to the next integer.
+    void advance()
+    {
+        target += dir;
+        time = dir * (last - target) < 0 ? std::numeric_limits<double>::infinity() : solve();
+    }
+    double solve() const
+    {
+        const double tol = 1e-3;
+        double s = inverseGuess ? inverse(target - clo) : lo + (target - clo) * scale;
+        s = std::min(hi, std::max(lo, s));
+        for (int it = 0; it < 4; it++)
+        {
+            const double f = c(s) - target;
+            if (std::abs(f) <= tol)
+                return s;
+            const double g = dir * std::max(dir * c.slope(s), 1e-300);
+            s = std::min(hi, std::max(lo, s - f / g));
+        }
+        return std::abs(c(s) - target) <= tol ? s : c.solve(target, lo, hi);
+    }
+};
+
+/** Accumulates the dwell-time-weighted bilinear splat of a path into a (2hy+3)×(2hx+1) buffer whose
+element (hy+1, hx) is the kernel's centre: kernel rows −hy−1…hy+1, one of margin each side for
+round-off that the caller folds back into the border; a corner beyond the columns −hx…hx (round-off
+too) goes to the border column, as a clamp of the path would. */
 struct Splatter
 {
     double* acc;
-    int stride, hx, hy;
-    std::vector<double>& su;  // scratch: crossing times of x and of y
-    std::vector<double>& sv;
+    int stride, hx, hy;  // stride = 2hx + 1
 
-    /** The times in [lo, hi] where a cubic that is monotonic there crosses the integers strictly
-    between its values clo = c(lo) and chi = c(hi), increasing. First guess from the inverse
-    function's Hermite cubic when the slope at both ends is comparable (the common case), else from
-    the chord; then Newton steps on all crossings together (independent, so they pipeline) until every
-    crossing is within ~1e-6 px; a crossing still off (next to a turning point) is solved with the
-    safeguarded solver. */
-    static void crossings(const Cubic& c, double lo, double hi, double clo, double chi, std::vector<double>& out)
+    //! Adds the corner weights of cell (iu, iv): (iu, iv), (iu+1, iv), (iu, iv+1), (iu+1, iv+1).
+    void add(int iu, int iv, double a00, double a01, double a10, double a11)
     {
-        const double dir = chi >= clo ? 1.0 : -1.0;
-        const double first = dir > 0 ? std::floor(clo) + 1 : std::ceil(clo) - 1;
-        const double last = dir > 0 ? std::ceil(chi) - 1 : std::floor(chi) + 1;
-        const int count = (int)std::max(0.0, dir * (last - first) + 1);
-        out.resize(count);
-        if (count == 0)
-            return;
-        double* s = out.data();
-        const double g0 = dir * c.slope(lo), g1 = dir * c.slope(hi), tiny = 1e-300;
-        if (g0 > 0 && g1 > 0 && g0 < 4 * g1 && g1 < 4 * g0)
-        {
-            const Cubic inverse = Cubic::hermite(lo, dir / g0, hi, dir / g1, chi - clo);
-            for (int j = 0; j < count; j++)
-                s[j] = std::min(hi, std::max(lo, inverse(first + dir * j - clo)));
-        }
-        else
-        {
-            const double scale = (hi - lo) / (chi - clo);
-            for (int j = 0; j < count; j++)
-                s[j] = std::min(hi, std::max(lo, lo + (first + dir * j - clo) * scale));
-        }
-        for (int it = 0; it < 4; it++)
-        {
-            // Newton's error after a step of δ is about |c''|·δ²/2 (pixels)
-            double worst = 0;
-            for (int j = 0; j < count; j++)
-            {
-                const double f = c(s[j]) - (first + dir * j);
-                const double g = dir * std::max(dir * c.slope(s[j]), tiny);
-                const double step = f / g, curvature = 2 * c.c2 + 6 * c.c3 * s[j];
-                s[j] = std::min(hi, std::max(lo, s[j] - step));
-                worst = std::max(worst, std::abs(curvature) * step * step);
-            }
-            if (worst <= 1e-6)
-                return;
-        }
-        for (int j = 0; j < count; j++)
-            if (!(std::abs(c(s[j]) - (first + dir * j)) <= 1e-6))
-                s[j] = c.solve(first + dir * j, lo, hi);
+        const int y = std::min(hy, std::max(-hy - 1, iv));
+        const int x0 = std::min(hx, std::max(-hx, iu)) + hx, x1 = std::min(hx, std::max(-hx, iu + 1)) + hx;
+        double* r0 = acc + (size_t)(y + hy + 1) * stride;
+        r0[x0] += a00;
+        r0[x1] += a01;
+        r0[stride + x0] += a10;
+        r0[stride + x1] += a11;
     }
 
     /** Splat of the piece between cuts i and i+1, where both coordinates are monotonic: split where
@@ -357,63 +384,39 @@ struct Splatter
     void monotone(const PathPiece& p, int i)
     {
         const double lo = p.cut[i], hi = p.cut[i + 1];
-        const double ulo = p.xc[i], uhi = p.xc[i + 1], vlo = p.yc[i], vhi = p.yc[i + 1];
-        crossings(p.x, lo, hi, ulo, uhi, su);
-        crossings(p.y, lo, hi, vlo, vhi, sv);
-        const double du = uhi >= ulo ? 1.0 : -1.0, dv = vhi >= vlo ? 1.0 : -1.0;
-        double nu = du > 0 ? std::floor(ulo) + 1 : std::ceil(ulo) - 1;  // the next integer each crosses
-        double nv = dv > 0 ? std::floor(vlo) + 1 : std::ceil(vlo) - 1;
-        const int cu = (int)su.size(), cv = (int)sv.size();
-        int ju = 0, jv = 0;
-        double sa = lo, ua = ulo, va = vlo;
+        const Cubic X = p.x, Y = p.y;
+        Crossings cu(X, lo, hi, p.xc[i], p.xc[i + 1]), cv(Y, lo, hi, p.yc[i], p.yc[i + 1]);
+        // the cell each piece lies in, tracked from crossing to crossing
+        const int du = (int)cu.dir, dv = (int)cv.dir;
+        int iu = du > 0 ? cvFloor(cu.clo) : cvCeil(cu.clo) - 1, iv = dv > 0 ? cvFloor(cv.clo) : cvCeil(cv.clo) - 1;
+        double sa = lo, ua = cu.clo, va = cv.clo;
         for (;;)
         {
-            // the next boundary: a crossing of x, of y, or the end; the crossing coordinate is known
-            double sb, ub, vb;
-            const double tu = ju < cu ? su[ju] : hi, tv = jv < cv ? sv[jv] : hi;
-            const bool end = ju == cu && jv == cv;
-            if (end)
+            // the piece's end: the next crossing of x or y, or the stretch's end
+            const bool crossU = cu.time <= cv.time && cu.time < hi, crossV = !crossU && cv.time < hi;
+            const double sb = std::max(sa, crossU ? cu.time : crossV ? cv.time : hi);
+            const double ub = crossU || crossV ? X(sb) : cu.chi, vb = crossU || crossV ? Y(sb) : cv.chi;
+            // Simpson's rule for ∫fu, ∫fv and ∫fu·fv, with fu = u − iu and fv = v − iv the position
+            // in the cell (within [0, 1] but for the crossings' tolerance, whose O(δ²) effect the
+            // linear extension keeps); then the four corner weights
+            const double sm = 0.5 * (sa + sb), um = X(sm), vm = Y(sm);
+            const double fu0 = ua - iu, fum = um - iu, fu1 = ub - iu;
+            const double fv0 = va - iv, fvm = vm - iv, fv1 = vb - iv;
+            const double I = sb - sa, w = I * (1.0 / 6.0);
+            const double Iu = w * (fu0 + 4 * fum + fu1), Iv = w * (fv0 + 4 * fvm + fv1);
+            const double Iuv = w * (fu0 * fv0 + 4 * fum * fvm + fu1 * fv1);
+            add(iu, iv, I - Iu - Iv + Iuv, Iu - Iuv, Iv - Iuv, Iuv);
+            if (crossU)
             {
-                sb = hi;
-                ub = uhi;
-                vb = vhi;
+                iu += du;
+                cu.advance();
             }
-            else if (ju < cu && tu <= tv)
+            else if (crossV)
             {
-                sb = tu;
-                ub = nu;
-                vb = p.y(sb);
-                nu += du;
-                ju++;
+                iv += dv;
+                cv.advance();
             }
             else
-            {
-                sb = tv;
-                ub = p.x(sb);
-                vb = nv;
-                nv += dv;
-                jv++;
-            }
-            sb = std::max(sa, sb);
-            if (sb > sa)
-            {
-                const double sm = 0.5 * (sa + sb), um = p.x(sm), vm = p.y(sm);
-                const int iu = std::min(hx, std::max(-hx - 1, cvFloor(um)));
-                const int iv = std::min(hy, std::max(-hy - 1, cvFloor(vm)));
-                const double w = (sb - sa) * (1.0 / 6.0);
-                const double fu0 = std::min(1.0, std::max(0.0, ua - iu)), fv0 = std::min(1.0, std::max(0.0, va - iv));
-                const double fum = std::min(1.0, std::max(0.0, um - iu)), fvm = std::min(1.0, std::max(0.0, vm - iv));
-                const double fu1 = std::min(1.0, std::max(0.0, ub - iu)), fv1 = std::min(1.0, std::max(0.0, vb - iv));
-                // ∫fu, ∫fv, ∫fu·fv and ∫1 over the piece; the four corner weights follow
-                const double Iu = w * (fu0 + 4 * fum + fu1), Iv = w * (fv0 + 4 * fvm + fv1);
-                const double Iuv = w * (fu0 * fv0 + 4 * fum * fvm + fu1 * fv1), I = sb - sa;
-                double* r0 = acc + (size_t)(iv + hy + 1) * stride + (iu + hx + 1);
-                r0[0] += I - Iu - Iv + Iuv;
-                r0[1] += Iu - Iuv;
-                r0[stride] += Iv - Iuv;
-                r0[stride + 1] += Iuv;
-            }
-            if (end)
                 break;
             sa = sb;
             ua = ub;
@@ -431,14 +434,9 @@ struct Splatter
     //! A single sample (zero exposure): the bilinear splat of one point.
     void point(double u, double v)
     {
-        const int iu = std::min(hx, std::max(-hx - 1, cvFloor(u)));
-        const int iv = std::min(hy, std::max(-hy - 1, cvFloor(v)));
+        const int iu = cvFloor(u), iv = cvFloor(v);
         const double fu = std::min(1.0, std::max(0.0, u - iu)), fv = std::min(1.0, std::max(0.0, v - iv));
-        double* r0 = acc + (size_t)(iv + hy + 1) * stride + (iu + hx + 1);
-        r0[0] += (1 - fu) * (1 - fv);
-        r0[1] += fu * (1 - fv);
-        r0[stride] += (1 - fu) * fv;
-        r0[stride + 1] += fu * fv;
+        add(iu, iv, (1 - fu) * (1 - fv), fu * (1 - fv), (1 - fu) * fv, fu * fv);
     }
 };
 
@@ -447,14 +445,6 @@ struct Node
     Point2d pixel;   // where the kernel is evaluated, pixels
     double tStart;   // its row's exposure interval, seconds
     double tEnd;
-};
-
-//! Per-thread scratch space of kernel generation.
-struct KernelScratch
-{
-    std::vector<Point2d> d, dd;    // path and its rate at the node's knots
-    std::vector<PathPiece> pieces;
-    std::vector<double> acc, su, sv;
 };
 
 class PsfGeneratorImpl CV_FINAL : public PsfGenerator
@@ -647,9 +637,12 @@ void PsfGeneratorImpl::kernel(const Trajectory& tr, const Projector& pr, const N
     // Bilinear splat with dwell-time weights, integrated exactly along the path, in double; then
     // the margin is folded into the border (the clamp of a path touching it) and the kernel
     // normalised to sum 1.
-    const int stride = kw + 2;
-    sc.acc.assign((size_t)stride * (kh + 2), 0.0);
-    Splatter sp{sc.acc.data(), stride, hx, hy, sc.su, sc.sv};
+    const size_t n = (size_t)kh * kw;
+    if (sc.acc.size() < n + 2 * kw)
+        sc.acc.resize(n + 2 * kw);
+    double* A = sc.acc.data();
+    std::memset(A, 0, (n + 2 * kw) * sizeof(double));
+    Splatter sp{A, kw, hx, hy};
     if (sc.pieces.empty())
         sp.point(p0.x - shift.x, p0.y - shift.y);
     else
@@ -658,34 +651,25 @@ void PsfGeneratorImpl::kernel(const Trajectory& tr, const Projector& pr, const N
             p.translate(-shift.x, -shift.y);
             sp.piece(p);
         }
-    double* A = sc.acc.data();
-    for (int y = 0; y < kh + 2; y++)
+    double* K = A + kw;  // the kernel's rows, contiguous; the margin rows fold into the border ones
+    for (int x = 0; x < kw; x++)
     {
-        A[(size_t)y * stride + 1] += A[(size_t)y * stride];
-        A[(size_t)y * stride + kw] += A[(size_t)y * stride + kw + 1];
+        K[x] += A[x];
+        K[n - kw + x] += K[n + x];
     }
-    for (int x = 1; x <= kw; x++)
-    {
-        A[stride + x] += A[x];
-        A[(size_t)kh * stride + x] += A[(size_t)(kh + 1) * stride + x];
-    }
+    // A weight that is zero but for round-off, or for the crossings' tolerance (see monotone()),
+    // can come out slightly negative (≥ −1e-5 of the kernel): it is zero.
     double total = 0;
-    for (int y = 1; y <= kh; y++)
-        for (int x = 1; x <= kw; x++)
-        {
-            double& v = A[(size_t)y * stride + x];
-            v = std::max(0.0, v);  // a weight that is zero but for round-off (−1e-17) must not be negative
-            total += v;
-        }
+    for (size_t i = 0; i < n; i++)
+    {
+        K[i] = K[i] > 0 ? K[i] : 0.0;
+        total += K[i];
+    }
     k.create(kh, kw, CV_32F);
     const double scale = 1.0 / total;
-    for (int y = 0; y < kh; y++)
-    {
-        const double* src = A + (size_t)(y + 1) * stride + 1;
-        float* dst = k.ptr<float>(y);
-        for (int x = 0; x < kw; x++)
-            dst[x] = (float)(src[x] * scale);
-    }
+    float* dst = k.ptr<float>();
+    for (size_t i = 0; i < n; i++)
+        dst[i] = (float)(K[i] * scale);
 }
 
 int PsfGeneratorImpl::autoColumns(const Trajectory& tr, const Projector& pr, const RollingShutter& shutter) const
@@ -729,20 +713,22 @@ std::vector<double> PsfGeneratorImpl::autoBands(const Trajectory& tr, const Proj
     const int H = camera_->getImageSize().height;
     const int nc = (int)columns.size();
     std::vector<Point2d> sig((size_t)H * nc * 3);
-    for (int r = 0; r < H; r++)
-    {
-        const double a = shutter.frameStart + r * shutter.lineDelay, b = a + shutter.exposure;
-        const Matx33d R[3] = {tr.rotation(tr.angleAt(a)), tr.rotation(tr.angleAt(0.5 * (a + b))),
-                              tr.rotation(tr.angleAt(b))};
-        for (int c = 0; c < nc; c++)
+    parallel_for_(Range(0, H), [&](const Range& rows) {
+        for (int r = rows.start; r < rows.end; r++)
         {
-            const Point2d p(columns[c], r);
-            const Point2d m = pr.undistort(p);
-            const Point2d dm = pr.distort(m.x, m.y);
-            for (int j = 0; j < 3; j++)
-                sig[((size_t)r * nc + c) * 3 + j] = pr.displacement(m, dm, R[j]);
+            const double a = shutter.frameStart + r * shutter.lineDelay, b = a + shutter.exposure;
+            const Matx33d R[3] = {tr.rotation(tr.angleAt(a)), tr.rotation(tr.angleAt(0.5 * (a + b))),
+                                  tr.rotation(tr.angleAt(b))};
+            for (int c = 0; c < nc; c++)
+            {
+                const Point2d p(columns[c], r);
+                const Point2d m = pr.undistort(p);
+                const Point2d dm = pr.distort(m.x, m.y);
+                for (int j = 0; j < 3; j++)
+                    sig[((size_t)r * nc + c) * 3 + j] = pr.displacement(m, dm, R[j]);
+            }
         }
-    }
+    }, 8);
     std::vector<double> centres;
     int start = 0;
     for (int r = 1; r <= H; r++)
@@ -827,6 +813,7 @@ PsfBank PsfGeneratorImpl::generate(int model, const SwitchSchedule& schedule, co
     const int nx = (int)bank.nodeCols.size(), n = (int)(bank.nodeRows.size() * nx);
     bank.kernels.resize(n);
     bank.shifts.resize(n);
+    // Stripes of many kernels (one scratch space each), enough of them to balance the threads.
     parallel_for_(Range(0, n), [&](const Range& range) {
         KernelScratch scratch;
         for (int i = range.start; i < range.end; i++)
@@ -837,7 +824,7 @@ PsfBank PsfGeneratorImpl::generate(int model, const SwitchSchedule& schedule, co
             node.tEnd = node.tStart + shutter.exposure;
             kernel(tr, pr, node, scratch, bank.kernels[i], bank.shifts[i]);
         }
-    });
+    }, std::min(n, 64));
     return bank;
 }
 

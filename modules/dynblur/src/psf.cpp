@@ -99,9 +99,11 @@ struct Cubic
     double c0, c1, c2, c3;
 
     //! The Hermite cubic with values p0, p1 and slopes v0, v1 at s = 0 and s = h.
-    static Cubic hermite(double p0, double v0, double p1, double v1, double h)
+    static Cubic hermite(double p0, double v0, double p1, double v1, double h) { return hermite(p0, v0, p1, v1, h, 1 / h); }
+    //! The same, given ih = 1/h.
+    static Cubic hermite(double p0, double v0, double p1, double v1, double /*h*/, double ih)
     {
-        const double ih = 1.0 / h, slope = (p1 - p0) * ih;
+        const double slope = (p1 - p0) * ih;
         return Cubic{p0, v0, (3 * slope - 2 * v0 - v1) * ih, (v0 + v1 - 2 * slope) * ih * ih};
     }
     double operator()(double s) const { return c0 + s * (c1 + s * (c2 + s * c3)); }
@@ -176,6 +178,7 @@ struct Trajectory
     std::vector<double> angle;  // θ − θ_ref at each knot, radians
     std::vector<double> rate;   // dθ/dt at each knot, rad/s
     std::vector<Matx33d> rot;   // R_axis(angle) at each knot
+    std::vector<double> invStep;  // 1 / (t[k+1] − t[k]), 1/seconds
     Vec3d axis;
 
     Matx33d rotation(double a) const { return axisRotation(axis, a); }
@@ -258,10 +261,11 @@ struct PathPiece
     double cut[6];   // between two cuts both coordinates are monotonic
     double xc[6], yc[6];  // the path at the cuts
 
-    //! The piece over [s0, s1] of the Hermite path with ends d0, d1 and rates v0, v1 over h seconds.
-    PathPiece(const Point2d& d0, const Point2d& v0, const Point2d& d1, const Point2d& v1, double h, double s0,
-              double s1)
-        : x(Cubic::hermite(d0.x, v0.x, d1.x, v1.x, h)), y(Cubic::hermite(d0.y, v0.y, d1.y, v1.y, h)), n(0)
+    //! The piece over [s0, s1] of the Hermite path with ends d0, d1 and rates v0, v1 over h = 1/ih
+    //! seconds.
+    PathPiece(const Point2d& d0, const Point2d& v0, const Point2d& d1, const Point2d& v1, double h, double ih,
+              double s0, double s1)
+        : x(Cubic::hermite(d0.x, v0.x, d1.x, v1.x, h, ih)), y(Cubic::hermite(d0.y, v0.y, d1.y, v1.y, h, ih)), n(0)
     {
         cut[n++] = s0;
         if (s1 > s0)
@@ -275,8 +279,8 @@ struct PathPiece
         }
         for (int i = 0; i < n; i++)
         {
-            xc[i] = x(cut[i]);
-            yc[i] = y(cut[i]);
+            xc[i] = cut[i] == 0 ? d0.x : cut[i] == h ? d1.x : x(cut[i]);
+            yc[i] = cut[i] == 0 ? d0.y : cut[i] == h ? d1.y : y(cut[i]);
         }
     }
     double s0() const { return cut[0]; }
@@ -310,7 +314,7 @@ when those do not get there (next to a turning point). */
 struct Crossings
 {
     const Cubic& c;
-    double lo, hi, clo, chi, dir, target, last, time;
+    double lo, hi, clo, chi, dir, target, last, time, value;  // value: c(time), within 1e-3 of target
     bool inverseGuess;
     Cubic inverse;  // s(value − clo) when inverseGuess
     double scale;   // else (hi − lo) / (chi − clo)
@@ -318,41 +322,51 @@ struct Crossings
     Crossings(const Cubic& c_, double lo_, double hi_, double clo_, double chi_)
         : c(c_), lo(lo_), hi(hi_), clo(clo_), chi(chi_), dir(chi_ >= clo_ ? 1.0 : -1.0),
           target(dir > 0 ? cvFloor(clo_) + 1 : cvCeil(clo_) - 1), last(dir > 0 ? cvCeil(chi_) - 1 : cvFloor(chi_) + 1),
-          time(0), inverseGuess(false), inverse(), scale(0)
+          time(0), value(0), inverseGuess(false), inverse(), scale(0)
     {
         if (dir * (last - target) < 0)
         {
             time = std::numeric_limits<double>::infinity();
             return;
         }
-        const double g0 = dir * c.slope(lo), g1 = dir * c.slope(hi);
+        const double g0 = dir * c.slope(lo), g1 = dir * c.slope(hi), span = chi - clo;
         inverseGuess = g0 > 0 && g1 > 0 && g0 < 4 * g1 && g1 < 4 * g0;
         if (inverseGuess)
-            inverse = Cubic::hermite(lo, dir / g0, hi, dir / g1, chi - clo);
+        {
+            const double r = 1 / (g0 * g1 * span);  // one division for 1/g0, 1/g1 and 1/span
+            inverse = Cubic::hermite(lo, dir * g1 * span * r, hi, dir * g0 * span * r, span, g0 * g1 * r);
+        }
         else
-            scale = (hi - lo) / (chi - clo);
-        time = solve();
+            scale = (hi - lo) / span;
+        time = solve(value);
     }
     //! On to the next integer.
     void advance()
     {
         target += dir;
-        time = dir * (last - target) < 0 ? std::numeric_limits<double>::infinity() : solve();
+        time = dir * (last - target) < 0 ? std::numeric_limits<double>::infinity() : solve(value);
     }
-    double solve() const
+    double solve(double& at) const
     {
         const double tol = 1e-3;
         double s = inverseGuess ? inverse(target - clo) : lo + (target - clo) * scale;
         s = std::min(hi, std::max(lo, s));
         for (int it = 0; it < 4; it++)
         {
-            const double f = c(s) - target;
+            at = c(s);
+            const double f = at - target;
             if (std::abs(f) <= tol)
                 return s;
             const double g = dir * std::max(dir * c.slope(s), 1e-300);
             s = std::min(hi, std::max(lo, s - f / g));
         }
-        return std::abs(c(s) - target) <= tol ? s : c.solve(target, lo, hi);
+        at = c(s);
+        if (!(std::abs(at - target) <= tol))
+        {
+            s = c.solve(target, lo, hi);
+            at = c(s);
+        }
+        return s;
     }
 };
 
@@ -395,7 +409,8 @@ struct Splatter
             // the piece's end: the next crossing of x or y, or the stretch's end
             const bool crossU = cu.time <= cv.time && cu.time < hi, crossV = !crossU && cv.time < hi;
             const double sb = std::max(sa, crossU ? cu.time : crossV ? cv.time : hi);
-            const double ub = crossU || crossV ? X(sb) : cu.chi, vb = crossU || crossV ? Y(sb) : cv.chi;
+            const double ub = crossU ? cu.value : crossV ? X(sb) : cu.chi;
+            const double vb = crossV ? cv.value : crossU ? Y(sb) : cv.chi;
             // Simpson's rule for ∫fu, ∫fv and ∫fu·fv, with fu = u − iu and fv = v − iv the position
             // in the cell (within [0, 1] but for the crossings' tolerance, whose O(δ²) effect the
             // linear extension keeps); then the four corner weights
@@ -563,8 +578,12 @@ Trajectory PsfGeneratorImpl::trajectory(const SwitchSchedule& schedule, const Ro
         step *= 0.5 * kMaxKnotAngleStep / largestStep;
     }
     tr.rot.resize(tr.t.size());
+    tr.invStep.resize(tr.t.size());
     for (size_t i = 0; i < tr.t.size(); i++)
+    {
         tr.rot[i] = tr.rotation(tr.angle[i]);
+        tr.invStep[i] = i + 1 < tr.t.size() ? 1 / (tr.t[i + 1] - tr.t[i]) : 0.0;
+    }
     return tr;
 }
 
@@ -591,8 +610,8 @@ void PsfGeneratorImpl::kernel(const Trajectory& tr, const Projector& pr, const N
         const double h = tr.t[i + 1] - tr.t[i];
         const double s0 = std::max(0.0, a - tr.t[i]), s1 = std::min(h, b - tr.t[i]);
         if (sc.pieces.empty() || s1 > s0)
-            sc.pieces.emplace_back(sc.d[i - ka], sc.dd[i - ka], sc.d[i + 1 - ka], sc.dd[i + 1 - ka], h, s0,
-                                   std::max(s0, s1));
+            sc.pieces.emplace_back(sc.d[i - ka], sc.dd[i - ka], sc.d[i + 1 - ka], sc.dd[i + 1 - ka], h, tr.invStep[i],
+                                   s0, std::max(s0, s1));
     }
     // The path's start (the whole path when the exposure is zero).
     const Point2d p0 = sc.pieces.empty() ? sc.d[0] : Point2d(sc.pieces[0].xc[0], sc.pieces[0].yc[0]);

@@ -14,7 +14,7 @@
 //     G = N_nodes / min max(k). For plain RL with the zero boundary the bound is a theorem:
 //     x_j ← x_j Σ_u k(u) b_{j+u} / (k⊛x)_{j+u} ≤ Σ_{k(u)>0} b_{j+u} since (k⊛x)_{j+u} ≥ k(u) x_j.
 //     plain RL (no acceleration, no damping);  0 ≤ out ≤ 2 · M · G  accelerated or damped (the
-//     extrapolation may overshoot; measured worst 1.61 · M · G).
+//     extrapolation may overshoot: 1.61 · M · G measured before the projected RL, 1.00 since).
 //   Wiener: min(input) − m·M ≤ out ≤ max(input) + m·M with m = 1.5 / (2 sqrt(noiseToSignal)): 1.5
 //     times the filter's largest gain max |K| / (|K|² + nsr) (a linear filter rings on both sides of
 //     an edge; its gain on a pixel can exceed its largest frequency gain: measured worst 1.1 times).
@@ -361,9 +361,8 @@ TEST(RestorationBounds, RichardsonLucyUniform)
 
 // Plain RL (zero boundary, no acceleration, no TV) is bounded by Σ of the taps' data: for a two-tap
 // kernel out ≤ 2·max(input). On a 64x1 checkerboard with 4 px cells and taps 60 px apart it returned
-// 11.3·max(input) (this machine): (k⊛x) computed by FFT falls below k(u)·x_j where the estimate is
-// near zero, and b / (k⊛x) explodes. Skipped while it reproduces (the restoration kernel is being
-// rewritten).
+// 11.3·max(input) before the projected RL: (k⊛x) computed by FFT falls below k(u)·x_j where the
+// estimate is near zero, and b / (k⊛x) explodes. Skipped if it reproduces.
 TEST(RestorationBounds, RichardsonLucyZeroBoundaryTwoTaps)
 {
     const Kernel k = kernels()[6];

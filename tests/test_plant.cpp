@@ -4,6 +4,7 @@
 #include <opencv2/dynblur.hpp>
 
 #include <cstdio>
+#include <fstream>
 #include <random>
 
 using namespace cv;
@@ -308,4 +309,35 @@ TEST(PlantSchedule, SaveLoadRoundTripAndBrokenFiles)
     }
     EXPECT_THROW(SwitchSchedule::load(broken), cv::Exception);
     EXPECT_THROW(SwitchSchedule::load(testing::TempDir() + "does_not_exist.yml"), cv::Exception);
+}
+
+TEST(PlantSchedule, LoadsEveryFormatSaveWritesAndRefusesWhatOpenCVWouldChokeOn)
+{
+    const std::string path = testing::TempDir() + "dynblur_schedule_formats";
+    for (const char* ext : {".yml", ".xml", ".json"})
+    {
+        saccade10().save(path + ext);
+        const SwitchSchedule back = SwitchSchedule::load(path + ext);
+        EXPECT_EQ(back.times, saccade10().times) << ext;
+        EXPECT_EQ(back.levels, saccade10().levels) << ext;
+        SwitchSchedule one({0.5}, {3}, 1);  // XML writes a one-element sequence like a scalar
+        one.save(path + ext);
+        EXPECT_EQ(SwitchSchedule::load(path + ext).levels, std::vector<int>{3}) << ext;
+    }
+    // Inputs that hang or crash OpenCV 4.6's FileStorage readers (found by fuzz_schedule_file):
+    // refused with the line.
+    auto write = [&](const std::string& text) {
+        std::ofstream(path + ".yml", std::ios::binary) << text;
+        return path + ".yml";
+    };
+    dynblur_test::expectErrorNaming([&] { SwitchSchedule::load(write("%YAML:1.\n---[ \n 9, - 10]\n0\n\n")); },
+                                    "line 2: expected 'name: value'");
+    dynblur_test::expectErrorNaming(
+        [&] { SwitchSchedule::load(write("%YAML:1.0\n---" + std::string(2, '\0') + "\ntimes: [0]\n")); },
+        "line 2: control character 0x00");
+    dynblur_test::expectErrorNaming(
+        [&] { SwitchSchedule::load(write("{\"times\": " + std::string(40000, '[') + std::string(40000, ']') + "}")); },
+        "nested objects and arrays are not supported");
+    dynblur_test::expectErrorNaming([&] { SwitchSchedule::load(write("times: [0, 1]\nlevels: [1, 2.5]\n")); },
+                                    "line 2: 'levels'[1] = '2.5' is not an integer");
 }

@@ -8,31 +8,26 @@ namespace dynblur_samples {
 
 PlantFile loadPlantFile(const std::string& path)
 {
-    cv::FileStorage fs;
+    // Not cv::FileStorage: its readers trust their input (see cv::dynblur::ParameterFile).
+    const cv::dynblur::ParameterFile in = cv::dynblur::ParameterFile::load(path, "plant file");
+    for (const char* key : {"naturalFreqHz", "dampingRatio", "gain"})
+        if (!in.has(key))
+            CV_Error(cv::Error::StsParseError, "plant file '" + path + "' needs a number '" + key + "'");
+    PlantFile file;
     try
     {
-        fs.open(path, cv::FileStorage::READ);
+        file.plant = cv::dynblur::Plant::create(in.real("naturalFreqHz"), in.real("dampingRatio"), in.real("gain"));
     }
     catch (const cv::Exception& e)
     {
-        CV_Error(cv::Error::StsParseError, "plant file '" + path + "' cannot be parsed: " + e.msg);
+        CV_Error(e.code, "plant file '" + path + "': " + e.err);
     }
-    if (!fs.isOpened())
-        CV_Error(cv::Error::StsError, "cannot open plant file '" + path + "'");
-    auto number = [&](const char* key) {
-        const cv::FileNode node = fs[key];
-        if (node.empty() || !(node.isReal() || node.isInt()))
-            CV_Error(cv::Error::StsParseError, std::string("plant file '") + path + "' needs a number '" + key + "'");
-        return node.real();
-    };
-    PlantFile file;
-    file.plant = cv::dynblur::Plant::create(number("naturalFreqHz"), number("dampingRatio"), number("gain"));
-    const cv::FileNode maxLevel = fs["maxLevel"];
-    if (!maxLevel.empty())
+    if (in.has("maxLevel"))
     {
-        if (!maxLevel.isInt() || static_cast<int>(maxLevel) < 1)
-            CV_Error(cv::Error::StsParseError, "plant file '" + path + "': maxLevel must be an integer >= 1");
-        file.maxLevel = static_cast<int>(maxLevel);
+        file.maxLevel = in.integer("maxLevel");
+        if (file.maxLevel < 1)
+            CV_Error_(cv::Error::StsOutOfRange,
+                      ("plant file '%s': maxLevel = %d must be an integer >= 1 (cells)", path.c_str(), file.maxLevel));
     }
     return file;
 }

@@ -83,41 +83,16 @@ void SwitchSchedule::save(const String& filename) const
 
 SwitchSchedule SwitchSchedule::load(const String& filename)
 {
-    FileStorage fs;
-    try
-    {
-        fs.open(filename, FileStorage::READ);
-    }
-    catch (const cv::Exception& e)
-    {
-        CV_Error(Error::StsParseError, "SwitchSchedule::load: '" + filename + "' is not a valid schedule file: " + e.msg);
-    }
-    if (!fs.isOpened())
-        CV_Error(Error::StsError, "SwitchSchedule::load: cannot open '" + filename + "'");
-    SwitchSchedule schedule;
-    const FileNode timesNode = fs["times"], levelsNode = fs["levels"];
-    if (!timesNode.isSeq() || !levelsNode.isSeq())
+    // Not cv::FileStorage: its readers trust their input (see ParameterFile).
+    const ParameterFile file = ParameterFile::load(filename, "SwitchSchedule::load: schedule file");
+    if (!file.has("times") || !file.has("levels"))
         CV_Error(Error::StsParseError,
                  "SwitchSchedule::load: '" + filename + "' needs sequences 'times' (seconds) and 'levels' (integers)");
-    for (const FileNode& node : timesNode)
-    {
-        if (!node.isReal() && !node.isInt())
-            CV_Error(Error::StsParseError, "SwitchSchedule::load: 'times' must hold numbers (seconds)");
-        schedule.times.push_back(node.real());
-    }
-    for (const FileNode& node : levelsNode)
-    {
-        if (!node.isInt())
-            CV_Error(Error::StsParseError, "SwitchSchedule::load: 'levels' must hold integers");
-        schedule.levels.push_back(static_cast<int>(node));
-    }
-    const FileNode initialNode = fs["initialLevel"];
-    if (!initialNode.empty())
-    {
-        if (!initialNode.isInt())
-            CV_Error(Error::StsParseError, "SwitchSchedule::load: 'initialLevel' must be an integer");
-        schedule.initialLevel = static_cast<int>(initialNode);
-    }
+    SwitchSchedule schedule;
+    schedule.times = file.reals("times");
+    schedule.levels = file.integers("levels");
+    if (file.has("initialLevel"))
+        schedule.initialLevel = file.integer("initialLevel");
     schedule.validate();
     return schedule;
 }

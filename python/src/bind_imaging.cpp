@@ -79,7 +79,8 @@ size, pixels; kud, kdu: ViSP's undistorted→distorted and distorted→undistort
             py::arg("filename"), py::arg("cameraName") = "", py::arg("width") = 0, py::arg("height") = 0,
             R"doc(Reads a ViSP camera XML file (vpXmlParserCamera format). cameraName: empty takes the first
 camera; width, height: image size to select (0: any).)doc")
-        .def("save", &CameraModel::save, py::arg("filename"), py::arg("cameraName") = "Camera",
+        .def("save", py::overload_cast<const cv::String&, const cv::String&>(&CameraModel::save, py::const_),
+             py::arg("filename"), py::arg("cameraName") = "Camera",
              "Writes a ViSP camera XML file, with distortion when kud or kdu is non-zero.")
         .def("getFx", &CameraModel::getFx, "focal length along x, pixels")
         .def("getFy", &CameraModel::getFy, "focal length along y, pixels")

@@ -138,11 +138,11 @@ public:
 
     std::vector<int> readInputRegisters(int address, int count) CV_OVERRIDE
     {
-        return read(address, count, true);
+        return readRegisters(address, count, true);
     }
     std::vector<int> readHoldingRegisters(int address, int count) CV_OVERRIDE
     {
-        return read(address, count, false);
+        return readRegisters(address, count, false);
     }
 
     void writeRegisters(int address, const std::vector<int>& values) CV_OVERRIDE
@@ -222,7 +222,7 @@ private:
             connect();
     }
 
-    std::vector<int> read(int address, int count, bool input)
+    std::vector<int> readRegisters(int address, int count, bool input)
     {
         checkAddress(address, count, 125, input ? "readInputRegisters" : "readHoldingRegisters");
         std::vector<uint16_t> words(count);

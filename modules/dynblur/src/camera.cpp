@@ -59,6 +59,7 @@ public:
     {
     }
 
+    using CameraModel::save;  // save(filename): the camera named "Camera"
     void save(const String& filename, const String& cameraName) const CV_OVERRIDE
     {
         CV_Assert(!filename.empty());

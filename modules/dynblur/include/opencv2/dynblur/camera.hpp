@@ -35,8 +35,13 @@ public:
     @param width, height image size to select in the file (0: any); the file's size is used. */
     CV_WRAP static Ptr<CameraModel> load(const String& filename, const String& cameraName = String(),
                                          int width = 0, int height = 0);
-    /** @brief Writes a ViSP camera XML file, with distortion when kud or kdu is non-zero. */
-    CV_WRAP virtual void save(const String& filename, const String& cameraName = "Camera") const = 0;
+    /** @brief Writes a ViSP camera XML file, with distortion when kud or kdu is non-zero.
+    @param filename path of the XML file; an existing file is replaced.
+    @param cameraName camera name in the file. */
+    CV_WRAP virtual void save(const String& filename, const String& cameraName) const = 0;
+    /** @brief Writes a ViSP camera XML file with the camera named "Camera" (so Algorithm::save also
+    writes the ViSP format). */
+    CV_WRAP void save(const String& filename) const CV_OVERRIDE { save(filename, "Camera"); }
 
     CV_WRAP virtual double getFx() const = 0;  //!< focal length along x, pixels
     CV_WRAP virtual double getFy() const = 0;  //!< focal length along y, pixels

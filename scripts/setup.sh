@@ -7,7 +7,10 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 packages=(build-essential cmake ninja-build pkg-config git
           libopencv-dev libeigen3-dev libsundials-dev libfftw3-dev libvisp-dev
           libgtest-dev libbenchmark-dev pybind11-dev libmodbus-dev
-          python3-venv)
+          python3-venv
+          # the fuzz build (scripts/fuzz.sh): clang, its libFuzzer and sanitizer runtimes, and LLVM's
+          # OpenMP (only because SUNDIALS' CMake config requires OpenMP, also under clang)
+          clang libclang-rt-dev libomp-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

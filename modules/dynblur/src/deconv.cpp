@@ -210,9 +210,9 @@ PsfBank displacementBank(const PsfBank& bank)
 
 void checkRLParams(const RLParams& params, const char* function)
 {
-    if (params.iterations < 1)
+    if (params.iterations < 1 || params.iterations > 100000)
         CV_Error(Error::StsOutOfRange,
-                 format("%s: params.iterations = %d must be >= 1", function, params.iterations));
+                 format("%s: params.iterations = %d must be in [1, 100000]", function, params.iterations));
     if (!std::isnan(params.damping) && !(params.damping >= 0 && std::isfinite(params.damping)))
         CV_Error(Error::StsOutOfRange,
                  format("%s: params.damping = %g must be finite and >= 0 (0: off), or NaN (automatic)", function,

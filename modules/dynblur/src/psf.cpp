@@ -33,6 +33,14 @@ void PsfBank::validate() const
     if (shifts.size() != n)
         CV_Error_(Error::StsBadArg,
                   ("PsfBank: shifts has %d entries, expected %d (one per kernel)", (int)shifts.size(), (int)n));
+    // A displacement many frames long is no blur any frame records, and its latent domain would not fit in memory.
+    const int64 maxShift = 16 * int64(std::max(std::max(imageSize.width, imageSize.height), 64));
+    for (size_t i = 0; i < n; i++)
+        if (std::abs(int64(shifts[i].x)) > maxShift || std::abs(int64(shifts[i].y)) > maxShift)
+            CV_Error_(Error::StsOutOfRange,
+                      ("PsfBank: shifts[%d] = (%d, %d) px must be within ±%lld px (16 times the image's larger "
+                       "side, at least 64)",
+                       (int)i, shifts[i].x, shifts[i].y, (long long)maxShift));
     for (size_t i = 0; i < n; i++)
     {
         const Mat& k = kernels[i];
@@ -492,9 +500,12 @@ public:
     Size getTileGrid() const CV_OVERRIDE { return grid_; }
     void setTileGrid(const Size& grid) CV_OVERRIDE
     {
-        if (grid.width < 0 || grid.height < 0)
-            CV_Error_(Error::StsBadArg, ("PsfGenerator::setTileGrid: grid %dx%d must be >= 0 (0: automatic)",
-                                         grid.width, grid.height));
+        const Size image = camera_->getImageSize();
+        if (grid.width < 0 || grid.height < 0 || grid.width > image.width || grid.height > image.height)
+            CV_Error_(Error::StsBadArg,
+                      ("PsfGenerator::setTileGrid: grid %dx%d must be within [0, %d] x [0, %d] nodes (the image "
+                       "size; 0: automatic)",
+                       grid.width, grid.height, image.width, image.height));
         grid_ = grid;
     }
     String getDefaultName() const CV_OVERRIDE { return "dynblur.PsfGenerator"; }

@@ -140,7 +140,8 @@ static Mat mapToFloat(const Mat& src, Fn fn)
 void srgbToLinear(InputArray _srgb, OutputArray _linear)
 {
     Mat src = _srgb.getMat();
-    CV_Assert(!src.empty());
+    if (src.empty())
+        CV_Error(Error::StsBadArg, "srgbToLinear: 'srgb' is empty");
     const int depth = src.depth();
     if (depth == CV_8U)
     {
@@ -166,7 +167,8 @@ void srgbToLinear(InputArray _srgb, OutputArray _linear)
 void linearToSrgb(InputArray _linear, OutputArray _srgb, int depth)
 {
     Mat src = _linear.getMat();
-    CV_Assert(!src.empty());
+    if (src.empty())
+        CV_Error(Error::StsBadArg, "linearToSrgb: 'linear' is empty");
     CV_CheckType(src.type(), src.depth() == CV_32F || src.depth() == CV_64F,
                  "linearToSrgb: linear must be CV_32F (or CV_64F)");
     if (depth != CV_8U && depth != CV_32F)
@@ -182,8 +184,11 @@ void addSensorNoise(InputArray _linear, OutputArray _noisy, double fullWellElect
                     double darkElectrons, uint64 seed)
 {
     Mat src = _linear.getMat();
-    CV_Assert(!src.empty());
+    if (src.empty())
+        CV_Error(Error::StsBadArg, "addSensorNoise: 'linear' is empty");
     CV_CheckType(src.type(), src.depth() == CV_32F, "addSensorNoise: linear must be CV_32F");
+    if (!checkRange(src))
+        CV_Error(Error::StsBadArg, "addSensorNoise: 'linear' holds NaN or Inf; it must be finite");
     if (!(std::isfinite(fullWellElectrons) && fullWellElectrons > 0))
         CV_Error_(Error::StsBadArg, ("addSensorNoise: fullWellElectrons=%g must be finite and > 0", fullWellElectrons));
     if (!(std::isfinite(readNoiseElectrons) && readNoiseElectrons >= 0))

@@ -131,7 +131,8 @@ one kernel, the tent blend of its two row nodes' kernels, so a row of A·x is a 
 shifted latent rows and a row of Aᵀ·y a weighted sum of shifted frame rows. Both directions are
 gathers over tap lists merged once per row (the adjoint's are the forward's, transposed), summed
 in registers over 64 columns at a time, a few rows at a time in column chunks that keep their
-source rows in L1, so each output row is written once and a delta kernel costs one pass. Domains and padding as BankBlurOperator. The bank is trusted (validated by the caller). */
+source rows in L1, so each output row is written once and a delta kernel costs one pass. Domains
+and padding as BankBlurOperator. The bank is trusted (validated by the caller). */
 class CV_EXPORTS RowBankOperator CV_FINAL : public BlurOperator
 {
 public:

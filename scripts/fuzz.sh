@@ -5,14 +5,14 @@
 # bounded time. Any crash, sanitizer report, leak, hang (> 10 s per input) or out-of-memory fails the
 # run; the input that caused it is kept in build-fuzz/artifacts/<target>/. Called by run_tests.sh.
 #
-#   DYNBLUR_FUZZ_SECONDS    fuzzing time per target (default 30; 0: corpus and regressions only)
+#   DYNBLUR_FUZZ_SECONDS    fuzzing time per target (default 20; 0: corpus and regressions only)
 #   DYNBLUR_FUZZ_BUILD_DIR  build folder (default build-fuzz/)
 # New inputs the fuzzers find are kept in build-fuzz/fuzz-corpus/<target>/ (not in the repository;
 # see fuzz/README.md for adding some to the seed corpus).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${DYNBLUR_FUZZ_BUILD_DIR:-$here/build-fuzz}"
-seconds="${DYNBLUR_FUZZ_SECONDS:-30}"
+seconds="${DYNBLUR_FUZZ_SECONDS:-20}"
 targets=(camera_xml plant_file schedule_file response_log modbus_reply)
 
 echo "[fuzz] configuring and building in $build (clang, libFuzzer, ASan + UBSan)"

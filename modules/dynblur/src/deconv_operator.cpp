@@ -14,7 +14,7 @@ namespace detail {
 // ---------------------------------------------------------------------------------------------
 // One kernel, FFT.
 
-UniformBlurOperator::UniformBlurOperator(Size frameSize, const Mat& kernel32f, bool pad) : frame_(frameSize)
+UniformBlurOperator::UniformBlurOperator(Size frameSize, const Mat& kernel32f, bool pad) : BlurOperator(frameSize)
 {
     CV_Assert(kernel32f.type() == CV_32FC1);
     double peak = 0;
@@ -24,10 +24,6 @@ UniformBlurOperator::UniformBlurOperator(Size frameSize, const Mat& kernel32f, b
     {
         origin_ = Point((kernel32f.cols - 1) / 2, (kernel32f.rows - 1) / 2);
         latent_ = Size(frame_.width + kernel32f.cols - 1, frame_.height + kernel32f.rows - 1);
-    }
-    else
-    {
-        latent_ = frame_;
     }
     fft_.reset(new FftKernel(FftKernel::linearSize(latent_, kernel32f.size()), kernel32f));
 }
@@ -297,8 +293,9 @@ double bankSpotGain(const PsfBank& bank)
     return smallestPeak > 0 ? blended / smallestPeak : 1.0;
 }
 
-BankBlurOperator::BankBlurOperator(const PsfBank& bank, bool pad) : frame_(bank.imageSize), spotGain_(bankSpotGain(bank))
+BankBlurOperator::BankBlurOperator(const PsfBank& bank, bool pad) : BlurOperator(bank.imageSize)
 {
+    spotGain_ = bankSpotGain(bank);
     nodeCols_ = int(bank.nodeCols.size());
     nodeRows_ = int(bank.nodeRows.size());
     nodes_.resize(bank.kernels.size());
@@ -535,8 +532,9 @@ void safeColumns(const RowBankOperator::Tap* taps, int count, int width, int sou
 
 }  // namespace
 
-RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad) : frame_(bank.imageSize), spotGain_(bankSpotGain(bank))
+RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad) : BlurOperator(bank.imageSize)
 {
+    spotGain_ = bankSpotGain(bank);
     CV_Assert(bank.nodeCols.size() == 1 && bank.kernels.size() == bank.nodeRows.size());
     std::vector<std::vector<KernelTap>> nodes(bank.kernels.size());
     int dxMin = 0, dxMax = 0, dyMin = 0, dyMax = 0;

@@ -29,9 +29,9 @@ class CV_EXPORTS BlurOperator
 {
 public:
     virtual ~BlurOperator() {}
-    virtual Size frameSize() const = 0;
-    virtual Size latentSize() const = 0;
-    virtual Point origin() const = 0;
+    Size frameSize() const { return frame_; }
+    Size latentSize() const { return latent_; }
+    Point origin() const { return origin_; }
     //! frame = A · latent
     virtual void forward(const Mat& latent, Mat& frame) = 0;
     //! latent = Aᵀ · frame
@@ -39,7 +39,7 @@ public:
     /** The most a latent pixel can hold per unit of the brightest frame pixel: 1 / (the smallest
     weight with which it reaches its most-weighted frame pixel), bounded from the kernels' peaks
     and the number of kernels blended at a pixel. For data A x, x ≤ spotGain · max(A x). */
-    virtual double spotGain() const = 0;
+    double spotGain() const { return spotGain_; }
 
     /** True when a few rows of A·x (or of Aᵀ·y) can be computed on their own: the RL loop then
     fuses each block of blurred rows with the element-wise work that follows it while the block is
@@ -49,6 +49,13 @@ public:
     virtual void forwardBlock(const Mat& /*latent*/, const Range& /*frameRows*/, float* /*out*/, size_t /*outStep*/) const {}
     //! Rows `latentRows` of Aᵀ · frame, laid out likewise. Only when gathersRows().
     virtual void adjointBlock(const Mat& /*frame*/, const Range& /*latentRows*/, float* /*out*/, size_t /*outStep*/) const {}
+
+protected:
+    //! The latent domain starts as the frame; operators with padding grow it.
+    explicit BlurOperator(Size frameSize) : frame_(frameSize), latent_(frameSize) {}
+    Size frame_, latent_;
+    Point origin_;
+    double spotGain_ = 1;
 };
 
 /** @brief One kernel everywhere (convolution form), through FFTW. With `pad` the latent domain is
@@ -58,17 +65,10 @@ class CV_EXPORTS UniformBlurOperator CV_FINAL : public BlurOperator
 public:
     UniformBlurOperator(Size frameSize, const Mat& kernel32f, bool pad);
     ~UniformBlurOperator();
-    Size frameSize() const CV_OVERRIDE { return frame_; }
-    Size latentSize() const CV_OVERRIDE { return latent_; }
-    Point origin() const CV_OVERRIDE { return origin_; }
     void forward(const Mat& latent, Mat& frame) CV_OVERRIDE;
     void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE;
-    double spotGain() const CV_OVERRIDE { return spotGain_; }
 
 private:
-    Size frame_, latent_;
-    Point origin_;
-    double spotGain_ = 1;
     std::unique_ptr<FftKernel> fft_;
     Mat scratch_;
 };
@@ -82,12 +82,8 @@ class CV_EXPORTS BankBlurOperator CV_FINAL : public BlurOperator
 {
 public:
     BankBlurOperator(const PsfBank& bank, bool pad);
-    Size frameSize() const CV_OVERRIDE { return frame_; }
-    Size latentSize() const CV_OVERRIDE { return latent_; }
-    Point origin() const CV_OVERRIDE { return origin_; }
     void forward(const Mat& latent, Mat& frame) CV_OVERRIDE;
     void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE;
-    double spotGain() const CV_OVERRIDE { return spotGain_; }
 
     struct TapRow
     {
@@ -113,9 +109,6 @@ private:
     void adjointRows(const Mat& frame, Mat& latent, const Range& rows) const;
     float rowWeight(int nodeRow, int frameRow) const;
 
-    Size frame_, latent_;
-    Point origin_;
-    double spotGain_ = 1;
     int nodeCols_ = 1, nodeRows_ = 1;
     int dyMin_ = 0, dyMax_ = 0;  // the bank's range of row offsets (latent row − frame row)
     std::vector<Node> nodes_;                 // row-major, nodeRows_ × nodeCols_
@@ -137,12 +130,8 @@ class CV_EXPORTS RowBankOperator CV_FINAL : public BlurOperator
 {
 public:
     RowBankOperator(const PsfBank& bank, bool pad);
-    Size frameSize() const CV_OVERRIDE { return frame_; }
-    Size latentSize() const CV_OVERRIDE { return latent_; }
-    Point origin() const CV_OVERRIDE { return origin_; }
     void forward(const Mat& latent, Mat& frame) CV_OVERRIDE;
     void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE;
-    double spotGain() const CV_OVERRIDE { return spotGain_; }
     bool gathersRows() const CV_OVERRIDE { return true; }
     void forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const CV_OVERRIDE;
     void adjointBlock(const Mat& frame, const Range& latentRows, float* out, size_t outStep) const CV_OVERRIDE;
@@ -162,9 +151,6 @@ public:
     };
 
 private:
-    Size frame_, latent_;
-    Point origin_;
-    double spotGain_ = 1;
     std::vector<Tap> forwardTaps_, adjointTaps_;
     std::vector<GatherRow> forwardRows_, adjointRows_;
 };

@@ -143,17 +143,17 @@ TEST_P(DeblurQuality, RollingShutterWindowIIIGainsInTheMostBlurredThird)
     EXPECT_GE(variant - blurred, 4.0);
     EXPECT_GE(variant - uniform, 3.0);
 
-    // The frame-rate setting (the speed benchmark's): row bands, 10 iterations, 5 of them in colour.
+    // The frame-rate setting (the speed benchmark's): row bands, 10 iterations, 3 of them in colour.
     Ptr<DynamicDeblurrer> fast = DynamicDeblurrer::create(s.plant, s.camera);
     fast->setPsfModel(PSF_ROWS);
     RLParams params = fast->getRLParams();
     params.iterations = 10;
-    params.colorIterations = 5;
+    params.colorIterations = 3;
     fast->setRLParams(params);
     Mat restored;
     fast->deblur(r.frame, s.schedule, shutter, restored);
     const double frameRate = maskedPsnr(s.truth, restored, judged, 255);
-    std::printf("[ measured ] %s window III rolling, rows %d-%d, frame-rate setting (rows, 10 iterations, 5 in "
+    std::printf("[ measured ] %s window III rolling, rows %d-%d, frame-rate setting (rows, 10 iterations, 3 in "
                 "colour): %.2f dB\n",
                 GetParam().c_str(), third.start, third.end - 1, frameRate);
     EXPECT_GE(frameRate - blurred, 4.0);

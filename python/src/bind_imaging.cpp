@@ -260,7 +260,7 @@ camera's image height; thetaRef: radians, NaN = the schedule's final resting ang
                        "stop early when the relative change of an iteration falls below it, ≥ 0 (0: never)")
         .def_readwrite("colorIterations", &RLParams::colorIterations,
                        "iterations on every colour plane of a 3–4 channel image, >= 0; the rest restore the luminance "
-                       "alone and add its change to every plane; -1 (default) or >= iterations: all")
+                       "alone and scale every plane by its change; -1 (default) or >= iterations: all")
         .def("__repr__", &repr);
 
     m.def("richardsonLucy",

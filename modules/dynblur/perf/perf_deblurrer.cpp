@@ -44,7 +44,7 @@ void BM_DeblurFrame(benchmark::State& state)
     deblurrer->setPsfModel(static_cast<int>(state.range(0)));
     RLParams params = deblurrer->getRLParams();
     params.iterations = 10;
-    params.colorIterations = 5;  // the frame-rate setting; its quality is DeblurQuality's to check
+    params.colorIterations = 3;  // the frame-rate setting; its quality is DeblurQuality's to check
     deblurrer->setRLParams(params);
     Mat restored;
     for (auto _ : state)

@@ -1,6 +1,6 @@
 // How the frame-rate restoration's cost grows: DynamicDeblurrer with the row-wise model (the
 // PSF_ROWS bank a C270-like camera sees in window III of a 10° saccade, scaled with the image)
-// in its frame-rate setting (5 colour iterations, the rest luminance) against image size and
+// in its frame-rate setting (3 colour iterations, the rest luminance) against image size and
 // iteration count, and the machine's memory bandwidth, which bounds any
 // restoration that streams its planes from DRAM. scripts/benchmark.py plots these beside the
 // bandwidth line.
@@ -36,7 +36,7 @@ struct ScaledDeblur
         deblurrer->setPsfModel(PSF_ROWS);
         RLParams params = deblurrer->getRLParams();  // defaults (damping, TV, acceleration) at frame rate:
         params.iterations = iterations;
-        params.colorIterations = 5;
+        params.colorIterations = 3;
         deblurrer->setRLParams(params);
         frame.create(height, width, CV_32FC3);
         randu(frame, 0.05f, 0.95f);

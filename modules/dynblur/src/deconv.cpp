@@ -152,33 +152,51 @@ std::vector<Mat> embedPlanes(const std::vector<Mat>& frame, const BlurOperator& 
 }
 
 /* Pixels where `valid` is 0 take the value of the nearest valid pixel (Euclidean), so unobserved
-   content reads as a smooth continuation instead of a hole. */
+   content reads as a smooth continuation instead of a hole. Invalid pixels come in runs of rows
+   (the frame's edges across the motion), and each run is filled from the distance transform of its
+   own rows plus one row and column around their invalid pixels: that margin is valid, and
+   clamping any valid pixel into it brings it no farther, so the nearest one lies inside. */
 void fillFromNearest(std::vector<Mat>& planes, const Mat& valid)
 {
-    const size_t observed = size_t(countNonZero(valid));
-    if (observed == valid.total() || observed == 0)
+    std::vector<int> invalidRows;
+    for (int y = 0; y < valid.rows; y++)
+        if (countNonZero(valid.row(y)) < valid.cols)
+            invalidRows.push_back(y);
+    if (invalidRows.empty() || countNonZero(valid) == 0)
         return;
-    Mat invalid = valid == 0, distance, labels;
-    distanceTransform(invalid, distance, labels, DIST_L2, DIST_MASK_5, DIST_LABEL_PIXEL);
-    // Each valid pixel carries its own label: map labels back to their positions.
-    double maxLabel = 0;
-    minMaxLoc(labels, nullptr, &maxLabel);
-    std::vector<Point> where(size_t(maxLabel) + 1, Point(-1, -1));
-    for (int y = 0; y < valid.rows; y++)
-        for (int x = 0; x < valid.cols; x++)
-            if (valid.at<uchar>(y, x))
-                where[size_t(labels.at<int>(y, x))] = Point(x, y);
-    for (int y = 0; y < valid.rows; y++)
-        for (int x = 0; x < valid.cols; x++)
-        {
-            if (valid.at<uchar>(y, x))
-                continue;
-            const Point source = where[size_t(labels.at<int>(y, x))];
-            if (source.x < 0)
-                continue;
-            for (Mat& p : planes)
-                p.at<float>(y, x) = p.at<float>(source);
-        }
+    for (size_t first = 0; first < invalidRows.size();)
+    {
+        size_t last = first;
+        while (last + 1 < invalidRows.size() && invalidRows[last + 1] == invalidRows[last] + 1)
+            last++;
+        const Range rows(invalidRows[first], invalidRows[last] + 1);
+        first = last + 1;
+        const Rect invalidBox = boundingRect(valid.rowRange(rows) == 0) + Point(0, rows.start);
+        const Rect roi = Rect(invalidBox.x - 1, invalidBox.y - 1, invalidBox.width + 2, invalidBox.height + 2) &
+                         Rect(Point(), valid.size());
+        const Mat validRoi = valid(roi);
+        Mat distance, labels;
+        distanceTransform(validRoi == 0, distance, labels, DIST_L2, DIST_MASK_5, DIST_LABEL_PIXEL);
+        // Each valid pixel carries its own label: map labels back to their positions.
+        double maxLabel = 0;
+        minMaxLoc(labels, nullptr, &maxLabel);
+        std::vector<Point> where(size_t(maxLabel) + 1, Point(-1, -1));
+        for (int y = 0; y < roi.height; y++)
+            for (int x = 0; x < roi.width; x++)
+                if (validRoi.at<uchar>(y, x))
+                    where[size_t(labels.at<int>(y, x))] = Point(x, y) + roi.tl();
+        for (int y = 0; y < roi.height; y++)
+            for (int x = 0; x < roi.width; x++)
+            {
+                if (validRoi.at<uchar>(y, x))
+                    continue;
+                const Point source = where[size_t(labels.at<int>(y, x))];
+                if (source.x < 0)
+                    continue;
+                for (Mat& p : planes)
+                    p.at<float>(y + roi.y, x + roi.x) = p.at<float>(source);
+            }
+    }
 }
 
 void writeOutput(const std::vector<Mat>& planes, OutputArray out)
@@ -301,24 +319,35 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
     const Scalar channelMean = mean(observed);
     std::vector<Mat>& estimate = ws.estimate;
     estimate.resize(size_t(observed.channels()));
-    for (int c = 0; c < observed.channels(); c++)
+    const int channels = observed.channels();
+    for (int c = 0; c < channels; c++)
     {
         const float fill = float(std::max(channelMean[c], 0.0));
         Mat& e = estimate[size_t(c)];
         e.create(latentSize, CV_32F);
-        e.setTo(fill);
-        extractChannel(observed, plane, c);
+        parallel_for_(Range(0, frameSize.height), [&](const Range& rows) {
+            for (int y = rows.start; y < rows.end; y++)
+                channelRow(observed.ptr<float>(y), channels, c, frameSize.width, plane.ptr<float>(y));
+        });
         move->adjoint(plane, moved);
-        parallel_for_(Range(0, moveSize.height), [&](const Range& rows) {
+        parallel_for_(Range(0, latentSize.height), [&](const Range& rows) {
             for (int y = rows.start; y < rows.end; y++)
             {
-                float* m = moved.ptr<float>(y);
-                const float* n = moveNormalizer.ptr<float>(y);
-                for (int x = 0; x < moveSize.width; x++)
-                    m[x] = n[x] > kUnobserved ? std::max(m[x] / std::max(n[x], kObservedFraction * 1e-2f), 0.f) : fill;
+                float* out = e.ptr<float>(y);
+                std::fill(out, out + latentSize.width, fill);
+                if (y < common.y || y >= common.y + common.height)
+                    continue;
+                const int r = y - moveInLatent.y;
+                const float* m = moved.ptr<float>(r);
+                const float* n = moveNormalizer.ptr<float>(r);
+                for (int x = common.x; x < common.x + common.width; x++)
+                {
+                    const int mx = x - moveInLatent.x;
+                    out[x] = n[mx] > kUnobserved ? std::max(m[mx] / std::max(n[mx], kObservedFraction * 1e-2f), 0.f)
+                                                 : fill;
+                }
             }
         });
-        moved(common - moveInLatent.tl()).copyTo(e(common));
     }
 
     iterateRichardsonLucy(op, observed, ws.normalizer, resolveDamping(params, observed), estimate, ws);

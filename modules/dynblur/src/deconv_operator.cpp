@@ -197,6 +197,69 @@ void gatherInterior(float* __restrict out, const float* source, size_t sourceSte
     }
 }
 
+/* Two output rows at once, out0[x] = Σ_t w_t[0] · source(row_t, x + col_t) and out1 likewise, for
+   x in [begin, end), every read inside `source`. Neighbouring rows read nearly the same source rows,
+   so each vector loaded feeds two FMA chains: loads, not FMAs, bound the one-row gather. Four
+   vectors per row keep 8 sums, 4 loads and 2 weights within AVX2's 16 registers. */
+DYNBLUR_SIMD_CLONES
+void gatherPairInterior(float* __restrict out0, float* __restrict out1, const float* source, size_t sourceStep,
+                        const RowBankOperator::PairTap* taps, int tapCount, int begin, int end)
+{
+    typedef float v8 __attribute__((vector_size(32), aligned(4)));
+    int x = begin;
+    for (; x + 32 <= end; x += 32)
+    {
+        v8 a0 = {}, a1 = {}, a2 = {}, a3 = {}, b0 = {}, b1 = {}, b2 = {}, b3 = {};
+        for (int t = 0; t < tapCount; t++)
+        {
+            const float* p = source + size_t(taps[t].row) * sourceStep + (taps[t].col + x);
+            const v8 w = v8{} + taps[t].weight[0], u = v8{} + taps[t].weight[1];
+            const v8 l0 = *(const v8*)(p), l1 = *(const v8*)(p + 8), l2 = *(const v8*)(p + 16),
+                     l3 = *(const v8*)(p + 24);
+            a0 += w * l0;
+            a1 += w * l1;
+            a2 += w * l2;
+            a3 += w * l3;
+            b0 += u * l0;
+            b1 += u * l1;
+            b2 += u * l2;
+            b3 += u * l3;
+        }
+        *(v8*)(out0 + x) = a0;
+        *(v8*)(out0 + x + 8) = a1;
+        *(v8*)(out0 + x + 16) = a2;
+        *(v8*)(out0 + x + 24) = a3;
+        *(v8*)(out1 + x) = b0;
+        *(v8*)(out1 + x + 8) = b1;
+        *(v8*)(out1 + x + 16) = b2;
+        *(v8*)(out1 + x + 24) = b3;
+    }
+    for (; x + 8 <= end; x += 8)
+    {
+        v8 a = {}, b = {};
+        for (int t = 0; t < tapCount; t++)
+        {
+            const v8 l = *(const v8*)(source + size_t(taps[t].row) * sourceStep + (taps[t].col + x));
+            a += (v8{} + taps[t].weight[0]) * l;
+            b += (v8{} + taps[t].weight[1]) * l;
+        }
+        *(v8*)(out0 + x) = a;
+        *(v8*)(out1 + x) = b;
+    }
+    for (; x < end; x++)
+    {
+        float a = 0.f, b = 0.f;
+        for (int t = 0; t < tapCount; t++)
+        {
+            const float l = source[size_t(taps[t].row) * sourceStep + size_t(taps[t].col + x)];
+            a += taps[t].weight[0] * l;
+            b += taps[t].weight[1] * l;
+        }
+        out0[x] = a;
+        out1[x] = b;
+    }
+}
+
 //! Columns [begin, end) of one gathered row: where every tap reads inside, fast; elsewhere checked.
 void gatherRowRange(const Mat& source, const RowBankOperator::Tap* t, int count, const RowBankOperator::GatherRow& row,
                     int begin, int end, float* out)
@@ -223,45 +286,54 @@ void gatherRowRange(const Mat& source, const RowBankOperator::Tap* t, int count,
     }
 }
 
-/* Rows [rows.start, rows.end) of a gather, row r at out + (r − rows.start)·outStep. Columns run
-   in chunks across all the rows before the next chunk: neighbouring rows read nearly the same
-   source rows, so a chunk's source stays in L1 for the whole block instead of every row pulling
-   its ~kernel-height source rows from L2 again. */
-void gatherBlock(const Mat& source, const std::vector<RowBankOperator::Tap>& taps,
-                 const std::vector<RowBankOperator::GatherRow>& gatherRows, const Range& rows, int width, float* out,
+/* Rows [rows.start, rows.end) of a gather, row r at out + (r − rows.start)·outStep, two rows at a
+   time where a pair (2k, 2k+1) lies inside. Columns run in chunks across all the rows before the
+   next chunk: neighbouring rows read nearly the same source rows, so a chunk's source stays in L1
+   for the whole block instead of every row pulling its ~kernel-height source rows from L2 again. */
+void gatherBlock(const Mat& source, const RowBankOperator::Gather& gather, const Range& rows, int width, float* out,
                  size_t outStep)
 {
     constexpr int kChunk = 64;  // columns: ~60 source rows × 256 B stay well within a 32 KiB L1
     int commonBegin = width, commonEnd = 0;
     for (int r = rows.start; r < rows.end; r++)
     {
-        commonBegin = std::min(commonBegin, gatherRows[size_t(r)].safeBegin);
-        commonEnd = std::max(commonEnd, gatherRows[size_t(r)].safeEnd);
+        commonBegin = std::min(commonBegin, gather.rows[size_t(r)].safeBegin);
+        commonEnd = std::max(commonEnd, gather.rows[size_t(r)].safeEnd);
     }
     for (int r = rows.start; r < rows.end; r++)
     {
-        commonBegin = std::max(commonBegin, gatherRows[size_t(r)].safeBegin);
-        commonEnd = std::min(commonEnd, gatherRows[size_t(r)].safeEnd);
+        commonBegin = std::max(commonBegin, gather.rows[size_t(r)].safeBegin);
+        commonEnd = std::min(commonEnd, gather.rows[size_t(r)].safeEnd);
     }
     commonEnd = std::max(commonEnd, commonBegin);
     const float* base = source.ptr<float>();
     const size_t step = source.step1();
+    auto single = [&](int r, int begin, int end) {
+        const RowBankOperator::GatherRow& g = gather.rows[size_t(r)];
+        gatherInterior(out + size_t(r - rows.start) * outStep, base, step, gather.taps.data() + g.begin,
+                       g.end - g.begin, begin, end);
+    };
     for (int x = commonBegin; x < commonEnd; x += kChunk)
     {
         const int end = std::min(x + kChunk, commonEnd);
-        for (int r = rows.start; r < rows.end; r++)
+        int r = rows.start;
+        if (r % 2 != 0)
+            single(r++, x, end);
+        for (; r + 1 < rows.end; r += 2)
         {
-            const RowBankOperator::GatherRow& g = gatherRows[size_t(r)];
-            gatherInterior(out + size_t(r - rows.start) * outStep, base, step, taps.data() + g.begin, g.end - g.begin,
-                           x, end);
+            const RowBankOperator::GatherRow& g = gather.pairs[size_t(r / 2)];
+            float* o = out + size_t(r - rows.start) * outStep;
+            gatherPairInterior(o, o + outStep, base, step, gather.pairTaps.data() + g.begin, g.end - g.begin, x, end);
         }
+        if (r < rows.end)
+            single(r, x, end);
     }
     for (int r = rows.start; r < rows.end; r++)
     {
-        const RowBankOperator::GatherRow& g = gatherRows[size_t(r)];
+        const RowBankOperator::GatherRow& g = gather.rows[size_t(r)];
         float* o = out + size_t(r - rows.start) * outStep;
-        gatherRowRange(source, taps.data() + g.begin, g.end - g.begin, g, 0, commonBegin, o);
-        gatherRowRange(source, taps.data() + g.begin, g.end - g.begin, g, commonEnd, width, o);
+        gatherRowRange(source, gather.taps.data() + g.begin, g.end - g.begin, g, 0, commonBegin, o);
+        gatherRowRange(source, gather.taps.data() + g.begin, g.end - g.begin, g, commonEnd, width, o);
     }
 }
 
@@ -530,6 +602,36 @@ void safeColumns(const RowBankOperator::Tap* taps, int count, int width, int sou
     end = std::max(end, begin);
 }
 
+/* The row pairs (2k, 2k+1) of a gather whose rows are filled, each row's taps in (row, col) order:
+   each pair's taps are the union of its rows' taps, with both rows' weights (0 where a row has no
+   such tap). */
+void buildPairs(RowBankOperator::Gather& gather)
+{
+    const int pairCount = int(gather.rows.size()) / 2;
+    gather.pairs.assign(size_t(pairCount), RowBankOperator::GatherRow());
+    gather.pairTaps.clear();
+    gather.pairTaps.reserve(gather.taps.size());
+    for (int k = 0; k < pairCount; k++)
+    {
+        const RowBankOperator::GatherRow &first = gather.rows[size_t(2 * k)], &second = gather.rows[size_t(2 * k + 1)];
+        RowBankOperator::GatherRow& g = gather.pairs[size_t(k)];
+        g.begin = int(gather.pairTaps.size());
+        int i = first.begin, j = second.begin;
+        while (i < first.end || j < second.end)
+        {
+            const RowBankOperator::Tap* a = i < first.end ? &gather.taps[size_t(i)] : nullptr;
+            const RowBankOperator::Tap* b = j < second.end ? &gather.taps[size_t(j)] : nullptr;
+            const bool takeA = a && (!b || a->row < b->row || (a->row == b->row && a->col <= b->col));
+            const bool takeB = b && (!a || b->row < a->row || (b->row == a->row && b->col <= a->col));
+            const RowBankOperator::Tap& key = takeA ? *a : *b;
+            gather.pairTaps.push_back({key.row, key.col, {takeA ? a->weight : 0.f, takeB ? b->weight : 0.f}});
+            i += takeA;
+            j += takeB;
+        }
+        g.end = int(gather.pairTaps.size());
+    }
+}
+
 }  // namespace
 
 RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad) : BlurOperator(bank.imageSize)
@@ -554,7 +656,7 @@ RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad) : BlurOperator(b
     // Each frame row's kernel: its row nodes' taps, tent-weighted and merged; reads of latent rows
     // outside the domain (possible without padding) read zero and are dropped.
     const std::vector<BankBlurOperator::AxisWeight> rowWeights = tentWeights(bank.nodeRows, frame_.height);
-    forwardRows_.resize(size_t(frame_.height));
+    forward_.rows.resize(size_t(frame_.height));
     std::vector<Tap> row;
     for (int y = 0; y < frame_.height; y++)
     {
@@ -572,50 +674,55 @@ RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad) : BlurOperator(b
             }
         }
         mergeTaps(row);
-        GatherRow& g = forwardRows_[size_t(y)];
-        g.begin = int(forwardTaps_.size());
-        forwardTaps_.insert(forwardTaps_.end(), row.begin(), row.end());
-        g.end = int(forwardTaps_.size());
+        GatherRow& g = forward_.rows[size_t(y)];
+        g.begin = int(forward_.taps.size());
+        forward_.taps.insert(forward_.taps.end(), row.begin(), row.end());
+        g.end = int(forward_.taps.size());
         safeColumns(row.data(), int(row.size()), frame_.width, latent_.width, g.safeBegin, g.safeEnd);
     }
 
     // Transpose: frame pixel (x, y) reads latent (x + col, row) with weight w, so latent row `row`
     // gathers frame row y at column x − col with the same weight.
     std::vector<int> count(size_t(latent_.height) + 1, 0);
-    for (const Tap& t : forwardTaps_)
+    for (const Tap& t : forward_.taps)
         count[size_t(t.row) + 1]++;
     for (size_t l = 1; l < count.size(); l++)
         count[l] += count[l - 1];
-    adjointTaps_.resize(forwardTaps_.size());
-    adjointRows_.resize(size_t(latent_.height));
+    adjoint_.taps.resize(forward_.taps.size());
+    adjoint_.rows.resize(size_t(latent_.height));
     std::vector<int> fill(count.begin(), count.end() - 1);
     for (int y = 0; y < frame_.height; y++)
     {
-        const GatherRow& g = forwardRows_[size_t(y)];
+        const GatherRow& g = forward_.rows[size_t(y)];
         for (int i = g.begin; i < g.end; i++)
         {
-            const Tap& t = forwardTaps_[size_t(i)];
-            adjointTaps_[size_t(fill[size_t(t.row)]++)] = {y, -t.col, t.weight};
+            const Tap& t = forward_.taps[size_t(i)];
+            adjoint_.taps[size_t(fill[size_t(t.row)]++)] = {y, -t.col, t.weight};
         }
     }
     for (int l = 0; l < latent_.height; l++)
     {
-        GatherRow& g = adjointRows_[size_t(l)];
+        GatherRow& g = adjoint_.rows[size_t(l)];
         g.begin = count[size_t(l)];
         g.end = count[size_t(l) + 1];
-        safeColumns(adjointTaps_.data() + g.begin, g.end - g.begin, latent_.width, frame_.width, g.safeBegin,
+        std::sort(adjoint_.taps.begin() + g.begin, adjoint_.taps.begin() + g.end, [](const Tap& a, const Tap& b) {
+            return a.row != b.row ? a.row < b.row : a.col < b.col;
+        });
+        safeColumns(adjoint_.taps.data() + g.begin, g.end - g.begin, latent_.width, frame_.width, g.safeBegin,
                     g.safeEnd);
     }
+    buildPairs(forward_);
+    buildPairs(adjoint_);
 }
 
 void RowBankOperator::forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const
 {
-    gatherBlock(latent, forwardTaps_, forwardRows_, frameRows, frame_.width, out, outStep);
+    gatherBlock(latent, forward_, frameRows, frame_.width, out, outStep);
 }
 
 void RowBankOperator::adjointBlock(const Mat& frame, const Range& latentRows, float* out, size_t outStep) const
 {
-    gatherBlock(frame, adjointTaps_, adjointRows_, latentRows, latent_.width, out, outStep);
+    gatherBlock(frame, adjoint_, latentRows, latent_.width, out, outStep);
 }
 
 void RowBankOperator::forward(const Mat& latent, Mat& frame)

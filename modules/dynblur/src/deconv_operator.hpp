@@ -143,16 +143,31 @@ public:
         int col;
         float weight;
     };
-    //! Taps of one output row, and the output columns where every tap reads inside its source.
+    //! One term of two gathered rows at once: out_k[x] += weight[k] · source(row, x + col).
+    struct PairTap
+    {
+        int row;
+        int col;
+        float weight[2];
+    };
+    //! Taps of one output row (or row pair), and the output columns where every tap reads inside its source.
     struct GatherRow
     {
         int begin = 0, end = 0;  // into the tap array
         int safeBegin = 0, safeEnd = 0;
     };
+    /** One direction's gather: each output row's taps and, for each pair of output rows (2k, 2k+1),
+    the union of their taps with a weight for each, so a source vector loaded once feeds both rows. */
+    struct Gather
+    {
+        std::vector<Tap> taps;
+        std::vector<GatherRow> rows;
+        std::vector<PairTap> pairTaps;
+        std::vector<GatherRow> pairs;
+    };
 
 private:
-    std::vector<Tap> forwardTaps_, adjointTaps_;
-    std::vector<GatherRow> forwardRows_, adjointRows_;
+    Gather forward_, adjoint_;
 };
 
 /** @brief spotGain of a bank: blended kernels per pixel / the smallest kernel peak. */

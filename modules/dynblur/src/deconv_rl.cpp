@@ -117,10 +117,11 @@ private:
 
 /* x_{k+1} = y ⊙ correction / (norm − λ curvature) over one row, kept within [0, upper], and the
    data term's step y ⊙ (correction / norm − 1). Pixels whose normaliser is ≤ kUnobserved keep y.
-   `norm` and `curvature` may be null (1 and 0). Branch-free, so it vectorises. */
+   `norm` and `curvature` may be null (1 and 0); `out` may be `y` (each element is read before it
+   is written). Branch-free, so it vectorises. */
 DYNBLUR_SIMD_CLONES
-void updateRow(const float* __restrict y, const float* __restrict correction, const float* __restrict norm,
-               const float* __restrict curvature, float tvWeight, float upper, int n, float* __restrict out,
+void updateRow(const float* y, const float* __restrict correction, const float* __restrict norm,
+               const float* __restrict curvature, float tvWeight, float upper, int n, float* out,
                float* __restrict step)
 {
     for (int x = 0; x < n; x++)
@@ -139,18 +140,20 @@ void updateRow(const float* __restrict y, const float* __restrict correction, co
 }
 
 /* Σ a·b and Σ b·b over a row times scale², in eight-lane float sums (a row is short enough for
-   float; the scale keeps the products from under- or overflowing). */
+   float; the scale keeps the products from under- or overflowing); then b = a, in the same pass. */
 DYNBLUR_SIMD_CLONES
-void dotRows(const float* __restrict a, const float* __restrict b, int n, float scale, double& ab, double& bb)
+void dotAndReplace(const float* __restrict a, float* __restrict b, int n, float scale, double& ab, double& bb)
 {
     typedef float v8 __attribute__((vector_size(32), aligned(4)));
     v8 sab = {}, sbb = {};
     int x = 0;
     for (; x + 8 <= n; x += 8)
     {
-        const v8 va = *(const v8*)(a + x) * scale, vb = *(const v8*)(b + x) * scale;
+        const v8 raw = *(const v8*)(a + x);
+        const v8 va = raw * scale, vb = *(const v8*)(b + x) * scale;
         sab += va * vb;
         sbb += vb * vb;
+        *(v8*)(b + x) = raw;
     }
     for (int k = 0; k < 8; k++)
     {
@@ -161,6 +164,7 @@ void dotRows(const float* __restrict a, const float* __restrict b, int n, float 
     {
         ab += double(a[x] * scale) * (b[x] * scale);
         bb += double(b[x] * scale) * (b[x] * scale);
+        b[x] = a[x];
     }
 }
 
@@ -282,9 +286,7 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const Mat& normalizer, c
                     if (fused && inBlock == 0)
                         op.forwardBlock(y, Range(r, std::min(r + kBlockRows, rows.end)), reblurredBlock, size_t(width));
                     const float* ab = fused ? reblurredBlock + size_t(inBlock) * size_t(width) : reblurred.ptr<float>(r);
-                    const float* b = blurred.ptr<float>(r) + c;
-                    for (int x = 0; x < width; x++)
-                        observed[x] = b[x * stride];
+                    channelRow(blurred.ptr<float>(r), stride, int(c), width, observed);
                     ratioRow(observed, ab, ratio.ptr<float>(r), width, scale, invThreshold, logBuffer);
                 }
             });
@@ -307,11 +309,10 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const Mat& normalizer, c
             const bool accelerate = params.accelerate, measure = params.tolerance > 0;
             forBands(latentSize.height, bands, [&](int band, const Range& rows) {
                 UpdateSums& s = sums[size_t(band)];
-                std::vector<float> buffer(size_t(width) * (kBlockRows + 3));
+                std::vector<float> buffer(size_t(width) * (kBlockRows + 2));
                 float* correctionBlock = buffer.data();
                 float* stepRow = correctionBlock + size_t(width) * kBlockRows;
-                float* valueRow = stepRow + width;
-                float* curvatureRow = tvWeight > 0 ? valueRow + width : nullptr;
+                float* curvatureRow = tvWeight > 0 ? stepRow + width : nullptr;
                 const float* above = halo.data() + size_t(2 * band) * size_t(width);
                 CurvatureWalk curvature(y, rows, scale, tvEpsilon, curvatureRow ? above : nullptr, above + width);
                 for (int r = rows.start; r < rows.end; r++)
@@ -324,17 +325,12 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const Mat& normalizer, c
                                         size_t(width));
                     const float* cp = fused ? correctionBlock + size_t(inBlock) * size_t(width)
                                             : correction.ptr<float>(r);
-                    updateRow(y.ptr<float>(r), cp, normalizer.empty() ? nullptr : normalizer.ptr<float>(r),
-                              curvatureRow, tvWeight, upper, width, valueRow, stepRow);
-                    // Through a row buffer: `next` may be y itself, which the update must not see change.
+                    // `next` may be y itself: the walk has read row r of y for the last time.
                     float* out = next.ptr<float>(r);
-                    std::memcpy(out, valueRow, sizeof(float) * size_t(width));
+                    updateRow(y.ptr<float>(r), cp, normalizer.empty() ? nullptr : normalizer.ptr<float>(r),
+                              curvatureRow, tvWeight, upper, width, out, stepRow);
                     if (accelerate)
-                    {
-                        float* previousStep = step[c].ptr<float>(r);
-                        dotRows(stepRow, previousStep, width, scale, s.stepDot, s.stepBeforeSq);
-                        std::memcpy(previousStep, stepRow, sizeof(float) * size_t(width));
-                    }
+                        dotAndReplace(stepRow, step[c].ptr<float>(r), width, scale, s.stepDot, s.stepBeforeSq);
                     if (measure)
                     {
                         const float* xp = x.ptr<float>(r);
@@ -379,6 +375,31 @@ void planeMean(const std::vector<Mat>& planes, Mat& mean)
 
 }  // namespace
 
+/* The strides a frame has are spelled out: with a constant stride the compiler loads whole vectors
+   and shuffles, where a variable one reads float by float. */
+DYNBLUR_SIMD_CLONES
+void channelRow(const float* interleaved, int channels, int channel, int n, float* __restrict out)
+{
+    const float* p = interleaved + channel;
+    switch (channels)
+    {
+    case 1:
+        std::memcpy(out, p, sizeof(float) * size_t(n));
+        return;
+    case 3:
+        for (int x = 0; x < n; x++)
+            out[x] = p[3 * x];
+        return;
+    case 4:
+        for (int x = 0; x < n; x++)
+            out[x] = p[4 * x];
+        return;
+    default:
+        for (int x = 0; x < n; x++)
+            out[x] = p[x * channels];
+    }
+}
+
 int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& normalizer, const RLParams& params,
                           std::vector<Mat>& estimate, RLWorkspace& ws)
 {
@@ -414,13 +435,30 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& norma
     RLParams rest = params;
     rest.iterations = params.iterations - colour;
     done += iteratePlanes(op, luminance, normalizer, rest, latent, other, step, ws);
-    // The luminance's change goes to every plane (the start is no longer needed: reuse it).
-    subtract(latent[0], start, start);
-    for (Mat& e : estimate)
-    {
-        add(e, start, e);
-        max(e, 0.f, e);
-    }
+    /* The luminance's change goes to every plane as a ratio, which keeps each pixel's chromaticity
+       (an added difference would shift dark and saturated colours: fruits lost 3 dB that way with
+       one colour iteration). Where the start is (nearly) black the difference is added instead.
+       The planes stay within the bound the colour phase kept them in (see iteratePlanes). */
+    const float black = float(1e-6 * std::max(sum(mean(blurred))[0] / double(blurred.channels()), 0.0));
+    double brightest = 0;
+    minMaxLoc(blurred.reshape(1), nullptr, &brightest);
+    const float upper = float(std::min(op.spotGain() * std::max(brightest, 0.0), double(FLT_MAX)));
+    parallel_for_(Range(0, latentSize.height), [&](const Range& rows) {
+        for (int y = rows.start; y < rows.end; y++)
+        {
+            const float* restored = latent[0].ptr<float>(y);
+            const float* before = start.ptr<float>(y);
+            for (Mat& e : estimate)
+            {
+                float* p = e.ptr<float>(y);
+                for (int x = 0; x < latentSize.width; x++)
+                {
+                    const float v = before[x] > black ? p[x] * (restored[x] / before[x]) : p[x] + restored[x] - before[x];
+                    p[x] = std::min(std::max(v, 0.f), upper);
+                }
+            }
+        }
+    });
     ws.other[1] = latent[0];  // the two buffers may have swapped: keep the pool's set intact
     ws.other[0] = other[0];
     return done;

@@ -27,7 +27,7 @@ struct RLWorkspace
 x ← x ⊙ Aᵀ(damped(b / A x)) / (Aᵀ1 − λ div(∇x/|∇x|)), with Biggs–Andrews extrapolation of x when
 params.accelerate, stopping early at params.tolerance. With 3–4 planes and params.colorIterations
 in [0, iterations), the iterations after the first colorIterations run on the planes' mean alone,
-whose change is then added to every plane.
+whose change then scales every plane.
 @param op the blur. @param blurred the frame, CV_32F with one channel per estimate plane.
 @param normalizer Aᵀ1 (latent size); empty: 1 everywhere, the unnormalised update of scikit-image's
 richardson_lucy. Latent pixels whose normaliser is ≤ kUnobserved are not updated.
@@ -42,6 +42,9 @@ them): the frame-rate path of DynamicDeblurrer.
 @param observed the frame, CV_32F, 1–4 channels, the bank's size, finite. */
 void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& params, RLWorkspace& workspace,
                     OutputArray latent, OutputArray validMask);
+
+//! out[x] = interleaved[x · channels + channel] for x in [0, n).
+void channelRow(const float* interleaved, int channels, int channel, int n, float* out);
 
 //! Normaliser below which a latent pixel counts as not seen by any frame pixel.
 constexpr float kUnobserved = 1e-3f;

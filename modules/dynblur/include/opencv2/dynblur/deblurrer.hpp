@@ -49,7 +49,7 @@ public:
     CV_WRAP virtual void setMethod(int method) = 0;
     /** @brief Restoration options; default RLParams() with automatic damping (damping = NaN: 3σ of
     the frame's estimated noise). For frame rate with colour frames use PSF_ROWS, 10 iterations and
-    colorIterations = 5 (the quality test DeblurQuality.RollingShutterWindowIII* checks that setting). */
+    colorIterations = 3 (the quality test DeblurQuality.RollingShutterWindowIII* checks that setting). */
     CV_WRAP virtual RLParams getRLParams() const = 0;
     CV_WRAP virtual void setRLParams(const RLParams& params) = 0;
     /** @brief Exposure window of the last frame passed to deblur() (0 before the first). */

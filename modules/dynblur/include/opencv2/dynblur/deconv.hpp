@@ -31,9 +31,9 @@ struct CV_EXPORTS_W_SIMPLE RLParams
     CV_PROP_RW bool accelerate;    //!< Biggs–Andrews vector extrapolation @cite Biggs1997Acceleration
     CV_PROP_RW double tolerance;   //!< stop early when the relative change of an iteration falls below it, ≥ 0 (0: never)
     /** Iterations run on every colour plane of a 3- or 4-channel image, ≥ 0; the remaining ones
-        restore the luminance (the planes' mean) alone and add its change to every plane. Fine
-        detail is mostly luminance, so the result stays close to full colour RL while a luminance
-        iteration costs a third of a colour one. −1 (default) or ≥ iterations: every iteration in
+        restore the luminance (the planes' mean) alone and scale every plane by its change, which
+        keeps each pixel's chromaticity. Fine detail is mostly luminance, so the result stays close
+        to full colour RL while a luminance iteration costs a third of a colour one. −1 (default) or ≥ iterations: every iteration in
         colour. Ignored for 1–2 channels. */
     CV_PROP_RW int colorIterations;
 };

@@ -278,22 +278,62 @@ void expectAdjoint(cv::dynblur::detail::BlurOperator& op, bool pad)
     EXPECT_GT(norm(ax), 1.0);
 }
 
-TEST(DeconvOperator, AdjointIsExactForTileBankWithShifts)
+//! The bank with a little noise on every non-zero tap (zero taps stay zero), renormalised.
+PsfBank unevenTaps(PsfBank bank, uint64 seed)
 {
-    PsfBank bank = tileBank(Size(90, 70), 4, 3, 30);
-    RNG rng(5);
+    RNG rng(seed);
     for (Mat& k : bank.kernels)
     {
         Mat noise(k.size(), CV_32F), used;
         rng.fill(noise, RNG::UNIFORM, 0, 0.02);
         Mat(k > 0).convertTo(used, CV_32F, 1.0 / 255);
-        k = k + noise.mul(used);  // keep zero taps zero
+        k = k + noise.mul(used);
         k /= sum(k)[0];
     }
+    return bank;
+}
+
+TEST(DeconvOperator, AdjointIsExactForTileBankWithShifts)
+{
+    const PsfBank bank = unevenTaps(tileBank(Size(90, 70), 4, 3, 30), 5);
     for (bool pad : {true, false})
     {
         cv::dynblur::detail::BankBlurOperator op(bank, pad);
         expectAdjoint(op, pad);
+    }
+}
+
+//! A gathering operator computes what the general (scattering) one does, both ways.
+void expectSameAsGeneral(cv::dynblur::detail::BlurOperator& gather, const PsfBank& bank, bool pad)
+{
+    cv::dynblur::detail::BankBlurOperator general(bank, pad);
+    ASSERT_EQ(gather.latentSize(), general.latentSize());
+    ASSERT_EQ(gather.origin(), general.origin());
+    Mat x(gather.latentSize(), CV_32F), y(gather.frameSize(), CV_32F), a, b;
+    RNG(3).fill(x, RNG::UNIFORM, 0, 1);
+    RNG(4).fill(y, RNG::UNIFORM, 0, 1);
+    general.forward(x, a);
+    gather.forward(x, b);
+    EXPECT_LT(norm(a, b, NORM_INF), 1e-5) << "forward, pad=" << pad;
+    general.adjoint(y, a);
+    gather.adjoint(y, b);
+    EXPECT_LT(norm(a, b, NORM_INF), 1e-5) << "adjoint, pad=" << pad;
+}
+
+// The tile gather has an exact adjoint and agrees with the general operator, slanted kernels and
+// both boundaries included.
+TEST(DeconvOperator, TileGatherAgreesWithTheGeneralOperator)
+{
+    PsfBank bank = unevenTaps(tileBank(Size(150, 110), 5, 4, 40), 6);
+    bank.kernels[7] = Mat::zeros(5, 7, CV_32F);
+    for (int i = 0; i < 5; i++)
+        bank.kernels[7].at<float>(i, i + 1) = 0.2f;
+    bank.shifts[7] = Point(-6, 3);
+    for (bool pad : {true, false})
+    {
+        cv::dynblur::detail::TileBankOperator tiles(bank, pad);
+        expectAdjoint(tiles, pad);
+        expectSameAsGeneral(tiles, bank, pad);
     }
 }
 
@@ -312,17 +352,7 @@ TEST(DeconvOperator, AdjointIsExactForRowBankWithLargeShifts)
         cv::dynblur::detail::RowBankOperator rows(bank, pad);
         expectAdjoint(general, pad);
         expectAdjoint(rows, pad);
-        ASSERT_EQ(rows.latentSize(), general.latentSize());
-        ASSERT_EQ(rows.origin(), general.origin());
-        Mat x(rows.latentSize(), CV_32F), y(rows.frameSize(), CV_32F), a, b;
-        RNG(3).fill(x, RNG::UNIFORM, 0, 1);
-        RNG(4).fill(y, RNG::UNIFORM, 0, 1);
-        general.forward(x, a);
-        rows.forward(x, b);
-        EXPECT_LT(norm(a, b, NORM_INF), 1e-5) << "forward, pad=" << pad;
-        general.adjoint(y, a);
-        rows.adjoint(y, b);
-        EXPECT_LT(norm(a, b, NORM_INF), 1e-5) << "adjoint, pad=" << pad;
+        expectSameAsGeneral(rows, bank, pad);
     }
 }
 

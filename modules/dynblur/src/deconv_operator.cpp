@@ -5,6 +5,7 @@
 #include <opencv2/core/utility.hpp>
 
 #include <algorithm>
+#include <climits>
 #include <cstring>
 
 namespace cv {
@@ -110,6 +111,23 @@ std::vector<Range> supports(const std::vector<BankBlurOperator::AxisWeight>& wei
     return result;
 }
 
+//! Each node's weights over its support (`support` from supports()).
+std::vector<std::vector<float>> supportWeights(const std::vector<BankBlurOperator::AxisWeight>& weights,
+                                               const std::vector<Range>& support)
+{
+    std::vector<std::vector<float>> result(support.size());
+    for (size_t i = 0; i < support.size(); i++)
+    {
+        const Range r = support[i];
+        result[i].assign(size_t(r.size()), 0.f);
+        for (int t = r.start; t < r.end; t++)
+            for (int k = 0; k < 2; k++)
+                if (weights[size_t(t)].node[k] == int(i))
+                    result[i][size_t(t - r.start)] += weights[size_t(t)].weight[k];
+    }
+    return result;
+}
+
 //! One non-zero kernel element as a read offset: frame pixel p reads latent p + (dx, dy).
 struct KernelTap
 {
@@ -179,6 +197,24 @@ void gatherInterior(float* __restrict out, const float* source, size_t sourceSte
         *(v8*)(out + x + 40) = s5;
         *(v8*)(out + x + 48) = s6;
         *(v8*)(out + x + 56) = s7;
+    }
+    // Narrower tails still keep four chains: one 8-float sum would wait on each FMA's latency.
+    for (; x + 32 <= end; x += 32)
+    {
+        v8 s0 = {}, s1 = {}, s2 = {}, s3 = {};
+        for (int t = 0; t < tapCount; t++)
+        {
+            const float* p = source + size_t(taps[t].row) * sourceStep + (taps[t].col + x);
+            const v8 w = v8{} + taps[t].weight;
+            s0 += w * *(const v8*)(p);
+            s1 += w * *(const v8*)(p + 8);
+            s2 += w * *(const v8*)(p + 16);
+            s3 += w * *(const v8*)(p + 24);
+        }
+        *(v8*)(out + x) = s0;
+        *(v8*)(out + x + 8) = s1;
+        *(v8*)(out + x + 16) = s2;
+        *(v8*)(out + x + 24) = s3;
     }
     for (; x + 8 <= end; x += 8)
     {
@@ -408,16 +444,7 @@ BankBlurOperator::BankBlurOperator(const PsfBank& bank, bool pad) : BlurOperator
     nodeRowSupport_ = supports(rowWeights_, nodeRows_);
     const std::vector<AxisWeight> colWeights = tentWeights(bank.nodeCols, frame_.width);
     nodeColSupport_ = supports(colWeights, nodeCols_);
-    colWeight_.resize(size_t(nodeCols_));
-    for (int i = 0; i < nodeCols_; i++)
-    {
-        const Range r = nodeColSupport_[size_t(i)];
-        colWeight_[size_t(i)].assign(size_t(r.size()), 0.f);
-        for (int x = r.start; x < r.end; x++)
-            for (int k = 0; k < 2; k++)
-                if (colWeights[size_t(x)].node[k] == i)
-                    colWeight_[size_t(i)][size_t(x - r.start)] += colWeights[size_t(x)].weight[k];
-    }
+    colWeight_ = supportWeights(colWeights, nodeColSupport_);
 }
 
 float BankBlurOperator::rowWeight(int nodeRow, int frameRow) const
@@ -725,7 +752,7 @@ void RowBankOperator::adjointBlock(const Mat& frame, const Range& latentRows, fl
     gatherBlock(frame, adjoint_, latentRows, latent_.width, out, outStep);
 }
 
-void RowBankOperator::forward(const Mat& latent, Mat& frame)
+void BlurOperator::forwardByBlocks(const Mat& latent, Mat& frame) const
 {
     CV_DbgAssert(latent.type() == CV_32FC1 && latent.size() == latent_);
     frame.create(frame_, CV_32FC1);
@@ -733,19 +760,231 @@ void RowBankOperator::forward(const Mat& latent, Mat& frame)
                   [&](const Range& rows) { forwardBlock(latent, rows, frame.ptr<float>(rows.start), frame.step1()); });
 }
 
-void RowBankOperator::adjoint(const Mat& frame, Mat& latent)
+void BlurOperator::adjointByBlocks(const Mat& frame, Mat& latent)
 {
     CV_DbgAssert(frame.type() == CV_32FC1 && frame.size() == frame_);
     latent.create(latent_, CV_32FC1);
+    prepareAdjoint(frame);
     parallel_for_(Range(0, latent_.height),
                   [&](const Range& rows) { adjointBlock(frame, rows, latent.ptr<float>(rows.start), latent.step1()); });
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bank with several node columns: gathered rows per node column.
+
+TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad) : BlurOperator(bank.imageSize)
+{
+    spotGain_ = bankSpotGain(bank);
+    nodeCols_ = int(bank.nodeCols.size());
+    nodeRows_ = int(bank.nodeRows.size());
+    std::vector<std::vector<KernelTap>> nodes(bank.kernels.size());
+    parallel_for_(Range(0, int(nodes.size())), [&](const Range& r) {
+        for (int n = r.start; n < r.end; n++)
+        {
+            nodes[size_t(n)] = kernelTaps(bank.kernels[size_t(n)], bank.shifts[size_t(n)]);
+            std::sort(nodes[size_t(n)].begin(), nodes[size_t(n)].end(), [](const KernelTap& a, const KernelTap& b) {
+                return a.dy != b.dy ? a.dy < b.dy : a.dx < b.dx;
+            });
+        }
+    });
+    for (const std::vector<KernelTap>& node : nodes)
+        for (const KernelTap& t : node)
+        {
+            dxMin_ = std::min(dxMin_, t.dx);
+            dxMax_ = std::max(dxMax_, t.dx);
+            dyMin_ = std::min(dyMin_, t.dy);
+            dyMax_ = std::max(dyMax_, t.dy);
+        }
+    domain(frame_, pad, dxMin_, dxMax_, dyMin_, dyMax_, latent_, origin_);
+
+    /* The union of node rows j and j + 1 in each node column (the last node row pairs with
+       nothing), node columns in parallel into their own arrays, joined after. */
+    kernels_.resize(nodes.size());
+    std::vector<std::vector<UnionTap>> columnTaps(static_cast<size_t>(nodeCols_));
+    std::vector<std::vector<int>> columnRuns(static_cast<size_t>(nodeCols_));
+    parallel_for_(Range(0, nodeCols_), [&](const Range& range) {
+        static const std::vector<KernelTap> none;
+        for (int i = range.start; i < range.end; i++)
+        {
+            std::vector<UnionTap>& taps = columnTaps[size_t(i)];
+            std::vector<int>& runs = columnRuns[size_t(i)];
+            for (int j = 0; j < nodeRows_; j++)
+            {
+                const std::vector<KernelTap>& a = nodes[size_t(j * nodeCols_ + i)];
+                const std::vector<KernelTap>& b = j + 1 < nodeRows_ ? nodes[size_t((j + 1) * nodeCols_ + i)] : none;
+                UnionKernel& k = kernels_[size_t(i * nodeRows_ + j)];
+                k.begin = int(taps.size());
+                size_t p = 0, q = 0;
+                while (p < a.size() || q < b.size())
+                {
+                    const bool takeA = p < a.size() && (q == b.size() || a[p].dy < b[q].dy ||
+                                                        (a[p].dy == b[q].dy && a[p].dx <= b[q].dx));
+                    const bool takeB = q < b.size() && (p == a.size() || b[q].dy < a[p].dy ||
+                                                        (b[q].dy == a[p].dy && b[q].dx <= a[p].dx));
+                    const KernelTap& key = takeA ? a[p] : b[q];
+                    taps.push_back({key.dy, key.dx, {takeA ? a[p].weight : 0.f, takeB ? b[q].weight : 0.f}});
+                    p += takeA;
+                    q += takeB;
+                }
+                k.end = int(taps.size());
+                if (k.end == k.begin)
+                    continue;
+                k.dyMin = taps[size_t(k.begin)].dy;
+                k.dyMax = taps[size_t(k.end - 1)].dy;
+                k.runs = int(runs.size());
+                int t = k.begin;
+                for (int dy = k.dyMin; dy <= k.dyMax + 1; dy++)
+                {
+                    while (t < k.end && taps[size_t(t)].dy < dy)
+                        t++;
+                    runs.push_back(t);
+                }
+            }
+        }
+    });
+    for (int i = 0; i < nodeCols_; i++)
+    {
+        const int tapBase = int(unionTaps_.size()), runBase = int(runStart_.size());
+        for (int j = 0; j < nodeRows_; j++)
+        {
+            UnionKernel& k = kernels_[size_t(i * nodeRows_ + j)];
+            k.begin += tapBase;
+            k.end += tapBase;
+            k.runs += runBase;
+        }
+        for (int& r : columnRuns[size_t(i)])
+            r += tapBase;
+        unionTaps_.insert(unionTaps_.end(), columnTaps[size_t(i)].begin(), columnTaps[size_t(i)].end());
+        runStart_.insert(runStart_.end(), columnRuns[size_t(i)].begin(), columnRuns[size_t(i)].end());
+    }
+
+    rowWeights_ = tentWeights(bank.nodeRows, frame_.height);
+    const std::vector<BankBlurOperator::AxisWeight> colWeights = tentWeights(bank.nodeCols, frame_.width);
+    colSupport_ = supports(colWeights, nodeCols_);
+    colWeight_ = supportWeights(colWeights, colSupport_);
+    margin_ = dxMax_ - dxMin_;
+}
+
+void TileBankOperator::forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const
+{
+    const int width = frame_.width;
+    std::vector<RowBankOperator::Tap> taps;
+    std::vector<float> part(static_cast<size_t>(width));
+    for (int y = frameRows.start; y < frameRows.end; y++)
+    {
+        float* o = out + size_t(y - frameRows.start) * outStep;
+        std::fill(o, o + width, 0.f);
+        const BankBlurOperator::AxisWeight& rw = rowWeights_[size_t(y)];
+        const float a0 = rw.weight[0], a1 = rw.node[1] != rw.node[0] ? rw.weight[1] : 0.f;
+        for (int i = 0; i < nodeCols_; i++)
+        {
+            const UnionKernel& k = unionKernel(rw.node[0], i);
+            taps.clear();
+            int colMin = INT_MAX, colMax = INT_MIN;
+            for (int t = k.begin; t < k.end; t++)
+            {
+                const UnionTap& u = unionTaps_[size_t(t)];
+                const int row = y + u.dy + origin_.y;
+                const float w = a0 * u.weight[0] + a1 * u.weight[1];
+                if (row < 0 || row >= latent_.height || w == 0.f)
+                    continue;
+                const int col = u.dx + origin_.x;
+                taps.push_back({row, col, w});
+                colMin = std::min(colMin, col);
+                colMax = std::max(colMax, col);
+            }
+            if (taps.empty())
+                continue;
+            const Range cols = colSupport_[size_t(i)];
+            RowBankOperator::GatherRow g;
+            g.safeBegin = std::max(cols.start, -colMin);
+            g.safeEnd = std::max(g.safeBegin, std::min(cols.end, latent_.width - colMax));
+            gatherRowRange(latent, taps.data(), int(taps.size()), g, cols.start, cols.end, part.data());
+            const float* cw = colWeight_[size_t(i)].data() - cols.start;
+            for (int x = cols.start; x < cols.end; x++)
+                o[x] += cw[x] * part[size_t(x)];
+        }
+    }
+}
+
+void TileBankOperator::prepareAdjoint(const Mat& frame)
+{
+    weighted_.resize(size_t(nodeCols_));
+    for (int i = 0; i < nodeCols_; i++)
+        weighted_[size_t(i)].create(frame_.height, colSupport_[size_t(i)].size() + 2 * margin_, CV_32F);
+    parallel_for_(Range(0, frame_.height), [&](const Range& rows) {
+        for (int r = rows.start; r < rows.end; r++)
+        {
+            const float* src = frame.ptr<float>(r);
+            for (int i = 0; i < nodeCols_; i++)
+            {
+                const Range cols = colSupport_[size_t(i)];
+                float* w = weighted_[size_t(i)].ptr<float>(r);
+                std::fill(w, w + margin_, 0.f);
+                multiplyInto(w + margin_, colWeight_[size_t(i)].data(), src + cols.start, cols.size());
+                std::fill(w + margin_ + cols.size(), w + cols.size() + 2 * margin_, 0.f);
+            }
+        }
+    });
+}
+
+void TileBankOperator::adjointBlock(const Mat& /*frame: read through prepareAdjoint's weighted copies*/,
+                                    const Range& latentRows, float* out, size_t outStep) const
+{
+    const int width = latent_.width;
+    std::vector<RowBankOperator::Tap> taps;
+    std::vector<float> part(static_cast<size_t>(width));
+    for (int l = latentRows.start; l < latentRows.end; l++)
+        std::fill(out + size_t(l - latentRows.start) * outStep, out + size_t(l - latentRows.start) * outStep + width,
+                  0.f);
+    // Node column by node column: the block's rows then read the same few hundred kernels.
+    for (int i = 0; i < nodeCols_; i++)
+    {
+        const Range cols = colSupport_[size_t(i)];
+        const int begin = std::max(0, cols.start + dxMin_ + origin_.x);
+        const int end = std::min(width, cols.end + dxMax_ + origin_.x);
+        // Latent column x gathers frame column x − dx − origin.x, at its place in the weighted copy.
+        const int offset = margin_ - cols.start - origin_.x;
+        const Mat& source = weighted_[size_t(i)];
+        for (int l = latentRows.start; l < latentRows.end; l++)
+        {
+            // Frame row y reads latent row l through its taps with dy = l − origin.y − y.
+            const int qy = l - origin_.y;
+            const int yLow = std::max(0, qy - dyMax_), yHigh = std::min(frame_.height - 1, qy - dyMin_);
+            taps.clear();
+            for (int y = yLow; y <= yHigh; y++)
+            {
+                const BankBlurOperator::AxisWeight& rw = rowWeights_[size_t(y)];
+                const UnionKernel& k = unionKernel(rw.node[0], i);
+                const int dy = qy - y;
+                if (dy < k.dyMin || dy > k.dyMax)
+                    continue;
+                const float a0 = rw.weight[0], a1 = rw.node[1] != rw.node[0] ? rw.weight[1] : 0.f;
+                const int* run = &runStart_[size_t(k.runs + dy - k.dyMin)];
+                for (int t = run[0]; t < run[1]; t++)
+                {
+                    const UnionTap& u = unionTaps_[size_t(t)];
+                    const float w = a0 * u.weight[0] + a1 * u.weight[1];
+                    if (w != 0.f)
+                        taps.push_back({y, offset - u.dx, w});
+                }
+            }
+            if (taps.empty())
+                continue;
+            gatherInterior(part.data(), source.ptr<float>(), source.step1(), taps.data(), int(taps.size()), begin,
+                           end);
+            float* o = out + size_t(l - latentRows.start) * outStep;
+            for (int x = begin; x < end; x++)
+                o[x] += part[size_t(x)];
+        }
+    }
 }
 
 std::unique_ptr<BlurOperator> createBankOperator(const PsfBank& bank, bool pad)
 {
     if (bank.nodeCols.size() == 1)
         return std::unique_ptr<BlurOperator>(new RowBankOperator(bank, pad));
-    return std::unique_ptr<BlurOperator>(new BankBlurOperator(bank, pad));
+    return std::unique_ptr<BlurOperator>(new TileBankOperator(bank, pad));
 }
 
 }  // namespace detail

@@ -47,12 +47,19 @@ public:
     virtual bool gathersRows() const { return false; }
     //! Rows `frameRows` of A · latent, row r at out + (r − frameRows.start)·outStep. Only when gathersRows().
     virtual void forwardBlock(const Mat& /*latent*/, const Range& /*frameRows*/, float* /*out*/, size_t /*outStep*/) const {}
-    //! Rows `latentRows` of Aᵀ · frame, laid out likewise. Only when gathersRows().
+    /** Rows `latentRows` of Aᵀ · frame, laid out likewise. Only when gathersRows(), and after
+    prepareAdjoint(frame) for this `frame`. */
     virtual void adjointBlock(const Mat& /*frame*/, const Range& /*latentRows*/, float* /*out*/, size_t /*outStep*/) const {}
+    //! Whatever adjointBlock needs of the whole `frame` first (before any block runs).
+    virtual void prepareAdjoint(const Mat& /*frame*/) {}
 
 protected:
     //! The latent domain starts as the frame; operators with padding grow it.
     explicit BlurOperator(Size frameSize) : frame_(frameSize), latent_(frameSize) {}
+    //! forward() of an operator that gathers rows: its blocks, in parallel over the frame.
+    void forwardByBlocks(const Mat& latent, Mat& frame) const;
+    //! adjoint() of an operator that gathers rows: prepareAdjoint, then its blocks in parallel.
+    void adjointByBlocks(const Mat& frame, Mat& latent);
     Size frame_, latent_;
     Point origin_;
     double spotGain_ = 1;
@@ -77,7 +84,9 @@ private:
 in the spatial domain as sparse taps (zero taps skipped, shifts are index offsets), rows in
 parallel. With `pad` the latent domain is the bounding box of every pixel any tap reads (the
 kernels' reach, shifts included); otherwise it is the frame and reads outside it are zero.
-The bank is trusted (validated by the caller). */
+The bank is trusted (validated by the caller). This is the operator in its plainest form (each
+node's taps scattered); createBankOperator picks the gathering ones below, and the tests hold them
+to it. */
 class CV_EXPORTS BankBlurOperator CV_FINAL : public BlurOperator
 {
 public:
@@ -130,8 +139,8 @@ class CV_EXPORTS RowBankOperator CV_FINAL : public BlurOperator
 {
 public:
     RowBankOperator(const PsfBank& bank, bool pad);
-    void forward(const Mat& latent, Mat& frame) CV_OVERRIDE;
-    void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE;
+    void forward(const Mat& latent, Mat& frame) CV_OVERRIDE { forwardByBlocks(latent, frame); }
+    void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE { adjointByBlocks(frame, latent); }
     bool gathersRows() const CV_OVERRIDE { return true; }
     void forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const CV_OVERRIDE;
     void adjointBlock(const Mat& frame, const Range& latentRows, float* out, size_t outStep) const CV_OVERRIDE;
@@ -170,11 +179,64 @@ private:
     Gather forward_, adjoint_;
 };
 
+/** @brief A bank with several node columns (PSF_TILES): a frame pixel blends the kernels of its
+two node rows and two node columns. Along a frame row the node-row blend is fixed, so for each node
+column the row's kernel is one merged tap list (the union of the two node rows' taps, kept with a
+weight for each and mixed per row), gathered like RowBankOperator's over the columns that node
+column covers and added with the column tent weight. The adjoint gathers too: from the frame
+weighted by each node column's tent, kept per node column with zero margins as wide as the kernels
+reach, so every tap reads inside and no read strays into a neighbour column's share. Domains and
+padding as BankBlurOperator. The bank is trusted (validated by the caller). */
+class CV_EXPORTS TileBankOperator CV_FINAL : public BlurOperator
+{
+public:
+    TileBankOperator(const PsfBank& bank, bool pad);
+    void forward(const Mat& latent, Mat& frame) CV_OVERRIDE { forwardByBlocks(latent, frame); }
+    void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE { adjointByBlocks(frame, latent); }
+    bool gathersRows() const CV_OVERRIDE { return true; }
+    void forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const CV_OVERRIDE;
+    void adjointBlock(const Mat& frame, const Range& latentRows, float* out, size_t outStep) const CV_OVERRIDE;
+    void prepareAdjoint(const Mat& frame) CV_OVERRIDE;
+
+    //! One term of the union of two node rows' kernels: frame pixel p reads latent p + (dx, dy) + origin.
+    struct UnionTap
+    {
+        int dy, dx;
+        float weight[2];  // of node row j and of node row j + 1
+    };
+    //! The union kernel of node rows (j, j + 1) in one node column, its taps sorted by (dy, dx).
+    struct UnionKernel
+    {
+        int begin = 0, end = 0;   // into unionTaps_
+        int dyMin = 0, dyMax = -1;
+        int runs = 0;             // into runStart_: dyMax − dyMin + 2 offsets, the taps of each dy
+    };
+
+private:
+    const UnionKernel& unionKernel(int nodeRow, int nodeCol) const
+    {
+        return kernels_[size_t(nodeCol) * size_t(nodeRows_) + size_t(nodeRow)];
+    }
+
+    int nodeCols_ = 1, nodeRows_ = 1;
+    int dxMin_ = 0, dxMax_ = 0, dyMin_ = 0, dyMax_ = 0;  // the bank's tap offsets (latent − frame)
+    /* Node column by node column, down the node rows: the adjoint walks down the frame rows of one
+       node column at a time, so what it reads lies together. */
+    std::vector<UnionTap> unionTaps_;
+    std::vector<int> runStart_;
+    std::vector<UnionKernel> kernels_;                        // node columns × node rows
+    std::vector<BankBlurOperator::AxisWeight> rowWeights_;    // per frame row
+    std::vector<Range> colSupport_;                           // frame columns each node column covers
+    std::vector<std::vector<float>> colWeight_;               // per node column, over its support
+    int margin_ = 0;                                          // zero columns around each weighted part
+    std::vector<Mat> weighted_;                               // per node column: frame × tent, with margins
+};
+
 /** @brief spotGain of a bank: blended kernels per pixel / the smallest kernel peak. */
 double bankSpotGain(const PsfBank& bank);
 
 /** @brief The operator that applies `bank` fastest: RowBankOperator when the bank has one node
-column, BankBlurOperator otherwise. */
+column, TileBankOperator otherwise. */
 std::unique_ptr<BlurOperator> createBankOperator(const PsfBank& bank, bool pad);
 
 /** @brief Bilinear tent weights of every integer coordinate in [0, length) between the nodes `z`

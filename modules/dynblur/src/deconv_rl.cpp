@@ -302,7 +302,9 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const Mat& normalizer, c
                     if (rows.end < latentSize.height)
                         std::memcpy(above + width, y.ptr<float>(rows.end), sizeof(float) * size_t(width));
                 }
-            if (!fused)
+            if (fused)
+                op.prepareAdjoint(ratio);
+            else
                 op.adjoint(ratio, correction);
 
             // x_{k+1} = y ⊙ Aᵀratio / (Aᵀ1 − λ div(∇y/|∇y|)), row by row from the adjoint's row.

@@ -772,6 +772,20 @@ void BlurOperator::adjointByBlocks(const Mat& frame, Mat& latent)
 // ---------------------------------------------------------------------------------------------
 // Bank with several node columns: gathered rows per node column.
 
+namespace {
+
+/* The next slot of a tap list of `count` taps, grown as needed. Its fields are then stored one by
+   one: a Tap built on the stack and copied is read back as 8 bytes over two 4-byte stores, which
+   the CPU cannot forward, and that stall cost more than the gather. */
+inline RowBankOperator::Tap& appendTap(std::vector<RowBankOperator::Tap>& taps, int& count)
+{
+    if (count == int(taps.size()))
+        taps.resize(size_t(2 * count + 64));
+    return taps[size_t(count++)];
+}
+
+}  // namespace
+
 TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad) : BlurOperator(bank.imageSize)
 {
     spotGain_ = bankSpotGain(bank);
@@ -879,8 +893,7 @@ void TileBankOperator::forwardBlock(const Mat& latent, const Range& frameRows, f
         for (int i = 0; i < nodeCols_; i++)
         {
             const UnionKernel& k = unionKernel(rw.node[0], i);
-            taps.clear();
-            int colMin = INT_MAX, colMax = INT_MIN;
+            int count = 0, colMin = INT_MAX, colMax = INT_MIN;
             for (int t = k.begin; t < k.end; t++)
             {
                 const UnionTap& u = unionTaps_[size_t(t)];
@@ -889,17 +902,20 @@ void TileBankOperator::forwardBlock(const Mat& latent, const Range& frameRows, f
                 if (row < 0 || row >= latent_.height || w == 0.f)
                     continue;
                 const int col = u.dx + origin_.x;
-                taps.push_back({row, col, w});
+                RowBankOperator::Tap& tap = appendTap(taps, count);
+                tap.row = row;
+                tap.col = col;
+                tap.weight = w;
                 colMin = std::min(colMin, col);
                 colMax = std::max(colMax, col);
             }
-            if (taps.empty())
+            if (count == 0)
                 continue;
             const Range cols = colSupport_[size_t(i)];
             RowBankOperator::GatherRow g;
             g.safeBegin = std::max(cols.start, -colMin);
             g.safeEnd = std::max(g.safeBegin, std::min(cols.end, latent_.width - colMax));
-            gatherRowRange(latent, taps.data(), int(taps.size()), g, cols.start, cols.end, part.data());
+            gatherRowRange(latent, taps.data(), count, g, cols.start, cols.end, part.data());
             const float* cw = colWeight_[size_t(i)].data() - cols.start;
             for (int x = cols.start; x < cols.end; x++)
                 o[x] += cw[x] * part[size_t(x)];
@@ -951,7 +967,7 @@ void TileBankOperator::adjointBlock(const Mat& /*frame: read through prepareAdjo
             // Frame row y reads latent row l through its taps with dy = l − origin.y − y.
             const int qy = l - origin_.y;
             const int yLow = std::max(0, qy - dyMax_), yHigh = std::min(frame_.height - 1, qy - dyMin_);
-            taps.clear();
+            int count = 0;
             for (int y = yLow; y <= yHigh; y++)
             {
                 const BankBlurOperator::AxisWeight& rw = rowWeights_[size_t(y)];
@@ -965,14 +981,17 @@ void TileBankOperator::adjointBlock(const Mat& /*frame: read through prepareAdjo
                 {
                     const UnionTap& u = unionTaps_[size_t(t)];
                     const float w = a0 * u.weight[0] + a1 * u.weight[1];
-                    if (w != 0.f)
-                        taps.push_back({y, offset - u.dx, w});
+                    if (w == 0.f)
+                        continue;
+                    RowBankOperator::Tap& tap = appendTap(taps, count);
+                    tap.row = y;
+                    tap.col = offset - u.dx;
+                    tap.weight = w;
                 }
             }
-            if (taps.empty())
+            if (count == 0)
                 continue;
-            gatherInterior(part.data(), source.ptr<float>(), source.step1(), taps.data(), int(taps.size()), begin,
-                           end);
+            gatherInterior(part.data(), source.ptr<float>(), source.step1(), taps.data(), count, begin, end);
             float* o = out + size_t(l - latentRows.start) * outStep;
             for (int x = begin; x < end; x++)
                 o[x] += part[size_t(x)];

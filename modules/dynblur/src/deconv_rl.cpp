@@ -17,7 +17,7 @@ namespace {
 // scikit-image adds this to the reblurred image before dividing; kept so ZERO-boundary results match.
 constexpr float kRatioEpsilon = 1e-12f;
 
-//! Rows blurred at a time by a row-gathering operator, then consumed row by row while in L2.
+//! Rows blurred at a time by a row-gathering operator, then consumed row by row while in L2 (even: see bandRange).
 constexpr int kBlockRows = 8;
 
 /* ratio = b / (A x) over one row, damped as MATLAB's deconvlucy does (White 1994): where the
@@ -174,10 +174,12 @@ struct UpdateSums
     double stepDot = 0, stepBeforeSq = 0, changeSq = 0, sizeSq = 0;
 };
 
-//! Band b of `bands` fixed bands of [0, rows).
+/* Band b of `bands` fixed bands of [0, rows). Inner bands start on even rows, as blocks of
+   kBlockRows then do: a row-gathering operator computes rows 2k and 2k + 1 together. */
 Range bandRange(int rows, int bands, int b)
 {
-    return Range(int(int64_t(rows) * b / bands), int(int64_t(rows) * (b + 1) / bands));
+    const auto start = [&](int k) { return k >= bands ? rows : int(int64_t(rows) * k / bands) & ~1; };
+    return Range(start(b), start(b + 1));
 }
 
 //! Runs body(band, rows) over the bands in parallel: partial sums come out the same on every run.

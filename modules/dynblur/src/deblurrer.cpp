@@ -73,8 +73,14 @@ public:
         else
             latent_ = latent;
         // Restoration may overshoot a little at edges; the output is an image in [0, 1].
-        max(latent, 0.0, latent);
-        min(latent, 1.0, latent);
+        parallel_for_(Range(0, latent.rows), [&](const Range& rows) {
+            for (int y = rows.start; y < rows.end; y++)
+            {
+                float* p = latent.ptr<float>(y);
+                for (int x = 0; x < latent.cols * latent.channels(); x++)
+                    p[x] = std::min(std::max(p[x], 0.f), 1.f);
+            }
+        });
 
         if (!direct)
         {
@@ -148,7 +154,7 @@ private:
             CV_Error(Error::StsBadSize,
                      format("DynamicDeblurrer::deblur: shutter.rows = %d differs from the frame's height %d",
                             shutter.rows, input.rows));
-        if (input.depth() == CV_32F && !checkRange(input))
+        if (input.depth() == CV_32F && !detail::allFinite(input))
             CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: 'frame' holds NaN or Inf values");
     }
 

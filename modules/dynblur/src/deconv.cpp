@@ -364,7 +364,17 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
     for (size_t c = 0; c < estimate.size(); c++)
         planes[c] = estimate[c](frame);
     fillFromNearest(planes, ws.valid);
-    merge(planes, latent);
+    latent.create(frameSize, CV_32FC(channels));
+    Mat out = latent.getMat();
+    parallel_for_(Range(0, frameSize.height), [&](const Range& rows) {
+        std::vector<const float*> sources(planes.size());
+        for (int y = rows.start; y < rows.end; y++)
+        {
+            for (size_t c = 0; c < planes.size(); c++)
+                sources[c] = planes[c].ptr<float>(y);
+            interleaveRow(sources.data(), channels, frameSize.width, out.ptr<float>(y));
+        }
+    });
     if (validMask.needed())
         ws.valid.copyTo(validMask);
 }

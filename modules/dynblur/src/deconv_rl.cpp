@@ -192,6 +192,57 @@ void forBands(int rows, int bands, const Body& body)
     });
 }
 
+//! Σ p[x] (in eight-lane float sums) and max p[x] over a row.
+DYNBLUR_SIMD_CLONES
+double rowSumAndPeak(const float* p, int n, double& peak)
+{
+    typedef float v8 __attribute__((vector_size(32), aligned(4)));
+    v8 s = {}, m = v8{} - FLT_MAX;
+    int x = 0;
+    for (; x + 8 <= n; x += 8)
+    {
+        const v8 v = *(const v8*)(p + x);
+        s += v;
+        m = v > m ? v : m;
+    }
+    double total = 0;
+    float largest = -FLT_MAX;
+    for (int k = 0; k < 8; k++)
+    {
+        total += s[k];
+        largest = std::max(largest, m[k]);
+    }
+    for (; x < n; x++)
+    {
+        total += p[x];
+        largest = std::max(largest, p[x]);
+    }
+    peak = largest;
+    return total;
+}
+
+/* The mean over every channel and the largest value of `image` (CV_32F), rows in parallel with
+   per-row partial sums added in order, so the result is the same on every run. */
+void levelAndPeak(const Mat& image, double& level, double& peak)
+{
+    const int n = image.cols * image.channels();
+    std::vector<double> rowSum(size_t(image.rows), 0.0), rowPeak(size_t(image.rows), -DBL_MAX);
+    parallel_for_(Range(0, image.rows), [&](const Range& rows) {
+        for (int y = rows.start; y < rows.end; y++)
+        {
+            rowSum[size_t(y)] = rowSumAndPeak(image.ptr<float>(y), n, rowPeak[size_t(y)]);
+        }
+    });
+    double total = 0;
+    peak = -DBL_MAX;
+    for (int y = 0; y < image.rows; y++)
+    {
+        total += rowSum[size_t(y)];
+        peak = std::max(peak, rowPeak[size_t(y)]);
+    }
+    level = total / (double(image.rows) * n);
+}
+
 //! RL over every plane for params.iterations (colorIterations ignored).
 int iteratePlanes(BlurOperator& op, const Mat& blurred, const Mat& normalizer, const RLParams& params,
                   std::vector<Mat>& estimate, std::vector<Mat>& other, std::vector<Mat>& step, RLWorkspace& ws)
@@ -208,7 +259,8 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const Mat& normalizer, c
        by the image's level (the ratio's epsilon, the deviance, TV's |∇u| and the step products
        would otherwise under- or overflow far from [0, 1]). TV's |∇u| is regularised at 1e-3 of
        the level. */
-    const double level = sum(mean(blurred))[0] / double(channels);
+    double level = 0, brightest = 0;
+    levelAndPeak(blurred, level, brightest);
     const float scale = level > 0 && std::isfinite(1.0 / level) ? float(std::min(1.0 / level, 1e37)) : 1.f;
     // The deviance is taken on scaled intensities, so its threshold 2 / damping² is divided by the scale.
     const float invThreshold =
@@ -218,8 +270,6 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const Mat& normalizer, c
        the estimate is kept there. On consistent data the bound never binds; on data no blur of a
        non-negative image explains, extrapolation could otherwise pile the light into spikes
        (10³ × the data on a 1-px checkerboard under a 31-px box). */
-    double brightest = 0;
-    minMaxLoc(blurred.reshape(1), nullptr, &brightest);
     const float upper = float(std::min(op.spotGain() * std::max(brightest, 0.0), double(FLT_MAX)));
 
     /* Per channel: the estimate x_k, `other` (x_{k−1}, overwritten by the extrapolated y_k and then
@@ -367,16 +417,6 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const Mat& normalizer, c
     return iteration;
 }
 
-//! mean = the mean of the planes.
-void planeMean(const std::vector<Mat>& planes, Mat& mean)
-{
-    mean.create(planes[0].size(), CV_32FC1);
-    mean.setTo(0);
-    for (const Mat& p : planes)
-        mean += p;
-    mean *= 1.0 / double(planes.size());
-}
-
 }  // namespace
 
 /* The strides a frame has are spelled out: with a constant stride the compiler loads whole vectors
@@ -402,6 +442,55 @@ void channelRow(const float* interleaved, int channels, int channel, int n, floa
         for (int x = 0; x < n; x++)
             out[x] = p[x * channels];
     }
+}
+
+DYNBLUR_SIMD_CLONES
+void interleaveRow(const float* const* planes, int channels, int n, float* __restrict out)
+{
+    switch (channels)
+    {
+    case 1:
+        std::memcpy(out, planes[0], sizeof(float) * size_t(n));
+        return;
+    case 3:
+        for (int x = 0; x < n; x++)
+        {
+            out[3 * x] = planes[0][x];
+            out[3 * x + 1] = planes[1][x];
+            out[3 * x + 2] = planes[2][x];
+        }
+        return;
+    default:
+        for (int x = 0; x < n; x++)
+            for (int c = 0; c < channels; c++)
+                out[x * channels + c] = planes[c][x];
+    }
+}
+
+bool allFinite(const Mat& image)
+{
+    typedef float v8 __attribute__((vector_size(32), aligned(4)));
+    const int n = image.cols * image.channels();
+    std::vector<uchar> rowFinite(size_t(image.rows), 0);
+    parallel_for_(Range(0, image.rows), [&](const Range& rows) {
+        for (int y = rows.start; y < rows.end; y++)
+        {
+            // NaN and ±Inf times 0 are NaN, and NaN stays in a sum: one test per row.
+            const float* p = image.ptr<float>(y);
+            v8 probe = {};
+            int x = 0;
+            for (; x + 8 <= n; x += 8)
+                probe += *(const v8*)(p + x) * 0.f;
+            float tail = 0.f;
+            for (; x < n; x++)
+                tail += p[x] * 0.f;
+            float total = tail;
+            for (int k = 0; k < 8; k++)
+                total += probe[k];
+            rowFinite[size_t(y)] = total == 0.f;
+        }
+    });
+    return std::all_of(rowFinite.begin(), rowFinite.end(), [](uchar f) { return f != 0; });
 }
 
 int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& normalizer, const RLParams& params,
@@ -431,11 +520,41 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& norma
     }
     Mat luminance = ws.step[1](Rect(Point(), op.frameSize()));
     Mat& start = ws.other[2];
-    // Blur is linear and the same for every plane, so the planes' mean is blurred by it too.
-    transform(blurred, luminance, Mat(1, blurred.channels(), CV_32F, Scalar(1.0 / blurred.channels())));
-    planeMean(estimate, start);
     std::vector<Mat> latent{ws.other[1]}, other{ws.other[0]}, step{ws.step[0]};
-    start.copyTo(latent[0]);
+    // Blur is linear and the same for every plane, so the planes' mean is blurred by it too.
+    const int channels = blurred.channels();
+    const float third = 1.f / float(channels);
+    parallel_for_(Range(0, std::max(latentSize.height, luminance.rows)), [&](const Range& rows) {
+        for (int y = rows.start; y < rows.end; y++)
+        {
+            if (y < luminance.rows)
+            {
+                const float* b = blurred.ptr<float>(y);
+                float* l = luminance.ptr<float>(y);
+                for (int x = 0; x < luminance.cols; x++)
+                {
+                    float s = 0.f;
+                    for (int c = 0; c < channels; c++)
+                        s += b[x * channels + c];
+                    l[x] = s * third;
+                }
+            }
+            if (y < latentSize.height)
+            {
+                float* __restrict m = start.ptr<float>(y);
+                float* __restrict copy = latent[0].ptr<float>(y);
+                std::fill(m, m + latentSize.width, 0.f);
+                for (const Mat& e : estimate)
+                {
+                    const float* __restrict p = e.ptr<float>(y);
+                    for (int x = 0; x < latentSize.width; x++)
+                        m[x] += p[x];
+                }
+                for (int x = 0; x < latentSize.width; x++)
+                    m[x] = copy[x] = m[x] * third;
+            }
+        }
+    });
     RLParams rest = params;
     rest.iterations = params.iterations - colour;
     done += iteratePlanes(op, luminance, normalizer, rest, latent, other, step, ws);
@@ -443,9 +562,9 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& norma
        (an added difference would shift dark and saturated colours: fruits lost 3 dB that way with
        one colour iteration). Where the start is (nearly) black the difference is added instead.
        The planes stay within the bound the colour phase kept them in (see iteratePlanes). */
-    const float black = float(1e-6 * std::max(sum(mean(blurred))[0] / double(blurred.channels()), 0.0));
-    double brightest = 0;
-    minMaxLoc(blurred.reshape(1), nullptr, &brightest);
+    double level = 0, brightest = 0;
+    levelAndPeak(blurred, level, brightest);
+    const float black = float(1e-6 * std::max(level, 0.0));
     const float upper = float(std::min(op.spotGain() * std::max(brightest, 0.0), double(FLT_MAX)));
     parallel_for_(Range(0, latentSize.height), [&](const Range& rows) {
         for (int y = rows.start; y < rows.end; y++)

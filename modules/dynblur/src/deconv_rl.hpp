@@ -46,6 +46,12 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
 //! out[x] = interleaved[x · channels + channel] for x in [0, n).
 void channelRow(const float* interleaved, int channels, int channel, int n, float* out);
 
+//! out[x · channels + c] = planes[c][x] for x in [0, n): channelRow's inverse.
+void interleaveRow(const float* const* planes, int channels, int n, float* out);
+
+//! True when every element of `image` (CV_32F, any channels) is finite; rows in parallel.
+bool allFinite(const Mat& image);
+
 //! Normaliser below which a latent pixel counts as not seen by any frame pixel.
 constexpr float kUnobserved = 1e-3f;
 

@@ -322,20 +322,15 @@ void gatherRowRange(const Mat& source, const RowBankOperator::Tap* t, int count,
     }
 }
 
-/* Rows [rows.start, rows.end) of a gather, row r at out + (r − rows.start)·outStep, two rows at a
-   time where a pair (2k, 2k+1) lies inside. Columns run in chunks across all the rows before the
+/* Rows [rows.start, rows.end) and columns `cols` of a gather, row r at out + (r − rows.start)·outStep,
+   two rows at a time where a pair (2k, 2k+1) lies inside. Columns run in chunks across all the rows before the
    next chunk: neighbouring rows read nearly the same source rows, so a chunk's source stays in L1
    for the whole block instead of every row pulling its ~kernel-height source rows from L2 again. */
-void gatherBlock(const Mat& source, const RowBankOperator::Gather& gather, const Range& rows, int width, float* out,
-                 size_t outStep)
+void gatherBlock(const Mat& source, const RowBankOperator::Gather& gather, const Range& rows, const Range& cols,
+                 float* out, size_t outStep)
 {
     constexpr int kChunk = 64;  // columns: ~60 source rows × 256 B stay well within a 32 KiB L1
-    int commonBegin = width, commonEnd = 0;
-    for (int r = rows.start; r < rows.end; r++)
-    {
-        commonBegin = std::min(commonBegin, gather.rows[size_t(r)].safeBegin);
-        commonEnd = std::max(commonEnd, gather.rows[size_t(r)].safeEnd);
-    }
+    int commonBegin = cols.start, commonEnd = cols.end;
     for (int r = rows.start; r < rows.end; r++)
     {
         commonBegin = std::max(commonBegin, gather.rows[size_t(r)].safeBegin);
@@ -368,8 +363,8 @@ void gatherBlock(const Mat& source, const RowBankOperator::Gather& gather, const
     {
         const RowBankOperator::GatherRow& g = gather.rows[size_t(r)];
         float* o = out + size_t(r - rows.start) * outStep;
-        gatherRowRange(source, gather.taps.data() + g.begin, g.end - g.begin, g, 0, commonBegin, o);
-        gatherRowRange(source, gather.taps.data() + g.begin, g.end - g.begin, g, commonEnd, width, o);
+        gatherRowRange(source, gather.taps.data() + g.begin, g.end - g.begin, g, cols.start, commonBegin, o);
+        gatherRowRange(source, gather.taps.data() + g.begin, g.end - g.begin, g, commonEnd, cols.end, o);
     }
 }
 
@@ -744,12 +739,12 @@ RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad) : BlurOperator(b
 
 void RowBankOperator::forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const
 {
-    gatherBlock(latent, forward_, frameRows, frame_.width, out, outStep);
+    gatherBlock(latent, forward_, frameRows, Range(0, frame_.width), out, outStep);
 }
 
 void RowBankOperator::adjointBlock(const Mat& frame, const Range& latentRows, float* out, size_t outStep) const
 {
-    gatherBlock(frame, adjoint_, latentRows, latent_.width, out, outStep);
+    gatherBlock(frame, adjoint_, latentRows, Range(0, latent_.width), out, outStep);
 }
 
 void BlurOperator::forwardByBlocks(const Mat& latent, Mat& frame) const
@@ -774,6 +769,9 @@ void BlurOperator::adjointByBlocks(const Mat& frame, Mat& latent)
 
 namespace {
 
+//! Rows a tile gather computes per node column before adding them up: a block's source stays in L1/L2.
+constexpr int kTileBlockRows = 8;
+
 /* The next slot of a tap list of `count` taps, grown as needed. Its fields are then stored one by
    one: a Tap built on the stack and copied is read back as 8 bytes over two 4-byte stores, which
    the CPU cannot forward, and that stall cost more than the gather. */
@@ -784,13 +782,73 @@ inline RowBankOperator::Tap& appendTap(std::vector<RowBankOperator::Tap>& taps, 
     return taps[size_t(count++)];
 }
 
+//! One term of the union of two node rows' kernels: frame pixel p reads latent p + (dx, dy) + origin.
+struct UnionTap
+{
+    int dy, dx;
+    float weight[2];  // of node row j and of node row j + 1
+};
+
+/* The kernels of one node column, node row j merged with node row j + 1 (the last with nothing):
+   every tap of either, sorted by (dy, dx), with a weight for each, and where each dy's taps start. */
+struct UnionColumn
+{
+    struct Kernel
+    {
+        int begin = 0, end = 0;  // into taps
+        int dyMin = 0, dyMax = -1;
+        int runs = 0;            // into runStart: dyMax − dyMin + 2 offsets
+    };
+    std::vector<UnionTap> taps;
+    std::vector<int> runStart;
+    std::vector<Kernel> kernels;  // per node row
+
+    UnionColumn(const std::vector<std::vector<KernelTap>>& nodes, int nodeRows, int nodeCols, int column)
+    {
+        static const std::vector<KernelTap> none;
+        kernels.resize(size_t(nodeRows));
+        for (int j = 0; j < nodeRows; j++)
+        {
+            const std::vector<KernelTap>& a = nodes[size_t(j * nodeCols + column)];
+            const std::vector<KernelTap>& b = j + 1 < nodeRows ? nodes[size_t((j + 1) * nodeCols + column)] : none;
+            Kernel& k = kernels[size_t(j)];
+            k.begin = int(taps.size());
+            size_t p = 0, q = 0;
+            while (p < a.size() || q < b.size())
+            {
+                const bool takeA = p < a.size() && (q == b.size() || a[p].dy < b[q].dy ||
+                                                    (a[p].dy == b[q].dy && a[p].dx <= b[q].dx));
+                const bool takeB = q < b.size() && (p == a.size() || b[q].dy < a[p].dy ||
+                                                    (b[q].dy == a[p].dy && b[q].dx <= a[p].dx));
+                const KernelTap& key = takeA ? a[p] : b[q];
+                taps.push_back({key.dy, key.dx, {takeA ? a[p].weight : 0.f, takeB ? b[q].weight : 0.f}});
+                p += takeA;
+                q += takeB;
+            }
+            k.end = int(taps.size());
+            if (k.end == k.begin)
+                continue;
+            k.dyMin = taps[size_t(k.begin)].dy;
+            k.dyMax = taps[size_t(k.end - 1)].dy;
+            k.runs = int(runStart.size());
+            int t = k.begin;
+            for (int dy = k.dyMin; dy <= k.dyMax + 1; dy++)
+            {
+                while (t < k.end && taps[size_t(t)].dy < dy)
+                    t++;
+                runStart.push_back(t);
+            }
+        }
+    }
+};
+
 }  // namespace
 
 TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad) : BlurOperator(bank.imageSize)
 {
     spotGain_ = bankSpotGain(bank);
     nodeCols_ = int(bank.nodeCols.size());
-    nodeRows_ = int(bank.nodeRows.size());
+    const int nodeRows = int(bank.nodeRows.size());
     std::vector<std::vector<KernelTap>> nodes(bank.kernels.size());
     parallel_for_(Range(0, int(nodes.size())), [&](const Range& r) {
         for (int n = r.start; n < r.end; n++)
@@ -801,124 +859,149 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad) : BlurOperator
             });
         }
     });
+    int dxMin = 0, dxMax = 0, dyMin = 0, dyMax = 0;
     for (const std::vector<KernelTap>& node : nodes)
         for (const KernelTap& t : node)
         {
-            dxMin_ = std::min(dxMin_, t.dx);
-            dxMax_ = std::max(dxMax_, t.dx);
-            dyMin_ = std::min(dyMin_, t.dy);
-            dyMax_ = std::max(dyMax_, t.dy);
+            dxMin = std::min(dxMin, t.dx);
+            dxMax = std::max(dxMax, t.dx);
+            dyMin = std::min(dyMin, t.dy);
+            dyMax = std::max(dyMax, t.dy);
         }
-    domain(frame_, pad, dxMin_, dxMax_, dyMin_, dyMax_, latent_, origin_);
-
-    /* The union of node rows j and j + 1 in each node column (the last node row pairs with
-       nothing), node columns in parallel into their own arrays, joined after. */
-    kernels_.resize(nodes.size());
-    std::vector<std::vector<UnionTap>> columnTaps(static_cast<size_t>(nodeCols_));
-    std::vector<std::vector<int>> columnRuns(static_cast<size_t>(nodeCols_));
-    parallel_for_(Range(0, nodeCols_), [&](const Range& range) {
-        static const std::vector<KernelTap> none;
-        for (int i = range.start; i < range.end; i++)
-        {
-            std::vector<UnionTap>& taps = columnTaps[size_t(i)];
-            std::vector<int>& runs = columnRuns[size_t(i)];
-            for (int j = 0; j < nodeRows_; j++)
-            {
-                const std::vector<KernelTap>& a = nodes[size_t(j * nodeCols_ + i)];
-                const std::vector<KernelTap>& b = j + 1 < nodeRows_ ? nodes[size_t((j + 1) * nodeCols_ + i)] : none;
-                UnionKernel& k = kernels_[size_t(i * nodeRows_ + j)];
-                k.begin = int(taps.size());
-                size_t p = 0, q = 0;
-                while (p < a.size() || q < b.size())
-                {
-                    const bool takeA = p < a.size() && (q == b.size() || a[p].dy < b[q].dy ||
-                                                        (a[p].dy == b[q].dy && a[p].dx <= b[q].dx));
-                    const bool takeB = q < b.size() && (p == a.size() || b[q].dy < a[p].dy ||
-                                                        (b[q].dy == a[p].dy && b[q].dx <= a[p].dx));
-                    const KernelTap& key = takeA ? a[p] : b[q];
-                    taps.push_back({key.dy, key.dx, {takeA ? a[p].weight : 0.f, takeB ? b[q].weight : 0.f}});
-                    p += takeA;
-                    q += takeB;
-                }
-                k.end = int(taps.size());
-                if (k.end == k.begin)
-                    continue;
-                k.dyMin = taps[size_t(k.begin)].dy;
-                k.dyMax = taps[size_t(k.end - 1)].dy;
-                k.runs = int(runs.size());
-                int t = k.begin;
-                for (int dy = k.dyMin; dy <= k.dyMax + 1; dy++)
-                {
-                    while (t < k.end && taps[size_t(t)].dy < dy)
-                        t++;
-                    runs.push_back(t);
-                }
-            }
-        }
-    });
-    for (int i = 0; i < nodeCols_; i++)
-    {
-        const int tapBase = int(unionTaps_.size()), runBase = int(runStart_.size());
-        for (int j = 0; j < nodeRows_; j++)
-        {
-            UnionKernel& k = kernels_[size_t(i * nodeRows_ + j)];
-            k.begin += tapBase;
-            k.end += tapBase;
-            k.runs += runBase;
-        }
-        for (int& r : columnRuns[size_t(i)])
-            r += tapBase;
-        unionTaps_.insert(unionTaps_.end(), columnTaps[size_t(i)].begin(), columnTaps[size_t(i)].end());
-        runStart_.insert(runStart_.end(), columnRuns[size_t(i)].begin(), columnRuns[size_t(i)].end());
-    }
-
-    rowWeights_ = tentWeights(bank.nodeRows, frame_.height);
+    domain(frame_, pad, dxMin, dxMax, dyMin, dyMax, latent_, origin_);
+    dxMin_ = dxMin;
+    dxMax_ = dxMax;
+    const std::vector<BankBlurOperator::AxisWeight> rowWeights = tentWeights(bank.nodeRows, frame_.height);
     const std::vector<BankBlurOperator::AxisWeight> colWeights = tentWeights(bank.nodeCols, frame_.width);
     colSupport_ = supports(colWeights, nodeCols_);
     colWeight_ = supportWeights(colWeights, colSupport_);
-    margin_ = dxMax_ - dxMin_;
+    margin_ = dxMax - dxMin;
+
+    /* Each node column's taps for every frame row (forward) and every latent row (adjoint), with
+       the row blend's weights applied: built once per bank, node columns in parallel. */
+    std::vector<Gather> forwardParts(static_cast<size_t>(nodeCols_)), adjointParts(static_cast<size_t>(nodeCols_));
+    parallel_for_(Range(0, nodeCols_), [&](const Range& range) {
+        for (int i = range.start; i < range.end; i++)
+        {
+            const UnionColumn column(nodes, nodeRows, nodeCols_, i);
+            const Range cols = colSupport_[size_t(i)];
+            // Forward: frame row y reads latent row y + dy + origin.y at column x + dx + origin.x.
+            Gather& fw = forwardParts[size_t(i)];
+            fw.rows.resize(size_t(frame_.height));
+            int count = 0;
+            for (int y = 0; y < frame_.height; y++)
+            {
+                const BankBlurOperator::AxisWeight& rw = rowWeights[size_t(y)];
+                const float a0 = rw.weight[0], a1 = rw.node[1] != rw.node[0] ? rw.weight[1] : 0.f;
+                const UnionColumn::Kernel& k = column.kernels[size_t(rw.node[0])];
+                GatherRow& g = fw.rows[size_t(y)];
+                g.begin = count;
+                int colMin = INT_MAX, colMax = INT_MIN;
+                for (int t = k.begin; t < k.end; t++)
+                {
+                    const UnionTap& u = column.taps[size_t(t)];
+                    const int row = y + u.dy + origin_.y;
+                    const float w = a0 * u.weight[0] + a1 * u.weight[1];
+                    if (row < 0 || row >= latent_.height || w == 0.f)
+                        continue;
+                    Tap& tap = appendTap(fw.taps, count);
+                    tap.row = row;
+                    tap.col = u.dx + origin_.x;
+                    tap.weight = w;
+                    colMin = std::min(colMin, tap.col);
+                    colMax = std::max(colMax, tap.col);
+                }
+                g.end = count;
+                g.safeBegin = g.end > g.begin ? std::max(cols.start, -colMin) : cols.start;
+                g.safeEnd = g.end > g.begin ? std::max(g.safeBegin, std::min(cols.end, latent_.width - colMax)) : cols.end;
+            }
+            fw.taps.resize(size_t(count));
+            buildPairs(fw);
+            // Adjoint: latent row l gathers frame row y = l − origin.y − dy, column x − dx − origin.x,
+            // at its place in the node column's weighted copy. Frame rows in order, for each the
+            // latent rows its kernel reaches, so a latent row's taps come in frame row order; a
+            // first walk counts them, the second puts them in place.
+            Gather& aw = adjointParts[size_t(i)];
+            aw.rows.assign(size_t(latent_.height), GatherRow());
+            const int offset = margin_ - cols.start - origin_.x;
+            for (int pass = 0; pass < 2; pass++)
+            {
+                for (int y = 0; y < frame_.height; y++)
+                {
+                    const BankBlurOperator::AxisWeight& rw = rowWeights[size_t(y)];
+                    const float a0 = rw.weight[0], a1 = rw.node[1] != rw.node[0] ? rw.weight[1] : 0.f;
+                    const UnionColumn::Kernel& k = column.kernels[size_t(rw.node[0])];
+                    const int lFrom = std::max(0, y + origin_.y + k.dyMin);
+                    const int lTo = std::min(latent_.height - 1, y + origin_.y + k.dyMax);
+                    for (int l = lFrom; l <= lTo; l++)
+                    {
+                        const int* run = &column.runStart[size_t(k.runs + l - origin_.y - y - k.dyMin)];
+                        GatherRow& g = aw.rows[size_t(l)];
+                        for (int t = run[1] - 1; t >= run[0]; t--)  // dx down: columns up
+                        {
+                            const UnionTap& u = column.taps[size_t(t)];
+                            const float w = a0 * u.weight[0] + a1 * u.weight[1];
+                            if (w == 0.f)
+                                continue;
+                            if (pass == 0)
+                            {
+                                g.end++;
+                                continue;
+                            }
+                            Tap& tap = aw.taps[size_t(g.end++)];
+                            tap.row = y;
+                            tap.col = offset - u.dx;
+                            tap.weight = w;
+                        }
+                    }
+                }
+                if (pass == 0)
+                {
+                    int total = 0;
+                    for (GatherRow& g : aw.rows)
+                    {
+                        g.begin = total;
+                        total += g.end;
+                        g.end = g.begin;
+                    }
+                    aw.taps.resize(size_t(total));
+                }
+            }
+            // Every column an adjoint row produces reads inside the weighted copy (zero margins).
+            for (GatherRow& g : aw.rows)
+            {
+                g.safeBegin = std::max(0, cols.start + dxMin_ + origin_.x);
+                g.safeEnd = std::min(latent_.width, cols.end + dxMax_ + origin_.x);
+            }
+            buildPairs(aw);
+        }
+    });
+    forwardColumns_ = std::move(forwardParts);
+    adjointColumns_ = std::move(adjointParts);
 }
 
 void TileBankOperator::forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const
 {
     const int width = frame_.width;
-    std::vector<RowBankOperator::Tap> taps;
-    std::vector<float> part(static_cast<size_t>(width));
-    for (int y = frameRows.start; y < frameRows.end; y++)
+    std::vector<float> part(size_t(kTileBlockRows) * size_t(width));
+    for (int start = frameRows.start; start < frameRows.end; start += kTileBlockRows)
     {
-        float* o = out + size_t(y - frameRows.start) * outStep;
-        std::fill(o, o + width, 0.f);
-        const BankBlurOperator::AxisWeight& rw = rowWeights_[size_t(y)];
-        const float a0 = rw.weight[0], a1 = rw.node[1] != rw.node[0] ? rw.weight[1] : 0.f;
+        const Range rows(start, std::min(start + kTileBlockRows, frameRows.end));
+        for (int y = rows.start; y < rows.end; y++)
+            std::fill(out + size_t(y - frameRows.start) * outStep, out + size_t(y - frameRows.start) * outStep + width,
+                      0.f);
         for (int i = 0; i < nodeCols_; i++)
         {
-            const UnionKernel& k = unionKernel(rw.node[0], i);
-            int count = 0, colMin = INT_MAX, colMax = INT_MIN;
-            for (int t = k.begin; t < k.end; t++)
-            {
-                const UnionTap& u = unionTaps_[size_t(t)];
-                const int row = y + u.dy + origin_.y;
-                const float w = a0 * u.weight[0] + a1 * u.weight[1];
-                if (row < 0 || row >= latent_.height || w == 0.f)
-                    continue;
-                const int col = u.dx + origin_.x;
-                RowBankOperator::Tap& tap = appendTap(taps, count);
-                tap.row = row;
-                tap.col = col;
-                tap.weight = w;
-                colMin = std::min(colMin, col);
-                colMax = std::max(colMax, col);
-            }
-            if (count == 0)
-                continue;
             const Range cols = colSupport_[size_t(i)];
-            RowBankOperator::GatherRow g;
-            g.safeBegin = std::max(cols.start, -colMin);
-            g.safeEnd = std::max(g.safeBegin, std::min(cols.end, latent_.width - colMax));
-            gatherRowRange(latent, taps.data(), count, g, cols.start, cols.end, part.data());
+            gatherBlock(latent, forwardColumns_[size_t(i)], rows, cols, part.data(), size_t(width));
             const float* cw = colWeight_[size_t(i)].data() - cols.start;
-            for (int x = cols.start; x < cols.end; x++)
-                o[x] += cw[x] * part[size_t(x)];
+            for (int y = rows.start; y < rows.end; y++)
+            {
+                float* o = out + size_t(y - frameRows.start) * outStep;
+                const float* p = part.data() + size_t(y - rows.start) * size_t(width);
+                for (int x = cols.start; x < cols.end; x++)
+                    o[x] += cw[x] * p[x];
+            }
         }
     }
 }
@@ -948,53 +1031,26 @@ void TileBankOperator::adjointBlock(const Mat& /*frame: read through prepareAdjo
                                     const Range& latentRows, float* out, size_t outStep) const
 {
     const int width = latent_.width;
-    std::vector<RowBankOperator::Tap> taps;
-    std::vector<float> part(static_cast<size_t>(width));
-    for (int l = latentRows.start; l < latentRows.end; l++)
-        std::fill(out + size_t(l - latentRows.start) * outStep, out + size_t(l - latentRows.start) * outStep + width,
-                  0.f);
-    // Node column by node column: the block's rows then read the same few hundred kernels.
-    for (int i = 0; i < nodeCols_; i++)
+    std::vector<float> part(size_t(kTileBlockRows) * size_t(width));
+    for (int start = latentRows.start; start < latentRows.end; start += kTileBlockRows)
     {
-        const Range cols = colSupport_[size_t(i)];
-        const int begin = std::max(0, cols.start + dxMin_ + origin_.x);
-        const int end = std::min(width, cols.end + dxMax_ + origin_.x);
-        // Latent column x gathers frame column x − dx − origin.x, at its place in the weighted copy.
-        const int offset = margin_ - cols.start - origin_.x;
-        const Mat& source = weighted_[size_t(i)];
-        for (int l = latentRows.start; l < latentRows.end; l++)
+        const Range rows(start, std::min(start + kTileBlockRows, latentRows.end));
+        for (int l = rows.start; l < rows.end; l++)
+            std::fill(out + size_t(l - latentRows.start) * outStep,
+                      out + size_t(l - latentRows.start) * outStep + width, 0.f);
+        for (int i = 0; i < nodeCols_; i++)
         {
-            // Frame row y reads latent row l through its taps with dy = l − origin.y − y.
-            const int qy = l - origin_.y;
-            const int yLow = std::max(0, qy - dyMax_), yHigh = std::min(frame_.height - 1, qy - dyMin_);
-            int count = 0;
-            for (int y = yLow; y <= yHigh; y++)
+            const Range cols = colSupport_[size_t(i)];
+            const Range reach(std::max(0, cols.start + dxMin_ + origin_.x),
+                              std::min(width, cols.end + dxMax_ + origin_.x));
+            gatherBlock(weighted_[size_t(i)], adjointColumns_[size_t(i)], rows, reach, part.data(), size_t(width));
+            for (int l = rows.start; l < rows.end; l++)
             {
-                const BankBlurOperator::AxisWeight& rw = rowWeights_[size_t(y)];
-                const UnionKernel& k = unionKernel(rw.node[0], i);
-                const int dy = qy - y;
-                if (dy < k.dyMin || dy > k.dyMax)
-                    continue;
-                const float a0 = rw.weight[0], a1 = rw.node[1] != rw.node[0] ? rw.weight[1] : 0.f;
-                const int* run = &runStart_[size_t(k.runs + dy - k.dyMin)];
-                for (int t = run[0]; t < run[1]; t++)
-                {
-                    const UnionTap& u = unionTaps_[size_t(t)];
-                    const float w = a0 * u.weight[0] + a1 * u.weight[1];
-                    if (w == 0.f)
-                        continue;
-                    RowBankOperator::Tap& tap = appendTap(taps, count);
-                    tap.row = y;
-                    tap.col = offset - u.dx;
-                    tap.weight = w;
-                }
+                float* o = out + size_t(l - latentRows.start) * outStep;
+                const float* p = part.data() + size_t(l - rows.start) * size_t(width);
+                for (int x = reach.start; x < reach.end; x++)
+                    o[x] += p[x];
             }
-            if (count == 0)
-                continue;
-            gatherInterior(part.data(), source.ptr<float>(), source.step1(), taps.data(), count, begin, end);
-            float* o = out + size_t(l - latentRows.start) * outStep;
-            for (int x = begin; x < end; x++)
-                o[x] += part[size_t(x)];
         }
     }
 }

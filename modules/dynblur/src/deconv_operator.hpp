@@ -181,12 +181,12 @@ private:
 
 /** @brief A bank with several node columns (PSF_TILES): a frame pixel blends the kernels of its
 two node rows and two node columns. Along a frame row the node-row blend is fixed, so for each node
-column the row's kernel is one merged tap list (the union of the two node rows' taps, kept with a
-weight for each and mixed per row), gathered like RowBankOperator's over the columns that node
-column covers and added with the column tent weight. The adjoint gathers too: from the frame
-weighted by each node column's tent, kept per node column with zero margins as wide as the kernels
-reach, so every tap reads inside and no read strays into a neighbour column's share. Domains and
-padding as BankBlurOperator. The bank is trusted (validated by the caller). */
+column the row's kernel is one tap list (the union of the two node rows' taps, mixed by the row's
+weights), gathered like RowBankOperator's over the columns that node column covers and added with
+the column tent weight. The adjoint gathers too, from the frame weighted by each node column's tent,
+kept per node column with zero margins as wide as the kernels reach, so every tap reads inside and
+no read strays into a neighbour column's share. Both directions' tap lists are built once per bank.
+Domains and padding as BankBlurOperator. The bank is trusted (validated by the caller). */
 class CV_EXPORTS TileBankOperator CV_FINAL : public BlurOperator
 {
 public:
@@ -198,38 +198,21 @@ public:
     void adjointBlock(const Mat& frame, const Range& latentRows, float* out, size_t outStep) const CV_OVERRIDE;
     void prepareAdjoint(const Mat& frame) CV_OVERRIDE;
 
-    //! One term of the union of two node rows' kernels: frame pixel p reads latent p + (dx, dy) + origin.
-    struct UnionTap
-    {
-        int dy, dx;
-        float weight[2];  // of node row j and of node row j + 1
-    };
-    //! The union kernel of node rows (j, j + 1) in one node column, its taps sorted by (dy, dx).
-    struct UnionKernel
-    {
-        int begin = 0, end = 0;   // into unionTaps_
-        int dyMin = 0, dyMax = -1;
-        int runs = 0;             // into runStart_: dyMax − dyMin + 2 offsets, the taps of each dy
-    };
-
 private:
-    const UnionKernel& unionKernel(int nodeRow, int nodeCol) const
-    {
-        return kernels_[size_t(nodeCol) * size_t(nodeRows_) + size_t(nodeRow)];
-    }
+    typedef RowBankOperator::Tap Tap;
+    typedef RowBankOperator::GatherRow GatherRow;
+    typedef RowBankOperator::Gather Gather;
 
-    int nodeCols_ = 1, nodeRows_ = 1;
-    int dxMin_ = 0, dxMax_ = 0, dyMin_ = 0, dyMax_ = 0;  // the bank's tap offsets (latent − frame)
-    /* Node column by node column, down the node rows: the adjoint walks down the frame rows of one
-       node column at a time, so what it reads lies together. */
-    std::vector<UnionTap> unionTaps_;
-    std::vector<int> runStart_;
-    std::vector<UnionKernel> kernels_;                        // node columns × node rows
-    std::vector<BankBlurOperator::AxisWeight> rowWeights_;    // per frame row
-    std::vector<Range> colSupport_;                           // frame columns each node column covers
-    std::vector<std::vector<float>> colWeight_;               // per node column, over its support
-    int margin_ = 0;                                          // zero columns around each weighted part
-    std::vector<Mat> weighted_;                               // per node column: frame × tent, with margins
+    int nodeCols_ = 1;
+    int dxMin_ = 0, dxMax_ = 0;  // the bank's column offsets (latent − frame)
+    /* Per node column i: rows[y] of forwardColumns_[i] is frame row y's gather (safe columns
+       within the column's support); rows[l] of adjointColumns_[i] latent row l's, reading the
+       weighted copy of node column i. */
+    std::vector<Gather> forwardColumns_, adjointColumns_;
+    std::vector<Range> colSupport_;                // frame columns each node column covers
+    std::vector<std::vector<float>> colWeight_;    // per node column, over its support
+    int margin_ = 0;                               // zero columns around each weighted part
+    std::vector<Mat> weighted_;                    // per node column: frame × tent, with margins
 };
 
 /** @brief spotGain of a bank: blended kernels per pixel / the smallest kernel peak. */

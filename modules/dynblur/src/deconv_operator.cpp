@@ -632,6 +632,7 @@ void buildPairs(RowBankOperator::Gather& gather)
     const int pairCount = int(gather.rows.size()) / 2;
     gather.pairs.assign(size_t(pairCount), RowBankOperator::GatherRow());
     gather.pairTaps.clear();
+    // A pair's union holds at most both rows' taps; the list is trimmed to what it holds after.
     gather.pairTaps.reserve(gather.taps.size());
     for (int k = 0; k < pairCount; k++)
     {
@@ -652,6 +653,7 @@ void buildPairs(RowBankOperator::Gather& gather)
         }
         g.end = int(gather.pairTaps.size());
     }
+    gather.pairTaps.shrink_to_fit();
 }
 
 }  // namespace
@@ -888,6 +890,13 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad) : BlurOperator
             // Forward: frame row y reads latent row y + dy + origin.y at column x + dx + origin.x.
             Gather& fw = forwardParts[size_t(i)];
             fw.rows.resize(size_t(frame_.height));
+            size_t most = 0;  // every union tap of every row: the list never grows past it
+            for (int y = 0; y < frame_.height; y++)
+            {
+                const UnionColumn::Kernel& k = column.kernels[size_t(rowWeights[size_t(y)].node[0])];
+                most += size_t(k.end - k.begin);
+            }
+            fw.taps.resize(most);
             int count = 0;
             for (int y = 0; y < frame_.height; y++)
             {
@@ -916,6 +925,7 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad) : BlurOperator
                 g.safeEnd = g.end > g.begin ? std::max(g.safeBegin, std::min(cols.end, latent_.width - colMax)) : cols.end;
             }
             fw.taps.resize(size_t(count));
+            fw.taps.shrink_to_fit();
             buildPairs(fw);
             // Adjoint: latent row l gathers frame row y = l − origin.y − dy, column x − dx − origin.x,
             // at its place in the node column's weighted copy. Frame rows in order, for each the

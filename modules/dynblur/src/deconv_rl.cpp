@@ -523,7 +523,7 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& norma
     std::vector<Mat> latent{ws.other[1]}, other{ws.other[0]}, step{ws.step[0]};
     // Blur is linear and the same for every plane, so the planes' mean is blurred by it too.
     const int channels = blurred.channels();
-    const float third = 1.f / float(channels);
+    const float perChannel = 1.f / float(channels);
     parallel_for_(Range(0, std::max(latentSize.height, luminance.rows)), [&](const Range& rows) {
         for (int y = rows.start; y < rows.end; y++)
         {
@@ -536,7 +536,7 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& norma
                     float s = 0.f;
                     for (int c = 0; c < channels; c++)
                         s += b[x * channels + c];
-                    l[x] = s * third;
+                    l[x] = s * perChannel;
                 }
             }
             if (y < latentSize.height)
@@ -551,7 +551,7 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& norma
                         m[x] += p[x];
                 }
                 for (int x = 0; x < latentSize.width; x++)
-                    m[x] = copy[x] = m[x] * third;
+                    m[x] = copy[x] = m[x] * perChannel;
             }
         }
     });
@@ -559,8 +559,8 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& norma
     rest.iterations = params.iterations - colour;
     done += iteratePlanes(op, luminance, normalizer, rest, latent, other, step, ws);
     /* The luminance's change goes to every plane as a ratio, which keeps each pixel's chromaticity
-       (an added difference would shift dark and saturated colours: fruits lost 3 dB that way with
-       one colour iteration). Where the start is (nearly) black the difference is added instead.
+       (an added difference shifts dark and saturated colours: in DeblurQuality's fruits it cost
+       3.5 dB with no colour iteration, 0.5 dB with one). Where the start is (nearly) black the difference is added instead.
        The planes stay within the bound the colour phase kept them in (see iteratePlanes). */
     double level = 0, brightest = 0;
     levelAndPeak(blurred, level, brightest);

@@ -221,31 +221,46 @@ double rowSumAndPeak(const float* p, int n, double& peak)
     return total;
 }
 
-/* The mean over every channel and the largest value of `image` (CV_32F), rows in parallel with
-   per-row partial sums added in order, so the result is the same on every run. */
-void levelAndPeak(const Mat& image, double& level, double& peak)
+//! An image's mean over every channel and its largest value.
+struct ImageLevel
+{
+    double mean = 0, peak = 0;
+};
+
+/* The level of `image` (CV_32F), rows in parallel with per-row partial sums added in order, so
+   the result is the same on every run. */
+ImageLevel levelOf(const Mat& image)
 {
     const int n = image.cols * image.channels();
     std::vector<double> rowSum(size_t(image.rows), 0.0), rowPeak(size_t(image.rows), -DBL_MAX);
     parallel_for_(Range(0, image.rows), [&](const Range& rows) {
         for (int y = rows.start; y < rows.end; y++)
-        {
             rowSum[size_t(y)] = rowSumAndPeak(image.ptr<float>(y), n, rowPeak[size_t(y)]);
-        }
     });
-    double total = 0;
-    peak = -DBL_MAX;
+    ImageLevel level;
+    level.peak = -DBL_MAX;
     for (int y = 0; y < image.rows; y++)
     {
-        total += rowSum[size_t(y)];
-        peak = std::max(peak, rowPeak[size_t(y)]);
+        level.mean += rowSum[size_t(y)];
+        level.peak = std::max(level.peak, rowPeak[size_t(y)]);
     }
-    level = total / (double(image.rows) * n);
+    level.mean /= double(image.rows) * n;
+    return level;
 }
 
-//! RL over every plane for params.iterations (colorIterations ignored).
-int iteratePlanes(BlurOperator& op, const Mat& blurred, const Mat& normalizer, const RLParams& params,
-                  std::vector<Mat>& estimate, std::vector<Mat>& other, std::vector<Mat>& step, RLWorkspace& ws)
+/* Projected RL: no latent pixel can hold more than spotGain × the brightest frame pixel, and the
+   estimate is kept there. On consistent data the bound never binds; on data no blur of a
+   non-negative image explains, extrapolation could otherwise pile the light into spikes (10³ × the
+   data on a 1-px checkerboard under a 31-px box). */
+float projectionBound(const BlurOperator& op, const ImageLevel& level)
+{
+    return float(std::min(op.spotGain() * std::max(level.peak, 0.0), double(FLT_MAX)));
+}
+
+//! RL over every plane for params.iterations (colorIterations ignored); `level` is levelOf(blurred).
+int iteratePlanes(BlurOperator& op, const Mat& blurred, const ImageLevel& level, const Mat& normalizer,
+                  const RLParams& params, std::vector<Mat>& estimate, std::vector<Mat>& other, std::vector<Mat>& step,
+                  RLWorkspace& ws)
 {
     const size_t channels = size_t(blurred.channels());
     CV_Assert(estimate.size() == channels);
@@ -259,18 +274,13 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const Mat& normalizer, c
        by the image's level (the ratio's epsilon, the deviance, TV's |∇u| and the step products
        would otherwise under- or overflow far from [0, 1]). TV's |∇u| is regularised at 1e-3 of
        the level. */
-    double level = 0, brightest = 0;
-    levelAndPeak(blurred, level, brightest);
-    const float scale = level > 0 && std::isfinite(1.0 / level) ? float(std::min(1.0 / level, 1e37)) : 1.f;
+    const double mean = level.mean;
+    const float scale = mean > 0 && std::isfinite(1.0 / mean) ? float(std::min(1.0 / mean, 1e37)) : 1.f;
     // The deviance is taken on scaled intensities, so its threshold 2 / damping² is divided by the scale.
     const float invThreshold =
         params.damping > 0 ? float(std::min(2.0 / (params.damping * params.damping * scale), 1e37)) : 0.f;
     const float tvEpsilon = 1e-3f;
-    /* Projected RL: no latent pixel can hold more than spotGain × the brightest frame pixel, and
-       the estimate is kept there. On consistent data the bound never binds; on data no blur of a
-       non-negative image explains, extrapolation could otherwise pile the light into spikes
-       (10³ × the data on a 1-px checkerboard under a 31-px box). */
-    const float upper = float(std::min(op.spotGain() * std::max(brightest, 0.0), double(FLT_MAX)));
+    const float upper = projectionBound(op, level);
 
     /* Per channel: the estimate x_k, `other` (x_{k−1}, overwritten by the extrapolated y_k and then
        by x_{k+1} in place) and, when accelerating, the last step g_{k−1} (overwritten by g_k while
@@ -498,14 +508,15 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& norma
 {
     const int colour = params.colorIterations;
     if (blurred.channels() < 3 || colour < 0 || colour >= params.iterations)
-        return iteratePlanes(op, blurred, normalizer, params, estimate, ws.other, ws.step, ws);
+        return iteratePlanes(op, blurred, levelOf(blurred), normalizer, params, estimate, ws.other, ws.step, ws);
 
+    const ImageLevel colourLevel = levelOf(blurred);
     int done = 0;
     if (colour > 0)
     {
         RLParams first = params;
         first.iterations = colour;
-        done = iteratePlanes(op, blurred, normalizer, first, estimate, ws.other, ws.step, ws);
+        done = iteratePlanes(op, blurred, colourLevel, normalizer, first, estimate, ws.other, ws.step, ws);
         if (params.tolerance > 0 && done < colour)
             return done;  // converged in colour already
     }
@@ -557,15 +568,13 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& norma
     });
     RLParams rest = params;
     rest.iterations = params.iterations - colour;
-    done += iteratePlanes(op, luminance, normalizer, rest, latent, other, step, ws);
+    done += iteratePlanes(op, luminance, levelOf(luminance), normalizer, rest, latent, other, step, ws);
     /* The luminance's change goes to every plane as a ratio, which keeps each pixel's chromaticity
        (an added difference shifts dark and saturated colours: in DeblurQuality's fruits it cost
        3.5 dB with no colour iteration, 0.5 dB with one). Where the start is (nearly) black the difference is added instead.
        The planes stay within the bound the colour phase kept them in (see iteratePlanes). */
-    double level = 0, brightest = 0;
-    levelAndPeak(blurred, level, brightest);
-    const float black = float(1e-6 * std::max(level, 0.0));
-    const float upper = float(std::min(op.spotGain() * std::max(brightest, 0.0), double(FLT_MAX)));
+    const float black = float(1e-6 * std::max(colourLevel.mean, 0.0));
+    const float upper = projectionBound(op, colourLevel);
     parallel_for_(Range(0, latentSize.height), [&](const Range& rows) {
         for (int y = rows.start; y < rows.end; y++)
         {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <climits>
 #include <cstring>
+#include <utility>
 
 namespace cv {
 namespace dynblur {
@@ -126,6 +127,22 @@ std::vector<std::vector<float>> supportWeights(const std::vector<BankBlurOperato
                     result[i][size_t(t - r.start)] += weights[size_t(t)].weight[k];
     }
     return result;
+}
+
+/* Walks two tap lists sorted by `key` (a pair of ints, compared lexicographically) side by side and
+   calls emit(tap, weight in a, weight in b) once per key either holds, with 0 where a list lacks it. */
+template <typename TapT, typename Key, typename Emit>
+void forUnion(const TapT* a, size_t countA, const TapT* b, size_t countB, Key key, Emit emit)
+{
+    size_t p = 0, q = 0;
+    while (p < countA || q < countB)
+    {
+        const bool takeA = p < countA && (q == countB || key(a[p]) <= key(b[q]));
+        const bool takeB = q < countB && (p == countA || key(b[q]) <= key(a[p]));
+        emit(takeA ? a[p] : b[q], takeA ? a[p].weight : 0.f, takeB ? b[q].weight : 0.f);
+        p += takeA;
+        q += takeB;
+    }
 }
 
 //! One non-zero kernel element as a read offset: frame pixel p reads latent p + (dx, dy).
@@ -639,18 +656,12 @@ void buildPairs(RowBankOperator::Gather& gather)
         const RowBankOperator::GatherRow &first = gather.rows[size_t(2 * k)], &second = gather.rows[size_t(2 * k + 1)];
         RowBankOperator::GatherRow& g = gather.pairs[size_t(k)];
         g.begin = int(gather.pairTaps.size());
-        int i = first.begin, j = second.begin;
-        while (i < first.end || j < second.end)
-        {
-            const RowBankOperator::Tap* a = i < first.end ? &gather.taps[size_t(i)] : nullptr;
-            const RowBankOperator::Tap* b = j < second.end ? &gather.taps[size_t(j)] : nullptr;
-            const bool takeA = a && (!b || a->row < b->row || (a->row == b->row && a->col <= b->col));
-            const bool takeB = b && (!a || b->row < a->row || (b->row == a->row && b->col <= a->col));
-            const RowBankOperator::Tap& key = takeA ? *a : *b;
-            gather.pairTaps.push_back({key.row, key.col, {takeA ? a->weight : 0.f, takeB ? b->weight : 0.f}});
-            i += takeA;
-            j += takeB;
-        }
+        forUnion(gather.taps.data() + first.begin, size_t(first.end - first.begin), gather.taps.data() + second.begin,
+                 size_t(second.end - second.begin),
+                 [](const RowBankOperator::Tap& t) { return std::make_pair(t.row, t.col); },
+                 [&](const RowBankOperator::Tap& t, float w0, float w1) {
+                     gather.pairTaps.push_back({t.row, t.col, {w0, w1}});
+                 });
         g.end = int(gather.pairTaps.size());
     }
     gather.pairTaps.shrink_to_fit();
@@ -774,16 +785,6 @@ namespace {
 //! Rows a tile gather computes per node column before adding them up: a block's source stays in L1/L2.
 constexpr int kTileBlockRows = 8;
 
-/* The next slot of a tap list of `count` taps, grown as needed. Its fields are then stored one by
-   one: a Tap built on the stack and copied is read back as 8 bytes over two 4-byte stores, which
-   the CPU cannot forward, and that stall cost more than the gather. */
-inline RowBankOperator::Tap& appendTap(std::vector<RowBankOperator::Tap>& taps, int& count)
-{
-    if (count == int(taps.size()))
-        taps.resize(size_t(2 * count + 64));
-    return taps[size_t(count++)];
-}
-
 //! One term of the union of two node rows' kernels: frame pixel p reads latent p + (dx, dy) + origin.
 struct UnionTap
 {
@@ -815,18 +816,9 @@ struct UnionColumn
             const std::vector<KernelTap>& b = j + 1 < nodeRows ? nodes[size_t((j + 1) * nodeCols + column)] : none;
             Kernel& k = kernels[size_t(j)];
             k.begin = int(taps.size());
-            size_t p = 0, q = 0;
-            while (p < a.size() || q < b.size())
-            {
-                const bool takeA = p < a.size() && (q == b.size() || a[p].dy < b[q].dy ||
-                                                    (a[p].dy == b[q].dy && a[p].dx <= b[q].dx));
-                const bool takeB = q < b.size() && (p == a.size() || b[q].dy < a[p].dy ||
-                                                    (b[q].dy == a[p].dy && b[q].dx <= a[p].dx));
-                const KernelTap& key = takeA ? a[p] : b[q];
-                taps.push_back({key.dy, key.dx, {takeA ? a[p].weight : 0.f, takeB ? b[q].weight : 0.f}});
-                p += takeA;
-                q += takeB;
-            }
+            forUnion(a.data(), a.size(), b.data(), b.size(),
+                     [](const KernelTap& t) { return std::make_pair(t.dy, t.dx); },
+                     [&](const KernelTap& t, float w0, float w1) { taps.push_back({t.dy, t.dx, {w0, w1}}); });
             k.end = int(taps.size());
             if (k.end == k.begin)
                 continue;
@@ -913,7 +905,7 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad) : BlurOperator
                     const float w = a0 * u.weight[0] + a1 * u.weight[1];
                     if (row < 0 || row >= latent_.height || w == 0.f)
                         continue;
-                    Tap& tap = appendTap(fw.taps, count);
+                    Tap& tap = fw.taps[size_t(count++)];  // within `most`
                     tap.row = row;
                     tap.col = u.dx + origin_.x;
                     tap.weight = w;

@@ -42,7 +42,7 @@ void checkImage(InputArray image, const char* name, const char* function)
                  format("%s: '%s' has %d channels; 1 to 4 are accepted", function, name, image.channels()));
     if (image.dims() > 2)
         CV_Error(Error::StsBadArg, format("%s: '%s' must be a 2-D image", function, name));
-    if (!checkRange(image, true))
+    if (!detail::allFinite(image.getMat()))
         CV_Error(Error::StsBadArg, format("%s: '%s' contains NaN or Inf; it must be finite", function, name));
 }
 
@@ -199,11 +199,21 @@ void fillFromNearest(std::vector<Mat>& planes, const Mat& valid)
     }
 }
 
+//! out = the planes (CV_32F, one size) interleaved, rows in parallel.
 void writeOutput(const std::vector<Mat>& planes, OutputArray out)
 {
-    Mat merged;
-    merge(planes, merged);
-    merged.copyTo(out);
+    const int channels = int(planes.size());
+    out.create(planes[0].size(), CV_32FC(channels));
+    Mat image = out.getMat();
+    parallel_for_(Range(0, image.rows), [&](const Range& rows) {
+        std::vector<const float*> sources(planes.size());
+        for (int y = rows.start; y < rows.end; y++)
+        {
+            for (size_t c = 0; c < planes.size(); c++)
+                sources[c] = planes[c].ptr<float>(y);
+            detail::interleaveRow(sources.data(), channels, image.cols, image.ptr<float>(y));
+        }
+    });
 }
 
 //! Same bank with every kernel replaced by one tap at its centroid: the bank's displacement alone.
@@ -283,7 +293,7 @@ void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, cons
     const Rect frame(op.origin(), op.frameSize());
     for (Mat& e : estimate)
         e = e(frame);
-    merge(estimate, latent);
+    writeOutput(estimate, latent);
 }
 
 namespace detail {
@@ -364,17 +374,7 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
     for (size_t c = 0; c < estimate.size(); c++)
         planes[c] = estimate[c](frame);
     fillFromNearest(planes, ws.valid);
-    latent.create(frameSize, CV_32FC(channels));
-    Mat out = latent.getMat();
-    parallel_for_(Range(0, frameSize.height), [&](const Range& rows) {
-        std::vector<const float*> sources(planes.size());
-        for (int y = rows.start; y < rows.end; y++)
-        {
-            for (size_t c = 0; c < planes.size(); c++)
-                sources[c] = planes[c].ptr<float>(y);
-            interleaveRow(sources.data(), channels, frameSize.width, out.ptr<float>(y));
-        }
-    });
+    writeOutput(planes, latent);
     if (validMask.needed())
         ws.valid.copyTo(validMask);
 }

@@ -1,12 +1,13 @@
 // dynblur_visual_servo — the system's story in one loop: a camera on the tilt positioner looks at a
-// textured plane carrying an AprilTag (36h11, id 0) that starts 8° off the image centre (--scenario
-// step), or that jumps to a new place 4..12° away every few cycles (--scenario track). Each cycle
-//   detect the tag in the latest RESTORED frame (vpDetectorAprilTag)
-//   → vpServo (image-based, point feature of the tag centre, eye-in-hand, only ωx) → angle increment
+// textured plane carrying a target (a column of three AprilTags 36h11) that starts 8° off the image
+// centre (--scenario step), or that jumps to a new place 3..6° away every few cycles (--scenario
+// track). Each cycle
+//   detect the target in the latest RESTORED frame (vpDetectorAprilTag)
+//   → vpServo (image-based, point feature of the target's centre, eye-in-hand, only ωx) → angle increment
 //   → SwitchPlanner: an integer-level saccade without residual vibration
 //   → plant directly, or --bus: upload + start on the actuator controller (ActuatorDriver)
 //   → the rolling-shutter camera keeps taking frames while the mechanism moves: each is classified
-//     (windows I–IV), restored with DynamicDeblurrer, and searched for the tag raw and restored.
+//     (windows I–IV), restored with DynamicDeblurrer, and searched for the target raw and restored.
 // The loop itself is runVisualServo (samples/common/visual_servo.cpp), shared with the tests.
 //
 //   dynblur_visual_servo --cycles 10 --out servo_out
@@ -31,22 +32,27 @@ namespace {
 const char* const kHelp =
     "Usage: dynblur_visual_servo [options]\n"
     "Closes the loop camera -> restoration -> AprilTag -> vpServo -> planner -> positioner (headless).\n"
-    "  --scenario step|track step: the tag sits --start-deg off and stays (default);\n"
-    "                        track: it jumps to --targets places, 4..12 deg each way, --cycles-per-target\n"
+    "  --scenario step|track step: the target sits --start-deg off and stays (default);\n"
+    "                        track: it jumps to --targets places, --jump-deg each way, --cycles-per-target\n"
     "                        cycles each, and the saccade's phase against the frames varies (--jitter-ms)\n"
     "  --cycles N            servo cycles, step scenario (default 10)\n"
-    "  --targets N           places the tag visits, track scenario (default 16)\n"
+    "  --targets N           places the target visits, track scenario (default 16)\n"
     "  --cycles-per-target N cycles per place, track scenario (default 3)\n"
+    "  --jump-deg MIN,MAX    size of each jump, degrees, track scenario (default 3,6; at most 12)\n"
     "  --seed N              track scenario: places, jitter and sensor noise (default 1)\n"
     "  --frames-per-cycle N  frames taken during one cycle at 30 fps (default 3)\n"
-    "  --start-deg D         initial tilt error of the tag, degrees (default 8)\n"
+    "  --start-deg D         initial tilt error of the target, degrees (default 8 for step, 5 for track)\n"
     "  --lambda L            vpServo gain per cycle, in (0, 2) (default 1: one-step correction)\n"
+    "  --deadband-px PX      hold still while the measured error is at most PX, in [0, 5] (default 0.75)\n"
     "  --mode fast|robust    planner mode (default robust; fast tries every level, ~10 s per plan at 400 levels)\n"
     "  --gain-deg G          positioner gain, degrees per level (default 0.05: 0.26 px at fx 300)\n"
     "  --max-level N         largest |level| (default 400)\n"
     "  --model rows|tiles    PSF model of the restoration (default rows)\n"
     "  --iterations N        Richardson-Lucy iterations (default 20)\n"
-    "  --tag-cell PX         tag cell size on the plane, pixels (default 4: a 32 px black square)\n"
+    "  --tags N              AprilTags in the target, a column of ids 0..N-1, N in [1, 3] (default 3)\n"
+    "  --tag-cell PX         tag cell size on the plane, pixels, in [2, 12] (default 4: a 32 px black square);\n"
+    "                        the target must fit in half the frame's height (120 px)\n"
+    "  --exposure-ms MS      exposure of each row, in [0.1, 33.3] (default 33)\n"
     "  --latency-ms MS       from the end of the measured frame's readout to the saccade start (default 4)\n"
     "  --jitter-ms MS        plus a random 0..MS per cycle (default 0 for step, one frame period for track)\n"
     "  --bus tcp://HOST:PORT drive the actuator controller (e.g. dynblur_actuator_sim) instead of the plant\n"
@@ -59,7 +65,7 @@ ServoConfig parseOptions(int argc, char** argv, std::string& outDir)
     const CliArgs args(argc, argv,
                        {"scenario", "cycles", "targets", "cycles-per-target", "seed", "frames-per-cycle", "start-deg",
                         "lambda", "mode", "gain-deg", "max-level", "model", "iterations", "bus", "out", "tag-cell",
-                        "latency-ms", "jitter-ms"},
+                        "latency-ms", "jitter-ms", "exposure-ms", "deadband-px", "tags", "jump-deg"},
                        {"help"});
     if (args.has("help"))
     {
@@ -71,21 +77,31 @@ ServoConfig parseOptions(int argc, char** argv, std::string& outDir)
         throw std::runtime_error("--scenario must be step or track (got '" + scenario + "')");
     const bool track = scenario == "track";
     for (const char* name : track ? std::vector<const char*>{"cycles"}
-                                  : std::vector<const char*>{"targets", "cycles-per-target", "seed"})
+                                  : std::vector<const char*>{"targets", "cycles-per-target", "seed", "jump-deg"})
         if (args.has(name))
             throw std::runtime_error(std::string("--") + name + " is for --scenario " + (track ? "step" : "track"));
 
     ServoConfig config;
-    config.startOffsetDeg = args.num("start-deg", config.startOffsetDeg);
     if (track)
     {
         const int targets = args.integer("targets", 16), perTarget = args.integer("cycles-per-target", 3);
         const int seed = args.integer("seed", 1);
         if (targets < 1 || targets > 200 || perTarget < 1 || perTarget > 20 || seed < 0)
             throw std::runtime_error("--targets must be in [1, 200], --cycles-per-target in [1, 20], --seed >= 0");
-        if (!(std::abs(config.startOffsetDeg) <= 12))
+        const double startDeg = args.num("start-deg", 5.0);
+        if (!(std::abs(startDeg) <= 12))
             throw std::runtime_error("--start-deg must be within +-12 deg for --scenario track");
-        config = trackingScenario(targets, perTarget, static_cast<unsigned>(seed), config.startOffsetDeg);
+        double minJump = 3, maxJump = 6;
+        if (args.has("jump-deg") &&
+            (std::sscanf(args.str("jump-deg", "").c_str(), "%lf,%lf", &minJump, &maxJump) != 2 ||
+             !(0 <= minJump && minJump <= maxJump && maxJump <= 12)))
+            throw std::runtime_error("--jump-deg must be MIN,MAX with 0 <= MIN <= MAX <= 12 (got '" +
+                                     args.str("jump-deg", "") + "')");
+        config = trackingScenario(targets, perTarget, static_cast<unsigned>(seed), startDeg, minJump, maxJump);
+    }
+    else
+    {
+        config.startOffsetDeg = args.num("start-deg", config.startOffsetDeg);
     }
     config.cycles = args.integer("cycles", config.cycles);
     config.framesPerCycle = args.integer("frames-per-cycle", config.framesPerCycle);
@@ -97,10 +113,24 @@ ServoConfig parseOptions(int argc, char** argv, std::string& outDir)
     config.tagCellPx = args.integer("tag-cell", config.tagCellPx);
     config.latency = 1e-3 * args.num("latency-ms", 1e3 * config.latency);
     config.latencyJitter = 1e-3 * args.num("jitter-ms", 1e3 * config.latencyJitter);
+    config.exposure = 1e-3 * args.num("exposure-ms", 1e3 * config.exposure);
+    config.deadbandPx = args.num("deadband-px", config.deadbandPx);
+    config.targetTags = args.integer("tags", config.targetTags);
+    if (config.targetTags < 1 || config.targetTags > kTagIds)
+        throw std::runtime_error("--tags must be in [1, " + std::to_string(kTagIds) + "]");
+    if (!(config.deadbandPx >= 0 && config.deadbandPx <= 5))
+        throw std::runtime_error("--deadband-px must be in [0, 5]");
     if (config.tagCellPx < 2 || config.tagCellPx > 12)
         throw std::runtime_error("--tag-cell must be in [2, 12] px");
+    const int targetHeight = (9 * (config.targetTags - 1) + 10) * config.tagCellPx;
+    if (targetHeight > config.imageSize.height / 2)
+        throw std::runtime_error("--tags x --tag-cell: the target would be " + std::to_string(targetHeight) +
+                                 " px tall; it must fit in half the frame's height (" +
+                                 std::to_string(config.imageSize.height / 2) + " px)");
     if (!(config.latency >= 0 && config.latency < 1) || !(config.latencyJitter >= 0 && config.latencyJitter < 1))
         throw std::runtime_error("--latency-ms and --jitter-ms must be in [0, 1000)");
+    if (!(config.exposure >= 1e-4 && config.exposure <= 1.0 / config.fps))
+        throw std::runtime_error("--exposure-ms must be in [0.1, 33.3] (at most one frame period at 30 fps)");
     outDir = args.str("out", "servo_out");
     const std::string mode = args.str("mode", "robust"), model = args.str("model", "rows");
     if (mode != "fast" && mode != "robust")
@@ -148,14 +178,15 @@ int main(int argc, char** argv)
     {
         const bool track = config.targetsDeg.size() > 1;
         if (track)
-            std::printf("[servo] track: the tag visits %zu places (%d cycles each), first %.1f deg off", config.targetsDeg.size(),
-                        config.cyclesPerTarget, config.targetsDeg[0]);
+            std::printf("[servo] track: the target visits %zu places (%d cycles each), first %.1f deg off",
+                        config.targetsDeg.size(), config.cyclesPerTarget, config.targetsDeg[0]);
         else
-            std::printf("[servo] step: tag %.1f deg off", config.startOffsetDeg);
-        std::printf("; positioner %.3f deg/level, max level %d; %s; %d frames/cycle at 30 fps; latency %.0f ms + 0..%.0f ms\n",
-                    config.gainDegPerLevel, config.maxLevel,
+            std::printf("[servo] step: target %.1f deg off", config.startOffsetDeg);
+        std::printf("; target: %d tag(s) of %d px cells; dead band %.2f px; positioner %.3f deg/level, max level %d; %s; "
+                    "%d frames/cycle at 30 fps, exposure %.1f ms; latency %.0f ms + 0..%.0f ms\n",
+                    config.targetTags, config.tagCellPx, config.deadbandPx, config.gainDegPerLevel, config.maxLevel,
                     config.busUri.empty() ? "plant driven directly" : ("bus " + config.busUri).c_str(),
-                    config.framesPerCycle, 1e3 * config.latency, 1e3 * config.latencyJitter);
+                    config.framesPerCycle, 1e3 * config.exposure, 1e3 * config.latency, 1e3 * config.latencyJitter);
         const int cycles = config.cycles;
         const ServoReport report = runVisualServo(config, [cycles](const ServoReport& r) {
             const ServoCycle& c = r.cycles.back();
@@ -163,8 +194,8 @@ int main(int argc, char** argv)
                         c.cycle + 1, cycles, c.target, c.measuredErrorPx, c.trueErrorPx, c.deltaDeg, c.fromLevel, c.toLevel);
             for (const ServoFrame& f : r.frames)
                 if (f.cycle == c.cycle)
-                    std::printf(" %s[raw %s, restored %s]", exposureWindowName(f.window), f.raw.found ? "tag" : "-",
-                                f.restored.found ? "tag" : "-");
+                    std::printf(" %s[raw %s, restored %s]", exposureWindowName(f.window), f.raw.found ? "found" : "-",
+                                f.restored.found ? "found" : "-");
             std::printf("\n");
             std::fflush(stdout);
         });
@@ -184,7 +215,7 @@ int main(int argc, char** argv)
                         never, report.targetsDeg.size());
         else
             std::printf("[servo] error <= 1 px from cycle %d on\n", report.cyclesToWithin(1.0));
-        std::printf("[servo] tag found while moving       all frames: found raw / restored | tag moved >= %.0f px: raw / restored\n",
+        std::printf("[servo] target found while moving    all frames: found raw / restored | a tag moved >= %.0f px: raw / restored\n",
                     kTagBlurredPx);
         for (const DetectionRow& row : detectionSummary(report))
             std::printf("[servo]   window %-5s %3d frames: %3d (%3.0f%%) / %3d (%3.0f%%) | %3d frames: %3d (%3.0f%%) / %3d (%3.0f%%)\n",

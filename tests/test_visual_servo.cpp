@@ -1,7 +1,7 @@
 // The visual-servoing loop (samples/common/visual_servo.cpp, the dynblur_visual_servo program):
-// convergence from 8° off; tracking a tag that jumps 4..12° each way, with tag detection raw vs
-// restored in the frames taken while moving; and the loop over the actuator bus against the
-// in-process simulator on a loopback port.
+// convergence from 8° off; tracking a target (a column of three AprilTags) that jumps 3..6° each way,
+// with its detection raw vs restored in the frames taken while moving; and the loop over the
+// actuator bus against the in-process simulator on a loopback port.
 #include "actuator_sim.hpp"
 #include "visual_servo.hpp"
 
@@ -24,7 +24,7 @@ double seconds(std::chrono::steady_clock::time_point since)
 
 TEST(ServoLoop, ConvergesFromEightDegreesWithinTwoCycles)
 {
-    ServoConfig config;  // step: 8° off, λ = 1, 0.05°/level, robust planner, 320×240 at 30 fps, PSF_ROWS
+    ServoConfig config;  // step: 8° off, λ = 1, 0.05°/level, robust planner, 320×240 at 30 fps, 33 ms, PSF_ROWS
     config.cycles = 5;
     config.keepImages = false;
     const ServoReport report = runVisualServo(config);
@@ -44,10 +44,10 @@ TEST(ServoLoop, ConvergesFromEightDegreesWithinTwoCycles)
     EXPECT_GT(report.meanRestoreSec(), 0.0);  // restoration took place (its speed is the benchmark's to measure)
 }
 
-TEST(ServoTrack, RestorationFindsTheBlurredTagWhileMoving)
+TEST(ServoTrack, RestorationFindsTheTargetTwiceAsOftenWhileMoving)
 {
-    // The tag jumps to 12 places (4..12° each way, 3 cycles each); each cycle's latency jitters over
-    // a frame period, so the saccades start at every phase of the camera's frames.
+    // The target jumps to 12 places (3..6° each way, 3 cycles each); each cycle's latency jitters
+    // over a frame period, so the saccades start at every phase of the camera's frames.
     ServoConfig config = trackingScenario(12);
     config.keepImages = false;
     const auto start = std::chrono::steady_clock::now();
@@ -66,8 +66,8 @@ TEST(ServoTrack, RestorationFindsTheBlurredTagWhileMoving)
     // Detection while the mechanism moves, per window; the detector is configured identically for
     // raw and restored frames.
     for (const DetectionRow& row : detectionSummary(report))
-        std::printf("[servo test] window %-5s %3d frames: tag found raw %3d, restored %3d | tag moved >= %.0f px: %3d "
-                    "frames, raw %3d, restored %3d\n",
+        std::printf("[servo test] window %-5s %3d frames: target found raw %3d, restored %3d | a tag moved >= %.0f px: "
+                    "%3d frames, raw %3d, restored %3d\n",
                     row.window.c_str(), row.all.frames, row.all.raw, row.all.restored, kTagBlurredPx,
                     row.tagBlurred.frames, row.tagBlurred.raw, row.tagBlurred.restored);
     std::printf("[servo test] track, 12 places: restoration %.0f ms/frame; %.1f s\n", 1e3 * report.meanRestoreSec(),
@@ -75,18 +75,17 @@ TEST(ServoTrack, RestorationFindsTheBlurredTagWhileMoving)
     const DetectionTally all = report.tally(0), blurred = report.tally(0, kTagBlurredPx);
     EXPECT_GE(all.frames, 30);
     EXPECT_GT(report.tally(EXPOSURE_I).frames, 0);
-    EXPECT_GT(report.tally(EXPOSURE_II).frames, 0);
     EXPECT_GT(report.tally(EXPOSURE_III).frames, 0);
-    // Restoration never loses a tag the raw frame showed.
+    // Restoration never loses a target the raw frame showed.
     for (const ServoFrame& f : report.frames)
         EXPECT_TRUE(f.restored.found || !f.raw.found) << "frame " << f.index;
-    EXPECT_GE(all.restored, all.raw);
-    // Where the tag itself was blurred (it moved ≥ 2 px while its row was exposed), the restored
-    // frames show it at least twice as often as the raw ones. Over all frames of windows I–III the
-    // ratio is smaller (README): in many of them the tag's rows were exposed before or after the move.
-    EXPECT_GE(blurred.frames, 10);
+    // Among all frames taken in windows I–III, the restored frames show the target at least twice as
+    // often as the raw ones, and nearly always; so do those where a tag was blurred by the motion.
+    EXPECT_GE(all.restoredRate(), 2 * all.rawRate());
+    EXPECT_GE(all.restoredRate(), 0.8);
+    EXPECT_GE(blurred.frames, 15);
     EXPECT_GE(blurred.restoredRate(), 2 * blurred.rawRate());
-    EXPECT_GE(blurred.restoredRate(), 0.5);
+    EXPECT_GE(blurred.restoredRate(), 0.75);
 }
 
 TEST(ServoBus, DrivesTheActuatorSimulatorOverModbusTcp)

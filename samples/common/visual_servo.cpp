@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <exception>
 #include <fstream>
 
@@ -46,7 +47,8 @@ struct World
     Mat background;         // CV_8U sRGB grey, the plane without the tag, with margins
     Point margin;           // where the frame's (0, 0) lies in `background` at θ = 0
     Mat sharpLinear;        // CV_32F, the view at θ = 0 with the tag
-    Point2d tagAtZero;      // tag centre in the frame's coordinates at θ = 0, pixels
+    std::vector<Point2d> tagsAtZero;  // each tag's centre in the frame's coordinates at θ = 0, pixels
+    std::vector<double> tagOffsets;   // each tag's centre below the target's, pixels (in the view that centres the target)
 };
 
 World makeWorld(const Ptr<CameraModel>& camera, int maxShiftPx)
@@ -59,53 +61,78 @@ World makeWorld(const Ptr<CameraModel>& camera, int maxShiftPx)
     return world;
 }
 
-void placeTag(World& world, const Ptr<CameraModel>& camera, double targetRad, int tagCellPx)
+void placeTarget(World& world, const Ptr<CameraModel>& camera, double targetRad, int tagCellPx, int tags)
 {
-    const Point2d centre = camera->viewToReference(Point2d(camera->getCx(), camera->getCy()), targetRad);
-    const Mat tag = aprilTag36h11Id0(tagCellPx);
-    const Point topLeft(cvRound(centre.x + world.margin.x - (tag.cols - 1) / 2.0),
-                        cvRound(centre.y + world.margin.y - (tag.rows - 1) / 2.0));
     Mat grey = world.background.clone();
-    tag.copyTo(grey(Rect(topLeft, tag.size())));
-    world.tagAtZero = Point2d(topLeft.x - world.margin.x + (tag.cols - 1) / 2.0,
-                              topLeft.y - world.margin.y + (tag.rows - 1) / 2.0);
+    world.tagsAtZero.clear();
+    world.tagOffsets.clear();
+    for (int k = 0; k < tags; ++k)
+    {
+        const double offset = (k - (tags - 1) / 2.0) * 9 * tagCellPx;
+        const Point2d centre = camera->viewToReference(Point2d(camera->getCx(), camera->getCy() + offset), targetRad);
+        const Mat tag = aprilTag36h11(k, tagCellPx);
+        const Point topLeft(cvRound(centre.x + world.margin.x - (tag.cols - 1) / 2.0),
+                            cvRound(centre.y + world.margin.y - (tag.rows - 1) / 2.0));
+        tag.copyTo(grey(Rect(topLeft, tag.size())));
+        world.tagsAtZero.emplace_back(topLeft.x - world.margin.x + (tag.cols - 1) / 2.0,
+                                      topLeft.y - world.margin.y + (tag.rows - 1) / 2.0);
+        world.tagOffsets.push_back(offset);
+    }
     srgbToLinear(grey, world.sharpLinear);
 }
 
-// Where the tag centre appears at tilt θ (the inverse of viewToReference for a pure rotation).
-Point2d tagInView(const Ptr<CameraModel>& camera, const World& world, double thetaRad)
+// Where tag k's centre appears at tilt θ (the inverse of viewToReference for a pure rotation).
+Point2d tagInView(const Ptr<CameraModel>& camera, const World& world, size_t k, double thetaRad)
 {
-    return camera->viewToReference(world.tagAtZero, -thetaRad);
+    return camera->viewToReference(world.tagsAtZero[k], -thetaRad);
 }
 
-// How far the tag centre travels (along the true trajectory) while the sensor row that sees it is
-// exposed, pixels: the blur the detector has to cope with at the tag, whatever the frame's window.
+// Where the target's centre (its tags' mean centre, as the detector measures it) appears at tilt θ.
+Point2d targetInView(const Ptr<CameraModel>& camera, const World& world, double thetaRad)
+{
+    Point2d sum;
+    for (size_t k = 0; k < world.tagsAtZero.size(); ++k)
+        sum += tagInView(camera, world, k, thetaRad);
+    return sum / static_cast<double>(world.tagsAtZero.size());
+}
+
+// How far a tag's centre travels (along the true trajectory) while the sensor row that sees it is
+// exposed, pixels, for the tag that travels farthest: the blur the detector has to cope with on the
+// target, whatever the frame's window.
 double tagMotionPx(const Ptr<Plant>& plant, const SwitchSchedule& history, const Ptr<CameraModel>& camera,
                    const World& world, const RollingShutter& shutter)
 {
     const int samples = 24;
     Mat t(samples + 1, 1, CV_64F), theta;
-    double row = camera->getCy();
-    for (int pass = 0; pass < 4; ++pass)  // the row where the tag is seen depends on when that row is exposed
+    double farthest = 0;
+    for (size_t k = 0; k < world.tagsAtZero.size(); ++k)
     {
+        double row = camera->getCy() + world.tagOffsets[k];
+        for (int pass = 0; pass < 4; ++pass)  // the row where the tag is seen depends on when that row is exposed
+        {
+            const Vec2d interval = shutter.rowInterval(cvRound(std::min(std::max(row, 0.0), shutter.rows - 1.0)));
+            t.at<double>(0) = 0.5 * (interval[0] + interval[1]);
+            plant->response(history, t.rowRange(0, 1), theta);
+            row = tagInView(camera, world, k, theta.at<double>(0)).y;
+        }
         const Vec2d interval = shutter.rowInterval(cvRound(std::min(std::max(row, 0.0), shutter.rows - 1.0)));
-        t.at<double>(0) = 0.5 * (interval[0] + interval[1]);
-        plant->response(history, t.rowRange(0, 1), theta);
-        row = tagInView(camera, world, theta.at<double>(0)).y;
+        for (int i = 0; i <= samples; ++i)
+            t.at<double>(i) = interval[0] + (interval[1] - interval[0]) * i / samples;
+        plant->response(history, t, theta);
+        double travel = 0;
+        for (int i = 1; i <= samples; ++i)
+            travel += norm(tagInView(camera, world, k, theta.at<double>(i)) -
+                           tagInView(camera, world, k, theta.at<double>(i - 1)));
+        farthest = std::max(farthest, travel);
     }
-    const Vec2d interval = shutter.rowInterval(cvRound(std::min(std::max(row, 0.0), shutter.rows - 1.0)));
-    for (int i = 0; i <= samples; ++i)
-        t.at<double>(i) = interval[0] + (interval[1] - interval[0]) * i / samples;
-    plant->response(history, t, theta);
-    double travel = 0;
-    for (int i = 1; i <= samples; ++i)
-        travel += norm(tagInView(camera, world, theta.at<double>(i)) - tagInView(camera, world, theta.at<double>(i - 1)));
-    return travel;
+    return farthest;
 }
 
 // ---- detection -----------------------------------------------------------------------------------
 
-Detection detectTag(vpDetectorAprilTag& detector, const Mat& grey8)
+// The target's tags in an 8-bit frame. Its centre is the mean of (tag centre − the tag's offset in
+// the target), so a target half out of view still gives a measurement.
+Detection detectTarget(vpDetectorAprilTag& detector, const Mat& grey8, const std::vector<double>& tagOffsets)
 {
     vpImage<unsigned char> image(static_cast<unsigned>(grey8.rows), static_cast<unsigned>(grey8.cols));
     for (int y = 0; y < grey8.rows; ++y)
@@ -113,26 +140,35 @@ Detection detectTag(vpDetectorAprilTag& detector, const Mat& grey8)
     Detection detection;
     if (!detector.detect(image))
         return detection;
+    std::vector<bool> seen(tagOffsets.size(), false);
+    Point2d sum;
     for (size_t i = 0; i < detector.getNbObjects(); ++i)
     {
-        if (detector.getMessage(i) != "36h11 id: 0")
+        int id = -1;
+        if (std::sscanf(detector.getMessage(i).c_str(), "36h11 id: %d", &id) != 1 || id < 0 ||
+            id >= static_cast<int>(tagOffsets.size()) || seen[static_cast<size_t>(id)])
             continue;
+        std::vector<Point2d> corners;
         for (const vpImagePoint& p : detector.getPolygon(i))
-            detection.corners.emplace_back(p.get_u(), p.get_v());
-        if (detection.corners.size() != 4)
+            corners.emplace_back(p.get_u(), p.get_v());
+        if (corners.size() != 4)
             continue;
         // The centre of a square seen in perspective is where its diagonals cross (the corners'
         // mean is off by a fraction of a pixel once the plane is tilted).
-        const Point2d a = detection.corners[0], b = detection.corners[2], c = detection.corners[1], d = detection.corners[3];
+        const Point2d a = corners[0], b = corners[2], c = corners[1], d = corners[3];
         const Point2d r = b - a, q = d - c;
         const double denominator = r.x * q.y - r.y * q.x;
         if (std::abs(denominator) < 1e-9)
             continue;
         const double t = ((c - a).x * q.y - (c - a).y * q.x) / denominator;
-        detection.centre = a + t * r;
-        detection.found = true;
-        break;
+        sum += a + t * r - Point2d(0, tagOffsets[static_cast<size_t>(id)]);
+        seen[static_cast<size_t>(id)] = true;
+        detection.corners.push_back(corners);
     }
+    detection.tagsFound = static_cast<int>(detection.corners.size());
+    detection.found = detection.tagsFound == static_cast<int>(tagOffsets.size());
+    if (detection.tagsFound > 0)
+        detection.centre = sum / detection.tagsFound;
     return detection;
 }
 
@@ -207,10 +243,13 @@ Mat toGrey8(const Mat& linear)
 
 }  // namespace
 
-Mat aprilTag36h11Id0(int cellPx)
+Mat aprilTag36h11(int id, int cellPx)
 {
-    // tag36h11 id 0 (AprilTag family table, 36 data bits read row by row from the top-left, 1 = white).
-    const uint64_t code = 0xd5d628584ULL;
+    // tag36h11 ids 0..2 (AprilTag family table, 36 data bits read row by row from the top-left, 1 = white).
+    static const uint64_t codes[kTagIds] = {0xd5d628584ULL, 0xd97f18b49ULL, 0xdd280910eULL};
+    CV_CheckGE(id, 0, "tag id");
+    CV_CheckLT(id, kTagIds, "tag id");
+    const uint64_t code = codes[id];
     Mat tag(10 * cellPx, 10 * cellPx, CV_8U, Scalar(255));
     for (int y = 1; y <= 8; ++y)
         for (int x = 1; x <= 8; ++x)
@@ -256,6 +295,12 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
     CV_CheckGE(config.maxLevel, 1, "max level");
     CV_CheckGE(config.cyclesPerTarget, 0, "cycles per target");
     CV_Assert(config.latency >= 0 && config.latencyJitter >= 0);
+    CV_CheckGE(config.targetTags, 1, "target tags");
+    CV_CheckLE(config.targetTags, kTagIds, "target tags");
+    CV_CheckGE(config.deadbandPx, 0.0, "dead band");
+    // The target must fit in half the frame's height so that it stays in view while the servo works.
+    CV_CheckLE((9 * (config.targetTags - 1) + 10) * config.tagCellPx, config.imageSize.height / 2,
+               "target height (tags x tag cell)");
     const std::vector<double> targetsDeg = config.targetsDeg.empty() ? std::vector<double>{config.startOffsetDeg}
                                                                       : config.targetsDeg;
     double farthestDeg = 0;
@@ -283,7 +328,7 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
     const int maxShiftPx = cvCeil(config.focalPx * std::tan(farthestDeg * kDeg * 1.3 + 2 * kDeg));
     World world = makeWorld(camera, maxShiftPx);
     int target = 0;
-    placeTag(world, camera, targetsDeg[0] * kDeg, config.tagCellPx);
+    placeTarget(world, camera, targetsDeg[0] * kDeg, config.tagCellPx, config.targetTags);
 
     // Visual servoing task (ViSP): the tag centre s to the image centre s*, eye-in-hand, only ωx.
     const vpCameraParameters cam(config.focalPx, config.focalPx, camera->getCx(), camera->getCy());
@@ -336,8 +381,8 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
             frame.restoreSec = (static_cast<double>(getTickCount()) - t0) / getTickFrequency();
         }
         const Mat raw8 = toGrey8(noisy), restored8 = toGrey8(restored);
-        frame.raw = detectTag(detector, raw8);
-        frame.restored = detectTag(detector, restored8);
+        frame.raw = detectTarget(detector, raw8, world.tagOffsets);
+        frame.restored = detectTarget(detector, restored8, world.tagOffsets);
         if (config.keepImages)
         {
             frame.rawImage = raw8;
@@ -361,7 +406,7 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
         {
             ++target;
             cycleOfTarget = 0;
-            placeTag(world, camera, targetsDeg[static_cast<size_t>(target)] * kDeg, config.tagCellPx);
+            placeTarget(world, camera, targetsDeg[static_cast<size_t>(target)] * kDeg, config.tagCellPx, config.targetTags);
             report.frames.push_back(takeFrame(c - 1));
             latest = report.frames.back().restored;
         }
@@ -370,13 +415,14 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
         cycle.target = target;
         cycle.cycleOfTarget = cycleOfTarget++;
         cycle.fromLevel = level;
-        cycle.trueErrorPx = norm(tagInView(camera, world, plant->restingAngle(level)) - imageCentre);
+        cycle.trueErrorPx = norm(targetInView(camera, world, plant->restingAngle(level)) - imageCentre);
 
         // 1. Measure: the tag centre in the latest restored frame (the view at the resting angle).
         double deltaRad = 0;
-        if (latest.found)
-        {
+        if (latest.tagsFound > 0)
             cycle.measuredErrorPx = norm(latest.centre - imageCentre);
+        if (latest.tagsFound > 0 && cycle.measuredErrorPx > config.deadbandPx)
+        {
             double x = 0, y = 0;
             vpPixelMeterConversion::convertPoint(cam, latest.centre.x, latest.centre.y, x, y);
             s.buildFrom(x, y, kDepth);
@@ -409,8 +455,14 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
         for (int f = 0; f < config.framesPerCycle; ++f)
         {
             report.frames.push_back(takeFrame(c));
-            if (report.frames.back().restored.found)
-                seen = report.frames.back().restored;  // any restored frame shows the view at rest
+            // A restored frame shows the view at the new resting angle, unless the whole frame was
+            // read out before the saccade began (the latency can exceed a frame period). The latest
+            // frame that shows every tag wins; failing that, the one that shows the most.
+            const ServoFrame& frame = report.frames.back();
+            const RollingShutter shutter(frame.frameStart, config.exposure, config.lineDelay, size.height);
+            const bool beforeMove = !saccade.times.empty() && shutter.readoutInterval()[1] <= saccade.times.front();
+            if (!beforeMove && (frame.restored.found || (!seen.found && frame.restored.tagsFound >= seen.tagsFound)))
+                seen = frame.restored;
         }
         latest = seen;
         report.cycles.push_back(cycle);
@@ -491,16 +543,22 @@ Mat annotated(const Mat& grey8, const Detection& detection, const std::string& l
     cvtColor(grey8, image, COLOR_GRAY2BGR);
     const Point2d centre((image.cols - 1) / 2.0, (image.rows - 1) / 2.0);
     drawMarker(image, Point(cvRound(centre.x), cvRound(centre.y)), Scalar(255, 200, 0), MARKER_CROSS, 14, 1);
-    if (detection.found)
+    if (detection.tagsFound > 0)
     {
-        std::vector<Point> polygon;
-        for (const Point2d& p : detection.corners)
-            polygon.emplace_back(cvRound(p.x), cvRound(p.y));
-        polylines(image, polygon, true, Scalar(0, 220, 0), 2, LINE_AA);
+        for (const std::vector<Point2d>& tag : detection.corners)
+        {
+            std::vector<Point> polygon;
+            for (const Point2d& p : tag)
+                polygon.emplace_back(cvRound(p.x), cvRound(p.y));
+            polylines(image, polygon, true, Scalar(0, 220, 0), 2, LINE_AA);
+        }
         circle(image, Point(cvRound(detection.centre.x), cvRound(detection.centre.y)), 3, Scalar(0, 0, 255), FILLED);
     }
     rectangle(image, Rect(0, 0, image.cols, 18), Scalar(0, 0, 0), FILLED);
-    putText(image, label + (detection.found ? "  tag found" : "  no tag"), Point(4, 13), FONT_HERSHEY_SIMPLEX, 0.4,
+    const std::string found = detection.found       ? "  target found"
+                              : detection.tagsFound ? format("  %d tag(s) only", detection.tagsFound)
+                                                    : "  no tag";
+    putText(image, label + found, Point(4, 13), FONT_HERSHEY_SIMPLEX, 0.4,
             detection.found ? Scalar(120, 255, 120) : Scalar(120, 120, 255), 1, LINE_AA);
     return image;
 }
@@ -635,7 +693,7 @@ void writeServoOutputs(const ServoReport& report, const std::string& outDir)
 
     // Detection rates per window, raw vs restored.
     if (!imwrite(outDir + "/detection.png",
-                 detectionChart(detectionSummary(report), "Tag found in the frames taken while moving (" + report.detector + ")")))
+                 detectionChart(detectionSummary(report), "Target found (every tag; vpDetectorAprilTag 36h11) in the frames taken while moving")))
         CV_Error(Error::StsError, "cannot write " + outDir + "/detection.png");
 
     // Strip: raw | restored for frames taken while moving (windows I–III), two pairs per row.

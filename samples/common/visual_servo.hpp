@@ -1,12 +1,13 @@
 // The closed loop of the visual-servoing sample, shared by samples/visual_servo.cpp and
-// tests/test_visual_servo.cpp: a textured plane carrying an AprilTag (36h11, id 0), a camera on the
-// tilt positioner, a rolling-shutter sensor rendered with renderBlurred + addSensorNoise, and each
-// cycle: detect the tag in the latest restored frame → vpServo (image-based, tag centre) → ωx →
+// tests/test_visual_servo.cpp: a textured plane carrying a target (a column of AprilTags 36h11,
+// ids 0..2), a camera on the tilt positioner, a rolling-shutter sensor rendered with renderBlurred +
+// addSensorNoise, and each cycle: detect the target in the latest restored frame → vpServo
+// (image-based, the target's centre) → ωx →
 // angle increment → SwitchPlanner saccade (directly on the plant, or uploaded to the actuator
 // controller over the bus) → the frames the camera takes meanwhile, classified (windows I–IV),
-// restored with DynamicDeblurrer, and searched for the tag both raw and restored.
-// Two scenarios: "step" (the tag sits startOffsetDeg off and stays; convergence) and "track" (the
-// tag jumps to a new place every few cycles, 4..12° each way, and the saccade's phase against the
+// restored with DynamicDeblurrer, and searched for the target both raw and restored.
+// Two scenarios: "step" (the target sits startOffsetDeg off and stays; convergence) and "track" (it
+// jumps to a new place every few cycles, 3..6° each way, and the saccade's phase against the
 // camera's frames varies from cycle to cycle, so that many frames are taken in windows I, II and III;
 // the detection figure raw vs restored).
 // ViSP stays inside visual_servo.cpp: this header needs OpenCV only.
@@ -25,9 +26,16 @@ struct ServoConfig
 {
     int cycles = 10;                 //!< servo cycles (each: measure, control, saccade, frames)
     int framesPerCycle = 3;          //!< frames the camera takes during one cycle
-    double startOffsetDeg = 8.0;     //!< the tag starts this far (tilt) from the image centre, degrees
+    double startOffsetDeg = 8.0;     //!< the target starts this far (tilt) from the image centre, degrees
     int tagCellPx = 4;               //!< size of one tag cell on the plane at θ = 0, pixels (tag: 8 cells + quiet zone)
+    //! AprilTags in the target (36h11 ids 0, 1, ...; at most kTagIds), stacked in a column 9 cells
+    //! apart (their quiet zones shared), so the target spans many sensor rows; the feature is their
+    //! mean centre, and the target counts as found when every tag is.
+    int targetTags = 3;
     double lambda = 1.0;             //!< vpServo gain, per cycle (Δθ = ωx · 1 cycle; 1: one-step correction)
+    //! The servo holds still while the measured error is at most this, pixels: smaller corrections
+    //! (a few levels of 0.26 px) chase the detector's noise and make the positioner hunt.
+    double deadbandPx = 0.75;
     // Positioner: the seed's dynamics with a finer cell (0.05°/level ≈ 0.26 px at fx = 300 px,
     // ±20° with 400 levels); the seed's 1°/level would leave the tag up to 2.6 px off.
     double naturalFreqHz = 14.4;
@@ -35,17 +43,18 @@ struct ServoConfig
     double gainDegPerLevel = 0.05;
     int maxLevel = 400;
     int plannerMode = cv::dynblur::PLAN_ROBUST;  // PLAN_FAST tries every level: ~10 s per plan at 400 levels
-    // Camera: 320×240, fx = fy = 300 px, rolling shutter read out in 30 ms at 30 fps, 8 ms exposure.
+    // Camera: 320×240, fx = fy = 300 px, rolling shutter read out in 30 ms at 30 fps, 33 ms exposure
+    // (a C270 indoors at 30 fps exposes each row for about the frame period).
     cv::Size imageSize = cv::Size(320, 240);
     double focalPx = 300.0;
     double fps = 30.0;
-    double exposure = 0.008;         //!< seconds
+    double exposure = 0.033;         //!< seconds
     double lineDelay = 125e-6;       //!< seconds per row
     double latency = 0.004;          //!< from the end of a frame's readout to the saccade's start, seconds
     //! Each cycle's latency is latency + U[0, latencyJitter) seconds (seeded by noiseSeed): the
     //! processing time varies, and so does the saccade's phase against the camera's frames.
     double latencyJitter = 0.0;
-    // Scenario. The tag's successive places: its tilt from the image centre seen at θ = 0, degrees
+    // Scenario. The target's successive places: its tilt from the image centre seen at θ = 0, degrees
     // (empty: the one place startOffsetDeg). The tag moves to the next place every cyclesPerTarget
     // cycles (0: never), between two frames; the camera then takes one frame, which the next cycle
     // measures, before it moves.
@@ -62,9 +71,10 @@ struct ServoConfig
 
 struct Detection
 {
-    bool found = false;
-    cv::Point2d centre;                 //!< pixels
-    std::vector<cv::Point2d> corners;   //!< pixels
+    bool found = false;                 //!< every tag of the target was found
+    int tagsFound = 0;
+    cv::Point2d centre;                 //!< the target's centre, pixels (from the tags found, when tagsFound > 0)
+    std::vector<std::vector<cv::Point2d>> corners;  //!< each tag found: its four corners, pixels
 };
 
 struct ServoFrame
@@ -75,7 +85,7 @@ struct ServoFrame
     double frameStart = 0;        //!< seconds, simulation clock
     int window = 0;               //!< cv::dynblur::ExposureWindow
     double thetaDeg = 0;          //!< true tilt at mid-readout, degrees
-    double tagMotionPx = 0;       //!< how far the tag centre travelled (true motion) while its sensor row was exposed, pixels
+    double tagMotionPx = 0;       //!< how far a tag's centre travelled (true motion) while its sensor row was exposed, pixels (the farthest of the target's tags)
     Detection raw, restored;
     double restoreSec = 0;        //!< DynamicDeblurrer::deblur time, seconds (0 when not called)
     cv::Mat rawImage, restoredImage;  //!< 8-bit grey (when ServoConfig::keepImages)
@@ -86,7 +96,7 @@ struct ServoCycle
     int cycle = 0;
     int target = 0;               //!< index of the tag's place
     int cycleOfTarget = 0;        //!< cycles since the tag moved to this place (0: the first)
-    double measuredErrorPx = -1;  //!< |tag centre − image centre| in the restored frame the control used (-1: not seen)
+    double measuredErrorPx = -1;  //!< |target centre − image centre| in the restored frame the control used (-1: not seen)
     double trueErrorPx = 0;       //!< the same from the scene geometry at the commanded resting angle
     int fromLevel = 0, toLevel = 0;
     double deltaDeg = 0;          //!< angle increment vpServo asked for, degrees
@@ -96,7 +106,7 @@ struct ServoCycle
     double startLatencyMs = 0;    //!< bus only: controller start minus planned start, ms
 };
 
-//! Frames of some kind and how many of them had the tag detected, raw and restored.
+//! Frames of some kind and how many of them had the target detected (every tag), raw and restored.
 struct DetectionTally
 {
     int frames = 0, raw = 0, restored = 0;
@@ -108,8 +118,7 @@ struct ServoReport
 {
     std::vector<ServoCycle> cycles;
     std::vector<ServoFrame> frames;
-    std::vector<double> targetsDeg;  //!< the tag's places (tilt that centres each), degrees
-    std::string detector = "vpDetectorAprilTag 36h11 id 0";
+    std::vector<double> targetsDeg;  //!< the target's places (tilt that centres each), degrees
     /** Cycles from the tag's arrival at place `target` until the first cycle whose error (true and
     measured) is ≤ px and stays so while the tag is there: 0 if already, 1 after one saccade; -1 if
     never. */
@@ -120,11 +129,11 @@ struct ServoReport
     double meanRestoreSec() const;   //!< over frames that were restored
 };
 
-/** The tracking scenario: the tag visits `places` places, the first startOffsetDeg off, each next one
-a jump of U[minJumpDeg, maxJumpDeg] up or down (random, within ±limitDeg), cyclesPerTarget cycles
+/** The tracking scenario: the target visits `places` places, the first startOffsetDeg off, each next
+one a jump of U[minJumpDeg, maxJumpDeg] up or down (random, within ±limitDeg), cyclesPerTarget cycles
 each; each cycle's latency jitters over one frame period. Other fields keep their defaults. */
-ServoConfig trackingScenario(int places, int cyclesPerTarget = 3, unsigned seed = 1u, double startOffsetDeg = 8.0,
-                             double minJumpDeg = 4.0, double maxJumpDeg = 12.0, double limitDeg = 12.0);
+ServoConfig trackingScenario(int places, int cyclesPerTarget = 3, unsigned seed = 1u, double startOffsetDeg = 5.0,
+                             double minJumpDeg = 3.0, double maxJumpDeg = 6.0, double limitDeg = 12.0);
 
 /** Runs the loop. @param progress called after each cycle (may be empty). Throws cv::Exception or
 std::runtime_error on bad configuration or a bus failure. */
@@ -134,8 +143,8 @@ ServoReport runVisualServo(const ServoConfig& config,
 //! "I", "II", "III", "IV" for cv::dynblur::ExposureWindow values, "?" otherwise.
 const char* exposureWindowName(int window);
 
-//! A tag that travels at least this far while its sensor row is exposed counts as blurred, pixels
-//! (half a tag cell at the default size).
+//! A target whose tag travels at least this far while its sensor row is exposed counts as blurred,
+//! pixels (half a tag cell at the default size).
 constexpr double kTagBlurredPx = 2.0;
 
 //! One row of the detection figure: all frames of a window, and those whose tag was blurred.
@@ -143,19 +152,20 @@ struct DetectionRow
 {
     std::string window;           //!< "I", "II", "III" or "I-III"
     DetectionTally all;           //!< every frame of the window(s)
-    DetectionTally tagBlurred;    //!< those whose tag moved at least kTagBlurredPx while its row was exposed
+    DetectionTally tagBlurred;    //!< those where a tag moved at least kTagBlurredPx while its row was exposed
 };
 
 //! The detection figure of a run: windows I, II, III and I–III together.
 std::vector<DetectionRow> detectionSummary(const ServoReport& report);
 
-//! The 36h11 tag id 0 as a (cells·10)² 8-bit image: black 8×8 square with a white one-cell quiet zone.
-cv::Mat aprilTag36h11Id0(int cellPx);
+//! A 36h11 tag (id 0..kTagIds − 1) as a (cells·10)² 8-bit image: black 8×8 square with a white one-cell quiet zone.
+cv::Mat aprilTag36h11(int id, int cellPx);
+constexpr int kTagIds = 3;
 
 /** Writes cycles.csv and frames.csv, error.png (plot of the error), strip.png (raw vs restored
-frames of windows I–III with detections drawn: per window up to four frames whose tag was blurred,
-from the most to the least blurred) and detection.png (bar chart: tag found raw vs restored per
-window) into outDir. */
+frames of windows I–III with detections drawn: per window up to four frames whose target was
+blurred, from the most to the least blurred) and detection.png (bar chart: target found raw vs
+restored per window) into outDir. */
 void writeServoOutputs(const ServoReport& report, const std::string& outDir);
 
 }  // namespace dynblur_samples

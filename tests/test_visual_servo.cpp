@@ -9,6 +9,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <functional>
+#include <string>
 
 using namespace cv::dynblur;
 using namespace dynblur_samples;
@@ -113,4 +115,36 @@ TEST(ServoBus, DrivesTheActuatorSimulatorOverModbusTcp)
     }
     EXPECT_LE(report.cycles.back().trueErrorPx, 1.0);
     simulator.stop();
+}
+
+TEST(ServoConfigCheck, RefusesATargetThatCannotBeBuiltOrKeptInView)
+{
+    struct Case
+    {
+        const char* what;
+        std::function<void(ServoConfig&)> set;
+        const char* named;
+    };
+    const Case cases[] = {
+        {"no tag", [](ServoConfig& c) { c.targetTags = 0; }, "target tags"},
+        {"more tags than ids", [](ServoConfig& c) { c.targetTags = kTagIds + 1; }, "target tags"},
+        {"168 px tall in a 240 px frame", [](ServoConfig& c) { c.tagCellPx = 6; }, "target height"},
+        {"negative dead band", [](ServoConfig& c) { c.deadbandPx = -0.5; }, "dead band"},
+    };
+    for (const Case& k : cases)
+    {
+        ServoConfig config;
+        config.cycles = 1;
+        config.keepImages = false;
+        k.set(config);
+        try
+        {
+            runVisualServo(config);
+            ADD_FAILURE() << k.what << ": accepted";
+        }
+        catch (const cv::Exception& e)
+        {
+            EXPECT_NE(std::string(e.what()).find(k.named), std::string::npos) << k.what << ": " << e.what();
+        }
+    }
 }

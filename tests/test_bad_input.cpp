@@ -389,6 +389,10 @@ TEST(BadInput, Deconvolution)
         {"richardsonLucy", "blurred empty", [&] { richardsonLucy(Mat(), kernel, out); }, {"blurred"}},
         {"richardsonLucy", "blurred CV_8U", [&] { richardsonLucy(Mat(size, CV_8U, Scalar(1)), kernel, out); }, {"blurred", "CV_32F"}},
         {"richardsonLucy", "blurred CV_64F", [&] { richardsonLucy(Mat(size, CV_64F, Scalar(1)), kernel, out); }, {"blurred", "CV_32F"}},
+        {"richardsonLucy", "blurred holds a pixel of -0.5", [&] { richardsonLucy(nanAt(image, -0.5), kernel, out); },
+         {"blurred", ">= 0"}},
+        {"richardsonLucy", "initial holds a pixel of -0.5",
+         [&] { richardsonLucy(image, kernel, out, RLParams(), nanAt(image, -0.5)); }, {"initial", ">= 0"}},
         {"richardsonLucy", "blurred with 5 channels",
          [&] {
              Mat five(size, CV_32FC(5));
@@ -419,6 +423,8 @@ TEST(BadInput, Deconvolution)
         {"richardsonLucy", "tolerance = -1",
          [&] { richardsonLucy(image, kernel, out, withParams([](RLParams& p) { p.tolerance = -1; })); }, {"tolerance"}},
         {"richardsonLucyVariant", "blurred holds NaN", [&] { richardsonLucyVariant(nanAt(image), bank, out); }, {"blurred"}},
+        {"richardsonLucyVariant", "blurred holds a pixel of -0.5",
+         [&] { richardsonLucyVariant(nanAt(image, -0.5), bank, out); }, {"blurred", ">= 0"}},
         {"richardsonLucyVariant", "blurred CV_8UC3", [&] { richardsonLucyVariant(Mat(size, CV_8UC3), bank, out); }, {"blurred"}},
         {"richardsonLucyVariant", "bank of another image size",
          [&] { richardsonLucyVariant(image, oneKernelBank(Size(31, 20), kernel), out); }, {"bank", "31x20"}},
@@ -473,6 +479,10 @@ TEST(BadInput, Deblurrer)
         {"DynamicDeblurrer::deblur", "frame 32x24 for a 64x48 camera",
          [&] { d->deblur(Mat(24, 32, CV_8UC3, Scalar::all(0)), saccade(), rs, out); }, {"frame", "64x48"}},
         {"DynamicDeblurrer::deblur", "frame holds NaN", [&] { d->deblur(nanAt(frame), saccade(), rs, out); }, {"frame"}},
+        {"DynamicDeblurrer::deblur", "CV_32F frame value 2",
+         [&] { d->deblur(Mat(48, 64, CV_32F, Scalar(2.0)), saccade(), rs, out); }, {"frame", "[0, 1]"}},
+        {"DynamicDeblurrer::deblur", "CV_32F frame with a pixel of -0.01",
+         [&] { d->deblur(nanAt(frame, -0.01), saccade(), rs, out); }, {"frame", "[0, 1]"}},
         {"DynamicDeblurrer::deblur", "shutter rows 47", [&] { d->deblur(frame, saccade(), RollingShutter(0.005, 0.008, 4e-4, 47), out); },
          {"rows"}},
         {"DynamicDeblurrer::deblur", "thetaRef = Inf",
@@ -648,41 +658,4 @@ TEST(BadInput, SampleFiles)
                {"CliArgs", "an integer that is not one",
                 [&] { args({"ctl", "--timeout", "1.5"}).integer("timeout", 1); }, {"timeout"}}},
               true);
-}
-
-// Bad inputs the library does not refuse yet, in files another change owns (the restoration kernel,
-// the PSF generator, the forward model): reported in issue 9, skipped while they reproduce. A row
-// that starts to pass means the gap is closed: move it to the tables above.
-TEST(BadInputKnownGaps, NotYetRefused)
-{
-    const Size size(30, 20);
-    const Mat image(size, CV_32F, Scalar(0.5));
-    const Mat kernel = Mat::ones(1, 3, CV_32F) / 3.0;
-    Mat out;
-    const std::vector<Row> rows = {
-        {"richardsonLucy", "blurred holds a negative pixel (result finite, in [0, 1.26])",
-         [&] { richardsonLucy(nanAt(image, -0.5), kernel, out); }, {"blurred"}},
-        {"DynamicDeblurrer::deblur", "CV_32F frame value 2, outside the documented [0, 1] (clipped)",
-         [&] {
-             Ptr<DynamicDeblurrer> d = DynamicDeblurrer::create(Plant::create(14.4, 0.12, kDeg),
-                                                                CameraModel::create(120, 120, 31.5, 23.5, 64, 48));
-             d->deblur(Mat(48, 64, CV_32F, Scalar(2.0)), saccade(), RollingShutter(0.005, 0.008, 4e-4, 48), out);
-         },
-         {"frame", "[0, 1]"}},
-    };
-    // Not run: RLParams::iterations has no upper bound; 2^30 iterations on this 30x20 image would run
-    // for about 41 hours (0.14 ms per iteration measured here).
-    std::vector<std::string> open;
-    for (const Row& r : rows)
-    {
-        std::string message;
-        const std::string problem = tryRow(r, false, message);
-        std::printf("[ gap     ] %s | %s | %s\n", r.entry.c_str(), r.input.c_str(),
-                    problem.empty() ? ("now refused: " + oneLine(message)).c_str() : problem.c_str());
-        if (!problem.empty())
-            open.push_back(problem);
-    }
-    if (!open.empty())
-        GTEST_SKIP() << "known bug, see issue #9 note: " << open.size() << " bad inputs not refused by name, e.g. "
-                     << open.front();
 }

@@ -46,15 +46,18 @@ double psnr(const Mat& a, const Mat& b, const Mat& mask = Mat())
     return 10 * std::log10(1.0 / std::max(mse, 1e-20));
 }
 
+//! Gaussian read noise, clipped at 0 as a sensor does (Richardson–Lucy refuses negative data).
 Mat addGaussianNoise(const Mat& image, double sigma, uint64 seed)
 {
     Mat noise(image.size(), image.type());
     RNG rng(seed);
     rng.fill(noise, RNG::NORMAL, 0, sigma);
-    return image + noise;
+    Mat noisy = image + noise;
+    return max(noisy, 0.0);
 }
 
-//! Webcam-like noise: shot noise of `fullWell` electrons at intensity 1 plus Gaussian read noise.
+//! Webcam-like noise: shot noise of `fullWell` electrons at intensity 1 plus Gaussian read noise,
+//! clipped at 0 (the black level).
 Mat addSensorNoise(const Mat& image, double fullWell, double readNoise, unsigned seed)
 {
     std::mt19937 gen(seed);
@@ -64,7 +67,7 @@ Mat addSensorNoise(const Mat& image, double fullWell, double readNoise, unsigned
     for (size_t i = 0; i < out.total() * out.channels(); i++)
     {
         std::poisson_distribution<int> shot(std::max(0.0, double(p[i]) * fullWell));
-        p[i] = float((shot(gen) + read(gen)) / fullWell);
+        p[i] = float(std::max(0.0, (shot(gen) + read(gen)) / fullWell));
     }
     return out;
 }

@@ -154,8 +154,18 @@ private:
             CV_Error(Error::StsBadSize,
                      format("DynamicDeblurrer::deblur: shutter.rows = %d differs from the frame's height %d",
                             shutter.rows, input.rows));
-        if (input.depth() == CV_32F && !detail::allFinite(input))
+        // A float frame is linear intensity in [0, 1] (1 = full well), as a sensor delivers it:
+        // Richardson–Lucy cannot take negative data, and a frame scaled for another range would be
+        // restored wrongly. Only float round-off (a renderer's 1 + 1e-7) passes the bounds.
+        const float roundOff = 1e-4f;
+        float low = 0, high = 0;
+        if (input.depth() == CV_32F && !detail::finiteRange(input, low, high))
             CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: 'frame' holds NaN or Inf values");
+        if (input.depth() == CV_32F && (low < -roundOff || high > 1 + roundOff))
+            CV_Error(Error::StsOutOfRange,
+                     format("DynamicDeblurrer::deblur: a CV_32F 'frame' must hold linear intensities in [0, 1] "
+                            "(clip noisy data first, as a sensor does); its values span [%g, %g]",
+                            low, high));
     }
 
     Ptr<Plant> plant_;

@@ -29,7 +29,11 @@ constexpr float kObservedFraction = 0.1f;
 //! deconvlucy's documented choice).
 constexpr double kAutoDampingSigmas = 3.0;
 
-void checkImage(InputArray image, const char* name, const char* function)
+/* `nonNegative`: Richardson–Lucy's data are intensities; its multiplicative update divides by the
+   blurred estimate and turns a negative pixel into a pull of either sign, so a dark frame with
+   zero-mean noise comes back with spikes up to the projection bound. The linear operators take
+   any finite values. */
+void checkImage(InputArray image, const char* name, const char* function, bool nonNegative)
 {
     if (image.empty())
         CV_Error(Error::StsBadArg, format("%s: '%s' is empty", function, name));
@@ -42,8 +46,14 @@ void checkImage(InputArray image, const char* name, const char* function)
                  format("%s: '%s' has %d channels; 1 to 4 are accepted", function, name, image.channels()));
     if (image.dims() > 2)
         CV_Error(Error::StsBadArg, format("%s: '%s' must be a 2-D image", function, name));
-    if (!detail::allFinite(image.getMat()))
+    float low = 0, high = 0;
+    if (!detail::finiteRange(image.getMat(), low, high))
         CV_Error(Error::StsBadArg, format("%s: '%s' contains NaN or Inf; it must be finite", function, name));
+    if (nonNegative && low < 0)
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: '%s' has a pixel of %g; intensities must be >= 0 (clip the data at 0 first, as a "
+                        "sensor does)",
+                        function, name, low));
 }
 
 /* Noise standard deviation by Immerkær's method, averaged over the channels: the response to a
@@ -265,12 +275,12 @@ void checkRLParams(const RLParams& params, const char* function)
 void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, const RLParams& params, InputArray initial)
 {
     const char* fn = "richardsonLucy";
-    checkImage(blurred, "blurred", fn);
+    checkImage(blurred, "blurred", fn, true);
     checkRLParams(params, fn);
     const Mat kernel = normalizedKernel(psf, "psf", fn);
     if (!initial.empty())
     {
-        checkImage(initial, "initial", fn);
+        checkImage(initial, "initial", fn, true);
         if (initial.size() != blurred.size() || initial.type() != blurred.type())
             CV_Error(Error::StsBadSize, format("%s: 'initial' must have the size and type of 'blurred'", fn));
     }
@@ -385,7 +395,7 @@ void richardsonLucyVariant(InputArray blurred, const PsfBank& bank, OutputArray 
                            OutputArray validMask)
 {
     const char* fn = "richardsonLucyVariant";
-    checkImage(blurred, "blurred", fn);
+    checkImage(blurred, "blurred", fn, true);
     checkRLParams(params, fn);
     checkBank(bank, blurred.size(), fn);
     detail::RLWorkspace workspace;
@@ -395,7 +405,7 @@ void richardsonLucyVariant(InputArray blurred, const PsfBank& bank, OutputArray 
 void applyPsfBank(InputArray latent, const PsfBank& bank, OutputArray blurred)
 {
     const char* fn = "applyPsfBank";
-    checkImage(latent, "latent", fn);
+    checkImage(latent, "latent", fn, false);
     checkBank(bank, latent.size(), fn);
     std::vector<Mat> planes;
     split(latent.getMat(), planes);
@@ -409,7 +419,7 @@ void applyPsfBank(InputArray latent, const PsfBank& bank, OutputArray blurred)
 void wienerDeconvolve(InputArray blurred, const PsfBank& bank, OutputArray latent, double noiseToSignal)
 {
     const char* fn = "wienerDeconvolve";
-    checkImage(blurred, "blurred", fn);
+    checkImage(blurred, "blurred", fn, false);
     checkBank(bank, blurred.size(), fn);
     if (!(noiseToSignal > 0) || !std::isfinite(noiseToSignal))
         CV_Error(Error::StsOutOfRange,

@@ -477,30 +477,55 @@ void interleaveRow(const float* const* planes, int channels, int n, float* __res
     }
 }
 
-bool allFinite(const Mat& image)
+bool finiteRange(const Mat& image, float& low, float& high)
 {
     typedef float v8 __attribute__((vector_size(32), aligned(4)));
     const int n = image.cols * image.channels();
     std::vector<uchar> rowFinite(size_t(image.rows), 0);
+    std::vector<float> rowLow(size_t(image.rows)), rowHigh(size_t(image.rows));
     parallel_for_(Range(0, image.rows), [&](const Range& rows) {
         for (int y = rows.start; y < rows.end; y++)
         {
             // NaN and ±Inf times 0 are NaN, and NaN stays in a sum: one test per row.
             const float* p = image.ptr<float>(y);
-            v8 probe = {};
+            v8 probe = {}, lo = {}, hi = {};
             int x = 0;
-            for (; x + 8 <= n; x += 8)
-                probe += *(const v8*)(p + x) * 0.f;
-            float tail = 0.f;
+            if (n >= 8)
+            {
+                lo = hi = *(const v8*)p;
+                for (; x + 8 <= n; x += 8)
+                {
+                    const v8 v = *(const v8*)(p + x);
+                    probe += v * 0.f;
+                    lo = v < lo ? v : lo;
+                    hi = v > hi ? v : hi;
+                }
+            }
+            float tail = 0.f, l = n >= 8 ? lo[0] : p[0], h = n >= 8 ? hi[0] : p[0];
             for (; x < n; x++)
+            {
                 tail += p[x] * 0.f;
+                l = std::min(l, p[x]);
+                h = std::max(h, p[x]);
+            }
             float total = tail;
             for (int k = 0; k < 8; k++)
                 total += probe[k];
+            for (int k = 0; k < (n >= 8 ? 8 : 0); k++)
+            {
+                l = std::min(l, lo[k]);
+                h = std::max(h, hi[k]);
+            }
             rowFinite[size_t(y)] = total == 0.f;
+            rowLow[size_t(y)] = l;
+            rowHigh[size_t(y)] = h;
         }
     });
-    return std::all_of(rowFinite.begin(), rowFinite.end(), [](uchar f) { return f != 0; });
+    if (!std::all_of(rowFinite.begin(), rowFinite.end(), [](uchar f) { return f != 0; }))
+        return false;
+    low = *std::min_element(rowLow.begin(), rowLow.end());
+    high = *std::max_element(rowHigh.begin(), rowHigh.end());
+    return true;
 }
 
 int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& normalizer, const RLParams& params,

@@ -49,8 +49,9 @@ void channelRow(const float* interleaved, int channels, int channel, int n, floa
 //! out[x · channels + c] = planes[c][x] for x in [0, n): channelRow's inverse.
 void interleaveRow(const float* const* planes, int channels, int n, float* out);
 
-//! True when every element of `image` (CV_32F, any channels) is finite; rows in parallel.
-bool allFinite(const Mat& image);
+/** True when every element of `image` (CV_32F, any channels) is finite; then `low` and `high`
+receive the smallest and the largest. Rows in parallel. */
+bool finiteRange(const Mat& image, float& low, float& high);
 
 //! Normaliser below which a latent pixel counts as not seen by any frame pixel.
 constexpr float kUnobserved = 1e-3f;

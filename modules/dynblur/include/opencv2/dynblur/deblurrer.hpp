@@ -32,7 +32,8 @@ public:
 
     /** @brief Restores one frame.
     @param frame CV_8U (sRGB, linearised for restoration and encoded back) or CV_32F (linear,
-           [0,1]), 1, 3 or 4 channels, the camera's image size.
+           [0,1], as a sensor delivers it: clip noisy data first), 1, 3 or 4 channels, the camera's
+           image size.
     @param schedule the command in force around the frame.
     @param shutter the frame's timing (rows = frame height).
     @param restored output, same size, type and channels as frame. A frame in window IV comes

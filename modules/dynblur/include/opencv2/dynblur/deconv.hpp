@@ -40,11 +40,12 @@ struct CV_EXPORTS_W_SIMPLE RLParams
 
 /** @brief Richardson–Lucy deconvolution with one kernel, using FFTW (single precision, threaded,
 plans cached) @cite Frigo2005Fftw.
-@param blurred observed image, CV_32F, 1–4 channels, linear intensity, finite.
+@param blurred observed image, CV_32F, 1–4 channels, linear intensity, finite and ≥ 0 (clip data
+       with a subtracted dark level at 0, as a sensor does).
 @param psf kernel, CV_32F or CV_64F, one channel, odd size, non-negative, normalised to sum 1 here.
 @param latent output, same size and type as blurred.
 @param params iterations, damping, regularisation, boundary, acceleration.
-@param initial start estimate (same size and type as blurred); empty: the blurred image.
+@param initial start estimate (same size and type as blurred, finite and ≥ 0); empty: the blurred image.
 
 With RL_BOUNDARY_ZERO the update is scikit-image's, x ← x ⊙ (k★(b / (k⊛x))) without the Aᵀ1
 normaliser, so the result matches its richardson_lucy (clip=False) from the same start. With
@@ -56,7 +57,7 @@ CV_EXPORTS_W void richardsonLucy(InputArray blurred, InputArray psf, OutputArray
 /** @brief Spatially variant Richardson–Lucy: one global iteration whose forward operator and
 adjoint are the bank's blended blur, so tiles and row bands leave no seams
 @cite Hirsch2010Efficient.
-@param blurred observed image, CV_32F, 1–4 channels, linear intensity, the bank's image size.
+@param blurred observed image, CV_32F, 1–4 channels, linear intensity (finite, ≥ 0), the bank's image size.
 @param bank the kernels (PsfGenerator::generate).
 @param latent output, same size and type as blurred: the view at θ_ref.
 @param params iterations, damping, regularisation, boundary, acceleration.

@@ -479,40 +479,37 @@ void interleaveRow(const float* const* planes, int channels, int n, float* __res
 
 bool finiteRange(const Mat& image, float& low, float& high)
 {
-    typedef float v8 __attribute__((vector_size(32), aligned(4)));
     const int n = image.cols * image.channels();
     std::vector<uchar> rowFinite(size_t(image.rows), 0);
     std::vector<float> rowLow(size_t(image.rows)), rowHigh(size_t(image.rows));
     parallel_for_(Range(0, image.rows), [&](const Range& rows) {
         for (int y = rows.start; y < rows.end; y++)
         {
-            // NaN and ±Inf times 0 are NaN, and NaN stays in a sum: one test per row.
+            // NaN and ±Inf times 0 are NaN, and NaN stays in a sum: one test per row. Eight lanes
+            // each, in the form the compiler turns into vector min, max and add.
             const float* p = image.ptr<float>(y);
-            v8 probe = {}, lo = {}, hi = {};
+            float probe[8] = {}, lo[8], hi[8];
+            for (int k = 0; k < 8; k++)
+                lo[k] = hi[k] = p[0];
             int x = 0;
-            if (n >= 8)
-            {
-                lo = hi = *(const v8*)p;
-                for (; x + 8 <= n; x += 8)
+            for (; x + 8 <= n; x += 8)
+                for (int k = 0; k < 8; k++)
                 {
-                    const v8 v = *(const v8*)(p + x);
-                    probe += v * 0.f;
-                    lo = v < lo ? v : lo;
-                    hi = v > hi ? v : hi;
+                    const float v = p[x + k];
+                    probe[k] += v * 0.f;
+                    lo[k] = v < lo[k] ? v : lo[k];
+                    hi[k] = v > hi[k] ? v : hi[k];
                 }
-            }
-            float tail = 0.f, l = n >= 8 ? lo[0] : p[0], h = n >= 8 ? hi[0] : p[0];
             for (; x < n; x++)
             {
-                tail += p[x] * 0.f;
-                l = std::min(l, p[x]);
-                h = std::max(h, p[x]);
+                probe[0] += p[x] * 0.f;
+                lo[0] = std::min(lo[0], p[x]);
+                hi[0] = std::max(hi[0], p[x]);
             }
-            float total = tail;
+            float total = 0.f, l = lo[0], h = hi[0];
             for (int k = 0; k < 8; k++)
-                total += probe[k];
-            for (int k = 0; k < (n >= 8 ? 8 : 0); k++)
             {
+                total += probe[k];
                 l = std::min(l, lo[k]);
                 h = std::max(h, hi[k]);
             }

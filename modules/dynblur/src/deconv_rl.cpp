@@ -348,8 +348,15 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const ImageLevel& level,
                     if (fused && inBlock == 0)
                         op.forwardBlock(y, Range(r, std::min(r + kBlockRows, rows.end)), reblurredBlock, size_t(width));
                     const float* ab = fused ? reblurredBlock + size_t(inBlock) * size_t(width) : reblurred.ptr<float>(r);
-                    channelRow(blurred.ptr<float>(r), stride, int(c), width, observed);
-                    ratioRow(observed, ab, ratio.ptr<float>(r), width, scale, invThreshold, logBuffer);
+                    // One plane (grey, or the luminance phase) is read in place; a colour plane is
+                    // gathered from the interleaved frame.
+                    const float* observedRow = blurred.ptr<float>(r);
+                    if (stride > 1)
+                    {
+                        channelRow(observedRow, stride, int(c), width, observed);
+                        observedRow = observed;
+                    }
+                    ratioRow(observedRow, ab, ratio.ptr<float>(r), width, scale, invThreshold, logBuffer);
                 }
             });
             // The rows around each band, as they are before any band updates y in place.

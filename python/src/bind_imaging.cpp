@@ -279,9 +279,9 @@ camera's image height; thetaRef: radians, NaN = the schedule's final resting ang
         py::arg("blurred"), py::arg("psf"), py::arg("params") = RLParams(), py::arg("initial") = py::none(),
         R"doc(Richardson–Lucy deconvolution with one kernel (FFTW, single precision, threaded).
 
-blurred: float32, 1–4 channels, linear intensity; psf: float32/float64, one channel, odd size,
-non-negative (normalised here); params: RLParams; initial: start estimate (same shape and dtype as
-blurred), None = the blurred image. With RL_BOUNDARY_ZERO the update is scikit-image's
+blurred: float32, 1–4 channels, linear intensity, finite and >= 0 (clip noisy data at 0 first);
+psf: float32/float64, one channel, odd size, non-negative (normalised here); params: RLParams;
+initial: start estimate (same shape and dtype as blurred, >= 0), None = the blurred image. With RL_BOUNDARY_ZERO the update is scikit-image's
 (richardson_lucy, clip=False) from the same start; RL_BOUNDARY_PAD extends the latent domain by
 the kernel's half-size. Returns the latent image (same shape and dtype as blurred).)doc");
 
@@ -303,7 +303,7 @@ the kernel's half-size. Returns the latent image (same shape and dtype as blurre
         py::arg("blurred"), py::arg("bank"), py::arg("params") = RLParams(), py::arg("returnMask") = false,
         R"doc(Spatially variant Richardson–Lucy whose operator and adjoint are the bank's blended blur (no seams).
 
-blurred: float32, 1–4 channels, the bank's image size. Returns latent (the view at θ_ref), or
+blurred: float32, 1–4 channels, linear intensity >= 0, the bank's image size. Returns latent (the view at θ_ref), or
 (latent, validMask) with returnMask=True: validMask is uint8, 255 where the frame observed the
 latent pixel (others hold the nearest observed value).)doc");
 
@@ -366,7 +366,7 @@ One instance is not meant to be shared by threads running deblur() at the same t
             py::arg("returnMask") = false,
             R"doc(Restores one frame.
 
-frame: uint8 (sRGB) or float32 (linear, [0,1]), 1, 3 or 4 channels, the camera's image size;
+frame: uint8 (sRGB) or float32 (linear, [0,1]; refused outside it), 1, 3 or 4 channels, the camera's image size;
 schedule: the command in force around the frame; shutter: the frame's timing (rows = height);
 thetaRef: radians, NaN = the schedule's final resting angle. Returns restored (same shape and
 dtype; a window-IV frame comes back unchanged), or (restored, validMask) with returnMask=True

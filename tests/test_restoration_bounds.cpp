@@ -468,8 +468,11 @@ void checkScale(Tally& t, const std::string& what, const Mat& in, double c, F re
 
 }  // namespace
 
-// RL and Wiener are homogeneous: scaling the frame scales the result. Checked for c = 1e-30 and 1e30
-// on noise and a spot, with the kernels above.
+// RL and Wiener are homogeneous: scaling the frame scales the result. Checked for c = 2^-100 and
+// 2^100 (about 1e-30 and 1e30) on noise, a spot and a checkerboard, with the kernels above. Powers of
+// two scale a float exactly: with 1e-30 the frame itself is rounded (relative 6e-8), and the
+// accelerated RL of an ill-conditioned kernel (two taps 60 px apart) amplifies that to 0.1 after
+// 20 iterations, which says nothing about the restoration's scaling.
 TEST(RestorationBounds, ScaleEquivariance)
 {
     Tally rl("richardsonLucy scale", "-"), variant("richardsonLucyVariant scale", "-"), wiener("wienerDeconvolve scale", "-");
@@ -480,7 +483,7 @@ TEST(RestorationBounds, ScaleEquivariance)
             base.push_back(c);
     for (const Case& c : base)
         for (const Kernel& k : kernels())
-            for (double scale : {1e-30, 1e30})
+            for (double scale : {std::ldexp(1.0, -100), std::ldexp(1.0, 100)})
             {
                 const std::string what = c.name + ", " + k.name;
                 checkScale(rl, what, c.image, scale, [&](const Mat& in, Mat& out) { richardsonLucy(in, k.k, out); });
@@ -493,10 +496,8 @@ TEST(RestorationBounds, ScaleEquivariance)
     variant.print("relative error <= 1e-3");
     wiener.print("relative error <= 1e-3");
     EXPECT_EQ(wiener.nonFinite + wiener.outOfBounds, 0);
-    if (rl.nonFinite + rl.outOfBounds + variant.nonFinite + variant.outOfBounds > 0)
-        GTEST_SKIP() << "known bug, see issue #9 note: Richardson-Lucy is not scale-equivariant ("
-                     << rl.outOfBounds + rl.nonFinite << " + " << variant.outOfBounds + variant.nonFinite
-                     << " cases, e.g. " << (rl.failures.empty() ? variant.failures[0] : rl.failures[0]) << ")";
+    EXPECT_EQ(rl.nonFinite + rl.outOfBounds, 0);
+    EXPECT_EQ(variant.nonFinite + variant.outOfBounds, 0);
 }
 
 // The whole pipeline on a small rolling-shutter camera, frames in every window, all PSF models and

@@ -285,9 +285,25 @@ void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, cons
             CV_Error(Error::StsBadSize, format("%s: 'initial' must have the size and type of 'blurred'", fn));
     }
 
-    const Mat observed = blurred.getMat();
+    /* RL is homogeneous, but FFTW's float transforms of a frame near 1e-30 (or 1e30) push its small
+       (large) coefficients out of the normal range. The frame is run at the power of two that brings
+       its mean near 1, which changes no rounding, and the result is scaled back. */
+    const Scalar channelMeans = mean(blurred);
+    double level = 0;
+    for (int c = 0; c < blurred.channels(); c++)
+        level += channelMeans[c] / blurred.channels();
+    // Within 2^±100, so that the factor and its inverse are normal floats too.
+    const double unit = level > 0 ? std::ldexp(1.0, -std::min(std::max(std::ilogb(level), -100), 100)) : 1.0;
+    const Mat observed = unit == 1.0 ? blurred.getMat() : Mat(blurred.getMat() * unit);
     std::vector<Mat> start;
-    split(initial.empty() ? observed : initial.getMat(), start);
+    if (initial.empty())
+        split(observed, start);
+    else
+        split(initial.getMat() * unit, start);
+    RLParams scaled = resolveDamping(params, observed);
+    scaled.damping *= unit;  // intensity units (an automatic damping is taken on `observed` already)
+    if (std::isnan(params.damping))
+        scaled.damping /= unit;
 
     const bool pad = params.boundary == RL_BOUNDARY_PAD;
     UniformBlurOperator op(blurred.size(), kernel, pad);
@@ -298,11 +314,11 @@ void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, cons
     if (pad)
         op.adjoint(Mat::ones(blurred.size(), CV_32F), normalizer);
     detail::RLWorkspace workspace;
-    detail::iterateRichardsonLucy(op, observed, normalizer, resolveDamping(params, observed), estimate, workspace);
+    detail::iterateRichardsonLucy(op, observed, normalizer, scaled, estimate, workspace);
 
     const Rect frame(op.origin(), op.frameSize());
     for (Mat& e : estimate)
-        e = e(frame);
+        e = e(frame) * (1.0 / unit);
     writeOutput(estimate, latent);
 }
 

@@ -300,10 +300,10 @@ void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, cons
         split(observed, start);
     else
         split(initial.getMat() * unit, start);
-    RLParams scaled = resolveDamping(params, observed);
-    scaled.damping *= unit;  // intensity units (an automatic damping is taken on `observed` already)
-    if (std::isnan(params.damping))
-        scaled.damping /= unit;
+    RLParams scaled = params;
+    if (!std::isnan(params.damping))
+        scaled.damping *= unit;  // intensity units
+    scaled = resolveDamping(scaled, observed);  // an automatic damping is taken on the scaled frame
 
     const bool pad = params.boundary == RL_BOUNDARY_PAD;
     UniformBlurOperator op(blurred.size(), kernel, pad);

@@ -180,6 +180,32 @@ void domain(Size frame, bool pad, int dxMin, int dxMax, int dyMin, int dyMax, Si
     }
 }
 
+/* Blocks of `Vectors` × 8 columns of one gathered row from x while they fit before `end`, one FMA
+   chain per vector; returns where it stopped. Inlined into each ISA clone of its caller, and fully
+   unrolled there, so the sums stay in registers. */
+template <int Vectors>
+__attribute__((always_inline)) inline int gatherColumns(float* __restrict out, const float* source, size_t sourceStep,
+                         const RowBankOperator::Tap* taps, int tapCount, int x, int end)
+{
+    typedef float v8 __attribute__((vector_size(32), aligned(4)));  // aligned(4): unaligned loads allowed
+    for (; x + 8 * Vectors <= end; x += 8 * Vectors)
+    {
+        v8 s[Vectors] = {};
+        for (int t = 0; t < tapCount; t++)
+        {
+            const float* p = source + size_t(taps[t].row) * sourceStep + (taps[t].col + x);
+            const v8 w = v8{} + taps[t].weight;
+#pragma GCC unroll 8
+            for (int k = 0; k < Vectors; k++)
+                s[k] += w * *(const v8*)(p + 8 * k);
+        }
+#pragma GCC unroll 8
+        for (int k = 0; k < Vectors; k++)
+            *(v8*)(out + x + 8 * k) = s[k];
+    }
+    return x;
+}
+
 /* out[x] = Σ_t w_t · source(row_t, x + col_t) for x in [begin, end), every read inside `source`.
    Eight 8-float sums stay in registers while all taps stream past (one load and one FMA per tap
    and vector, one store per output vector): with the tap loop outermost each tap would instead
@@ -190,49 +216,9 @@ void gatherInterior(float* __restrict out, const float* source, size_t sourceSte
 {
     typedef float v8 __attribute__((vector_size(32), aligned(4)));  // aligned(4): unaligned loads allowed
     int x = begin;
-    for (; x + 64 <= end; x += 64)
-    {
-        v8 s0 = {}, s1 = {}, s2 = {}, s3 = {}, s4 = {}, s5 = {}, s6 = {}, s7 = {};
-        for (int t = 0; t < tapCount; t++)
-        {
-            const float* p = source + size_t(taps[t].row) * sourceStep + (taps[t].col + x);
-            const v8 w = v8{} + taps[t].weight;
-            s0 += w * *(const v8*)(p);
-            s1 += w * *(const v8*)(p + 8);
-            s2 += w * *(const v8*)(p + 16);
-            s3 += w * *(const v8*)(p + 24);
-            s4 += w * *(const v8*)(p + 32);
-            s5 += w * *(const v8*)(p + 40);
-            s6 += w * *(const v8*)(p + 48);
-            s7 += w * *(const v8*)(p + 56);
-        }
-        *(v8*)(out + x) = s0;
-        *(v8*)(out + x + 8) = s1;
-        *(v8*)(out + x + 16) = s2;
-        *(v8*)(out + x + 24) = s3;
-        *(v8*)(out + x + 32) = s4;
-        *(v8*)(out + x + 40) = s5;
-        *(v8*)(out + x + 48) = s6;
-        *(v8*)(out + x + 56) = s7;
-    }
+    x = gatherColumns<8>(out, source, sourceStep, taps, tapCount, x, end);
     // Narrower tails still keep four chains: one 8-float sum would wait on each FMA's latency.
-    for (; x + 32 <= end; x += 32)
-    {
-        v8 s0 = {}, s1 = {}, s2 = {}, s3 = {};
-        for (int t = 0; t < tapCount; t++)
-        {
-            const float* p = source + size_t(taps[t].row) * sourceStep + (taps[t].col + x);
-            const v8 w = v8{} + taps[t].weight;
-            s0 += w * *(const v8*)(p);
-            s1 += w * *(const v8*)(p + 8);
-            s2 += w * *(const v8*)(p + 16);
-            s3 += w * *(const v8*)(p + 24);
-        }
-        *(v8*)(out + x) = s0;
-        *(v8*)(out + x + 8) = s1;
-        *(v8*)(out + x + 16) = s2;
-        *(v8*)(out + x + 24) = s3;
-    }
+    x = gatherColumns<4>(out, source, sourceStep, taps, tapCount, x, end);
     for (; x + 8 <= end; x += 8)
     {
         v8 s = {};

@@ -56,6 +56,30 @@ void checkImage(InputArray image, const char* name, const char* function, bool n
                         function, name, low));
 }
 
+/* Σ |mask * image| over one row of Immerkær's 3×3 mask, `channels` interleaved: eight float
+   lanes, in the form GCC vectorises (a single float sum is a reduction it must keep in order). */
+DYNBLUR_SIMD_CLONES
+float noiseMaskSumRow(const float* __restrict a, const float* __restrict m, const float* __restrict b, int width,
+                      int channels)
+{
+    const int c = channels, r = 2 * channels;  // centre and right of a pixel, from its left
+    auto term = [&](int i) {
+        return std::abs(a[i] - 2 * a[i + c] + a[i + r] - 2 * (m[i] - 2 * m[i + c] + m[i + r]) + b[i] - 2 * b[i + c] +
+                        b[i + r]);
+    };
+    float lanes[8] = {};
+    int i = 0;
+    for (; i + 8 <= width; i += 8)
+        for (int k = 0; k < 8; k++)
+            lanes[k] += term(i + k);
+    for (; i < width; i++)
+        lanes[0] += term(i);
+    float sum = 0.f;
+    for (int k = 0; k < 8; k++)
+        sum += lanes[k];
+    return sum;
+}
+
 /* Noise standard deviation by Immerkær's method, averaged over the channels: the response to a
    mask that cancels every polynomial up to degree 2 is (nearly) pure noise, and blur makes that
    truer. Summed row by row in parallel, without a response image. */
@@ -67,17 +91,8 @@ double estimateNoiseSigma(const Mat& image)
     std::vector<double> rowSums(size_t(image.rows - 2), 0.0);
     parallel_for_(Range(1, image.rows - 1), [&](const Range& rows) {
         for (int y = rows.start; y < rows.end; y++)
-        {
-            const float* a = image.ptr<float>(y - 1);
-            const float* m = image.ptr<float>(y);
-            const float* b = image.ptr<float>(y + 1);
-            const int l = 0, c = channels, r = 2 * channels;  // left, centre, right of a pixel
-            float sum = 0.f;
-            for (int i = 0; i < width; i++)
-                sum += std::abs(a[i + l] - 2 * a[i + c] + a[i + r] - 2 * (m[i + l] - 2 * m[i + c] + m[i + r]) +
-                                b[i + l] - 2 * b[i + c] + b[i + r]);
-            rowSums[size_t(y - 1)] = sum;
-        }
+            rowSums[size_t(y - 1)] =
+                noiseMaskSumRow(image.ptr<float>(y - 1), image.ptr<float>(y), image.ptr<float>(y + 1), width, channels);
     });
     double total = 0;
     for (double v : rowSums)
@@ -244,6 +259,20 @@ PsfBank displacementBank(const PsfBank& bank)
     return moved;
 }
 
+/* out = max(moved / normaliser, 0) where the normaliser exceeds kUnobserved, `fill` elsewhere: the
+   start's row. The quotient is taken everywhere (its divisor kept ≥ 1e-3) and then selected, so
+   the loop vectorises. */
+DYNBLUR_SIMD_CLONES
+void normalizedRow(const float* __restrict moved, const float* __restrict normalizer, float fill, int n,
+                   float* __restrict out)
+{
+    for (int x = 0; x < n; x++)
+    {
+        const float quotient = std::max(moved[x] / std::max(normalizer[x], kObservedFraction * 1e-2f), 0.f);
+        out[x] = normalizer[x] > kUnobserved ? quotient : fill;
+    }
+}
+
 }  // namespace
 
 void checkRLParams(const RLParams& params, const char* function)
@@ -376,12 +405,8 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
                 const int r = y - moveInLatent.y;
                 const float* m = moved.ptr<float>(r);
                 const float* n = moveNormalizer.ptr<float>(r);
-                for (int x = common.x; x < common.x + common.width; x++)
-                {
-                    const int mx = x - moveInLatent.x;
-                    out[x] = n[mx] > kUnobserved ? std::max(m[mx] / std::max(n[mx], kObservedFraction * 1e-2f), 0.f)
-                                                 : fill;
-                }
+                normalizedRow(m + (common.x - moveInLatent.x), n + (common.x - moveInLatent.x), fill, common.width,
+                              out + common.x);
             }
         });
     }

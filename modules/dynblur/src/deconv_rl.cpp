@@ -1,11 +1,11 @@
 #include "deconv_rl.hpp"
 
-#include <opencv2/core/hal/hal.hpp>
 #include <opencv2/core/utility.hpp>
 
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 namespace cv {
@@ -20,31 +20,71 @@ constexpr float kRatioEpsilon = 1e-12f;
 //! Rows blurred at a time by a row-gathering operator, then consumed row by row while in L2 (even: see bandRange).
 constexpr int kBlockRows = 8;
 
+/* ln x for a positive normal float, within a few ulps: Cephes' logf (exponent split, mantissa in
+   [√½, √2), degree-8 polynomial). Branch-free and inline, so the loop that calls it vectorises:
+   hal::log32f's extra pass through a buffer cost more than the log itself. */
+inline float logPositive(float x)
+{
+    // Bit casts, not memcpy: GCC vectorises the loop only then (memcpy leaves "control flow").
+    const int32_t bits = __builtin_bit_cast(int32_t, x);
+    const float mantissa = __builtin_bit_cast(float, (bits & 0x007fffff) | 0x3f800000);  // [1, 2)
+    const bool high = mantissa > 1.41421356f;
+    const float m = high ? 0.5f * mantissa : mantissa;
+    const int exponent = (bits >> 23) - (high ? 126 : 127);
+    const float f = m - 1.f, z = f * f, e = float(exponent);
+    float p = 7.0376836292e-2f;
+    p = p * f - 1.1514610310e-1f;
+    p = p * f + 1.1676998740e-1f;
+    p = p * f - 1.2420140846e-1f;
+    p = p * f + 1.4249322787e-1f;
+    p = p * f - 1.6668057665e-1f;
+    p = p * f + 2.0000714765e-1f;
+    p = p * f - 2.4999993993e-1f;
+    p = p * f + 3.3333331174e-1f;
+    const float y = f * z * p - 2.12194440e-4f * e - 0.5f * z;
+    return f + y + 0.693359375f * e;
+}
+
 /* ratio = b / (A x) over one row, damped as MATLAB's deconvlucy does (White 1994): where the
    Poisson deviance between b and A x is within the damping threshold, the ratio is pulled to 1
    (no update). Intensities are taken times `scale` (1 / the image's level), so the epsilon and the
    deviance mean the same at any exposure and nothing under- or overflows. `invThreshold` is
-   2 / (damping² · scale); `logBuffer` holds `n` floats. Branch-free, so it vectorises. */
+   2 / (damping² · scale). Branch-free, so it vectorises. */
 DYNBLUR_SIMD_CLONES
 void ratioRow(const float* __restrict b, const float* __restrict ab, float* __restrict r, int n, float scale,
-              float invThreshold, float* __restrict logBuffer)
+              float invThreshold)
 {
-    for (int x = 0; x < n; x++)
-        r[x] = ab[x] > 0.f ? b[x] * scale / (ab[x] * scale + kRatioEpsilon) : 0.f;
     if (invThreshold == 0.f)
+    {
+        for (int x = 0; x < n; x++)
+            r[x] = ab[x] > 0.f ? b[x] * scale / (ab[x] * scale + kRatioEpsilon) : 0.f;
         return;
-    for (int x = 0; x < n; x++)
-        logBuffer[x] = r[x] > 0.f ? r[x] : 1.f;
-    hal::log32f(logBuffer, logBuffer, n);  // OpenCV's vectorised log: a scalar one would dominate
+    }
     for (int x = 0; x < n; x++)
     {
+        // Every value is computed and then selected (A x ≥ 0, so the quotient is finite): a
+        // conditional division or log would keep the loop scalar.
         const float bs = b[x] * scale, abs = ab[x] * scale;
-        float g = (bs * logBuffer[x] + abs - bs) * invThreshold;
+        const float quotient = bs / (abs + kRatioEpsilon);
+        const bool both = (b[x] > 0.f) & (ab[x] > 0.f);
+        float g = (bs * logPositive(both ? quotient : 1.f) + abs - bs) * invThreshold;
         g = std::min(std::max(g, 0.f), 1.f);
         const float g2 = g * g, g4 = g2 * g2, g8 = g4 * g4;
         const float G = g8 * g * (10.f - 9.f * g);  // g^9 (10 − 9 g): 0 within the noise, 1 beyond
-        r[x] = b[x] > 0.f && ab[x] > 0.f ? 1.f + G * (r[x] - 1.f) : r[x];
+        r[x] = both ? 1.f + G * (quotient - 1.f) : ab[x] > 0.f ? quotient : 0.f;
     }
+}
+
+/* 1 / √q for a positive normal float, to 5e-6 relative (TV's unit gradient needs no more): the
+   exponent-halving first guess and two Newton steps, which vectorise to a few multiplies where a
+   square root and a division each take longer than the whole. */
+inline float inverseSqrt(float q)
+{
+    float y = __builtin_bit_cast(float, 0x5f375a86 - (__builtin_bit_cast(int32_t, q) >> 1));
+    const float half = 0.5f * q;
+    y *= 1.5f - half * y * y;
+    y *= 1.5f - half * y * y;
+    return y;
 }
 
 /* The unit gradient n = ∇u/|∇u| of one row (forward differences, zero across the last column and
@@ -58,7 +98,7 @@ void unitGradientRow(const float* __restrict p, const float* __restrict below, i
         for (int x = 0; x + 1 < cols; x++)
         {
             const float gx = (p[x + 1] - p[x]) * scale, gy = (below[x] - p[x]) * scale;
-            const float inv = 1.f / std::sqrt(gx * gx + gy * gy + eps2);
+            const float inv = inverseSqrt(gx * gx + gy * gy + eps2);
             nx[x] = gx * inv;
             ny[x] = gy * inv;
         }
@@ -66,13 +106,13 @@ void unitGradientRow(const float* __restrict p, const float* __restrict below, i
         for (int x = 0; x + 1 < cols; x++)
         {
             const float gx = (p[x + 1] - p[x]) * scale;
-            nx[x] = gx / std::sqrt(gx * gx + eps2);
+            nx[x] = gx * inverseSqrt(gx * gx + eps2);
             ny[x] = 0.f;
         }
     const int x = cols - 1;
     const float gy = below ? (below[x] - p[x]) * scale : 0.f;
     nx[x] = 0.f;
-    ny[x] = gy / std::sqrt(gy * gy + eps2);
+    ny[x] = gy * inverseSqrt(gy * gy + eps2);
 }
 
 /* div(∇u/|∇u|) row by row down a band: forward differences for the gradient, backward ones for
@@ -137,6 +177,14 @@ void updateRow(const float* y, const float* __restrict correction, const float* 
            uncorrelated and switch acceleration off. */
         step[x] = seen ? yv * (cv / nv - 1.f) : 0.f;
     }
+}
+
+//! y = max(x + a (x − y), 0) over one row: x_{k−1} in, the extrapolated y_k out (RL needs y ≥ 0).
+DYNBLUR_SIMD_CLONES
+void extrapolateRow(const float* __restrict x, float a, int n, float* __restrict y)
+{
+    for (int i = 0; i < n; i++)
+        y[i] = std::max(x[i] + a * (x[i] - y[i]), 0.f);
 }
 
 /* Σ a·b and Σ b·b over a row times scale², in eight-lane float sums (a row is short enough for
@@ -322,12 +370,7 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const ImageLevel& level,
                 const float a = float(alpha);
                 forBands(latentSize.height, bands, [&](int, const Range& rows) {
                     for (int r = rows.start; r < rows.end; r++)
-                    {
-                        const float* xp = x.ptr<float>(r);
-                        float* yp = next.ptr<float>(r);  // x_{k−1} in, y_k out
-                        for (int col = 0; col < latentSize.width; col++)
-                            yp[col] = std::max(xp[col] + a * (xp[col] - yp[col]), 0.f);  // RL needs y ≥ 0
-                    }
+                        extrapolateRow(x.ptr<float>(r), a, latentSize.width, next.ptr<float>(r));
                 });
                 predicted = &next;
             }
@@ -338,10 +381,9 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const ImageLevel& level,
                 op.forward(y, reblurred);
             forBands(frameSize.height, bands, [&](int, const Range& rows) {
                 const int width = frameSize.width, stride = int(channels);
-                std::vector<float> buffer(size_t(width) * (kBlockRows + 2));
+                std::vector<float> buffer(size_t(width) * (kBlockRows + 1));
                 float* reblurredBlock = buffer.data();
-                float* logBuffer = reblurredBlock + size_t(width) * kBlockRows;
-                float* observed = logBuffer + width;
+                float* observed = reblurredBlock + size_t(width) * kBlockRows;
                 for (int r = rows.start; r < rows.end; r++)
                 {
                     const int inBlock = (r - rows.start) % kBlockRows;
@@ -356,7 +398,7 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const ImageLevel& level,
                         channelRow(observedRow, stride, int(c), width, observed);
                         observedRow = observed;
                     }
-                    ratioRow(observedRow, ab, ratio.ptr<float>(r), width, scale, invThreshold, logBuffer);
+                    ratioRow(observedRow, ab, ratio.ptr<float>(r), width, scale, invThreshold);
                 }
             });
             // The rows around each band, as they are before any band updates y in place.
@@ -432,6 +474,63 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const ImageLevel& level,
         }
     }
     return iteration;
+}
+
+//! out[x] = the mean of the `channels` interleaved values of pixel x (constant strides, as channelRow).
+DYNBLUR_SIMD_CLONES
+void channelMeanRow(const float* __restrict interleaved, int channels, int n, float* __restrict out)
+{
+    switch (channels)
+    {
+    case 3:
+        for (int x = 0; x < n; x++)
+            out[x] = (interleaved[3 * x] + interleaved[3 * x + 1] + interleaved[3 * x + 2]) * (1.f / 3.f);
+        return;
+    case 4:
+        for (int x = 0; x < n; x++)
+            out[x] = (interleaved[4 * x] + interleaved[4 * x + 1] + interleaved[4 * x + 2] + interleaved[4 * x + 3]) *
+                     0.25f;
+        return;
+    default:
+        for (int x = 0; x < n; x++)
+        {
+            float s = 0.f;
+            for (int c = 0; c < channels; c++)
+                s += interleaved[x * channels + c];
+            out[x] = s / float(channels);
+        }
+    }
+}
+
+DYNBLUR_SIMD_CLONES
+void addRow(const float* __restrict p, int n, float* __restrict sum)
+{
+    for (int x = 0; x < n; x++)
+        sum[x] += p[x];
+}
+
+//! p[x] = copy[x] = p[x] · factor.
+DYNBLUR_SIMD_CLONES
+void scaleRow(float* __restrict p, float factor, int n, float* __restrict copy)
+{
+    for (int x = 0; x < n; x++)
+        p[x] = copy[x] = p[x] * factor;
+}
+
+/* One plane's row takes the luminance's change from `before` to `restored`: as a ratio where
+   `before` is above `black`, as a difference elsewhere, kept within [0, upper]. Both are computed
+   and one selected (the divisor made safe), so the loop vectorises. */
+DYNBLUR_SIMD_CLONES
+void applyLuminanceRow(const float* __restrict restored, const float* __restrict before, float black, float upper,
+                       int n, float* __restrict plane)
+{
+    for (int x = 0; x < n; x++)
+    {
+        const bool lit = before[x] > black;
+        const float gain = restored[x] / (lit ? before[x] : 1.f);
+        const float v = lit ? plane[x] * gain : plane[x] + restored[x] - before[x];
+        plane[x] = std::min(std::max(v, 0.f), upper);
+    }
 }
 
 }  // namespace
@@ -568,30 +667,14 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& norma
         for (int y = rows.start; y < rows.end; y++)
         {
             if (y < luminance.rows)
-            {
-                const float* b = blurred.ptr<float>(y);
-                float* l = luminance.ptr<float>(y);
-                for (int x = 0; x < luminance.cols; x++)
-                {
-                    float s = 0.f;
-                    for (int c = 0; c < channels; c++)
-                        s += b[x * channels + c];
-                    l[x] = s * perChannel;
-                }
-            }
+                channelMeanRow(blurred.ptr<float>(y), channels, luminance.cols, luminance.ptr<float>(y));
             if (y < latentSize.height)
             {
-                float* __restrict m = start.ptr<float>(y);
-                float* __restrict copy = latent[0].ptr<float>(y);
+                float* m = start.ptr<float>(y);
                 std::fill(m, m + latentSize.width, 0.f);
                 for (const Mat& e : estimate)
-                {
-                    const float* __restrict p = e.ptr<float>(y);
-                    for (int x = 0; x < latentSize.width; x++)
-                        m[x] += p[x];
-                }
-                for (int x = 0; x < latentSize.width; x++)
-                    m[x] = copy[x] = m[x] * perChannel;
+                    addRow(e.ptr<float>(y), latentSize.width, m);
+                scaleRow(m, perChannel, latentSize.width, latent[0].ptr<float>(y));
             }
         }
     });
@@ -606,19 +689,9 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& norma
     const float upper = projectionBound(op, colourLevel);
     parallel_for_(Range(0, latentSize.height), [&](const Range& rows) {
         for (int y = rows.start; y < rows.end; y++)
-        {
-            const float* restored = latent[0].ptr<float>(y);
-            const float* before = start.ptr<float>(y);
             for (Mat& e : estimate)
-            {
-                float* p = e.ptr<float>(y);
-                for (int x = 0; x < latentSize.width; x++)
-                {
-                    const float v = before[x] > black ? p[x] * (restored[x] / before[x]) : p[x] + restored[x] - before[x];
-                    p[x] = std::min(std::max(v, 0.f), upper);
-                }
-            }
-        }
+                applyLuminanceRow(latent[0].ptr<float>(y), start.ptr<float>(y), black, upper, latentSize.width,
+                                  e.ptr<float>(y));
     });
     ws.other[1] = latent[0];  // the two buffers may have swapped: keep the pool's set intact
     ws.other[0] = other[0];

@@ -187,21 +187,39 @@ void extrapolateRow(const float* __restrict x, float a, int n, float* __restrict
         y[i] = std::max(x[i] + a * (x[i] - y[i]), 0.f);
 }
 
-/* Σ a·b and Σ b·b over a row times scale², in eight-lane float sums (a row is short enough for
-   float; the scale keeps the products from under- or overflowing); then b = a, in the same pass. */
-DYNBLUR_SIMD_CLONES
-void dotAndReplace(const float* __restrict a, float* __restrict b, int n, float scale, double& ab, double& bb)
+/* The last step is kept as bfloat16 (a float's upper half): it only feeds the extrapolation's
+   two dot products, whose ratio a 2^-8 relative error per element hardly moves, and half the bytes
+   is half of that plane's memory traffic. Truncation, so no finite value becomes infinite. */
+inline uint16_t toBfloat16(float v)
 {
+    return uint16_t(__builtin_bit_cast(uint32_t, v) >> 16);
+}
+
+inline float fromBfloat16(uint16_t h)
+{
+    return __builtin_bit_cast(float, uint32_t(h) << 16);
+}
+
+/* Σ a·b and Σ b·b over a row times scale², in eight-lane float sums (a row is short enough for
+   float; the scale keeps the products from under- or overflowing), b being the stored last step;
+   then b = a, in the same pass. */
+DYNBLUR_SIMD_CLONES
+void dotAndReplace(const float* __restrict a, uint16_t* __restrict b, int n, float scale, double& ab, double& bb)
+{
+    // Vector types spelled out: the lane loop the compiler would find mixes 16- and 32-bit lanes badly.
     typedef float v8 __attribute__((vector_size(32), aligned(4)));
+    typedef uint32_t v8u __attribute__((vector_size(32), aligned(4)));
+    typedef uint16_t v8h __attribute__((vector_size(16), aligned(2)));
     v8 sab = {}, sbb = {};
     int x = 0;
     for (; x + 8 <= n; x += 8)
     {
         const v8 raw = *(const v8*)(a + x);
-        const v8 va = raw * scale, vb = *(const v8*)(b + x) * scale;
-        sab += va * vb;
-        sbb += vb * vb;
-        *(v8*)(b + x) = raw;
+        const v8 before = (v8)(__builtin_convertvector(*(const v8h*)(b + x), v8u) << 16) * scale;
+        const v8 now = raw * scale;
+        sab += now * before;
+        sbb += before * before;
+        *(v8h*)(b + x) = __builtin_convertvector((v8u)raw >> 16, v8h);
     }
     for (int k = 0; k < 8; k++)
     {
@@ -210,9 +228,10 @@ void dotAndReplace(const float* __restrict a, float* __restrict b, int n, float 
     }
     for (; x < n; x++)
     {
-        ab += double(a[x] * scale) * (b[x] * scale);
-        bb += double(b[x] * scale) * (b[x] * scale);
-        b[x] = a[x];
+        const float before = fromBfloat16(b[x]) * scale;
+        ab += double(a[x] * scale) * before;
+        bb += double(before) * before;
+        b[x] = toBfloat16(a[x]);
     }
 }
 
@@ -305,12 +324,35 @@ float projectionBound(const BlurOperator& op, const ImageLevel& level)
     return float(std::min(op.spotGain() * std::max(level.peak, 0.0), double(FLT_MAX)));
 }
 
-//! RL over every plane for params.iterations (colorIterations ignored); `level` is levelOf(blurred).
-int iteratePlanes(BlurOperator& op, const Mat& blurred, const ImageLevel& level, const Mat& normalizer,
+/* The frame's planes: a one-channel frame itself, a colour frame's split once into `pool`. Every
+   iteration reads each plane, and reading one from the interleaved frame pulls in all of them. */
+std::vector<Mat> planesOf(const Mat& frame, std::vector<Mat>& pool)
+{
+    const int channels = frame.channels();
+    if (channels == 1)
+        return {frame};
+    pool.resize(std::max(pool.size(), size_t(channels)));
+    std::vector<Mat> planes(static_cast<size_t>(channels));
+    for (int c = 0; c < channels; c++)
+    {
+        pool[size_t(c)].create(frame.size(), CV_32FC1);
+        planes[size_t(c)] = pool[size_t(c)];
+    }
+    parallel_for_(Range(0, frame.rows), [&](const Range& rows) {
+        for (int y = rows.start; y < rows.end; y++)
+            for (int c = 0; c < channels; c++)
+                channelRow(frame.ptr<float>(y), channels, c, frame.cols, planes[size_t(c)].ptr<float>(y));
+    });
+    return planes;
+}
+
+/* RL over every plane for params.iterations (colorIterations ignored): `observed` holds the frame's
+   planes, `level` is the frame's levelOf. */
+int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const ImageLevel& level, const Mat& normalizer,
                   const RLParams& params, std::vector<Mat>& estimate, std::vector<Mat>& other, std::vector<Mat>& step,
                   RLWorkspace& ws)
 {
-    const size_t channels = size_t(blurred.channels());
+    const size_t channels = observed.size();
     CV_Assert(estimate.size() == channels);
     const Size latentSize = op.latentSize(), frameSize = op.frameSize();
     const float tvWeight = float(params.tvWeight);
@@ -345,7 +387,7 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const ImageLevel& level,
     if (params.accelerate)
         for (size_t c = 0; c < channels; c++)
         {
-            step[c].create(latentSize, CV_32FC1);
+            step[c].create(latentSize, CV_16UC1);  // bfloat16
             step[c].setTo(0);
         }
     double alpha = 0;
@@ -380,25 +422,17 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const ImageLevel& level,
             if (!fused)
                 op.forward(y, reblurred);
             forBands(frameSize.height, bands, [&](int, const Range& rows) {
-                const int width = frameSize.width, stride = int(channels);
-                std::vector<float> buffer(size_t(width) * (kBlockRows + 1));
-                float* reblurredBlock = buffer.data();
-                float* observed = reblurredBlock + size_t(width) * kBlockRows;
+                const int width = frameSize.width;
+                std::vector<float> reblurredBlock(size_t(width) * kBlockRows);
                 for (int r = rows.start; r < rows.end; r++)
                 {
                     const int inBlock = (r - rows.start) % kBlockRows;
                     if (fused && inBlock == 0)
-                        op.forwardBlock(y, Range(r, std::min(r + kBlockRows, rows.end)), reblurredBlock, size_t(width));
-                    const float* ab = fused ? reblurredBlock + size_t(inBlock) * size_t(width) : reblurred.ptr<float>(r);
-                    // One plane (grey, or the luminance phase) is read in place; a colour plane is
-                    // gathered from the interleaved frame.
-                    const float* observedRow = blurred.ptr<float>(r);
-                    if (stride > 1)
-                    {
-                        channelRow(observedRow, stride, int(c), width, observed);
-                        observedRow = observed;
-                    }
-                    ratioRow(observedRow, ab, ratio.ptr<float>(r), width, scale, invThreshold);
+                        op.forwardBlock(y, Range(r, std::min(r + kBlockRows, rows.end)), reblurredBlock.data(),
+                                        size_t(width));
+                    const float* ab =
+                        fused ? reblurredBlock.data() + size_t(inBlock) * size_t(width) : reblurred.ptr<float>(r);
+                    ratioRow(observed[c].ptr<float>(r), ab, ratio.ptr<float>(r), width, scale, invThreshold);
                 }
             });
             // The rows around each band, as they are before any band updates y in place.
@@ -443,7 +477,7 @@ int iteratePlanes(BlurOperator& op, const Mat& blurred, const ImageLevel& level,
                     updateRow(y.ptr<float>(r), cp, normalizer.empty() ? nullptr : normalizer.ptr<float>(r),
                               curvatureRow, tvWeight, upper, width, out, stepRow);
                     if (accelerate)
-                        dotAndReplace(stepRow, step[c].ptr<float>(r), width, scale, s.stepDot, s.stepBeforeSq);
+                        dotAndReplace(stepRow, step[c].ptr<uint16_t>(r), width, scale, s.stepDot, s.stepBeforeSq);
                     if (measure)
                     {
                         const float* xp = x.ptr<float>(r);
@@ -636,7 +670,8 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& norma
 {
     const int colour = params.colorIterations;
     if (blurred.channels() < 3 || colour < 0 || colour >= params.iterations)
-        return iteratePlanes(op, blurred, levelOf(blurred), normalizer, params, estimate, ws.other, ws.step, ws);
+        return iteratePlanes(op, planesOf(blurred, ws.observed), levelOf(blurred), normalizer, params, estimate,
+                             ws.other, ws.step, ws);
 
     const ImageLevel colourLevel = levelOf(blurred);
     int done = 0;
@@ -644,20 +679,22 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& norma
     {
         RLParams first = params;
         first.iterations = colour;
-        done = iteratePlanes(op, blurred, colourLevel, normalizer, first, estimate, ws.other, ws.step, ws);
+        done = iteratePlanes(op, planesOf(blurred, ws.observed), colourLevel, normalizer, first, estimate, ws.other,
+                             ws.step, ws);
         if (params.tolerance > 0 && done < colour)
             return done;  // converged in colour already
     }
-    /* The luminance phase works in the colour phase's buffers (`other` and `step`, which that
-       phase no longer needs), so it adds nothing to the peak memory. */
+    /* The luminance phase works in the colour phase's buffers (`observed`, `other` and `step`,
+       which that phase no longer needs), so it adds nothing to the peak memory. */
     const Size latentSize = op.latentSize();
-    for (std::vector<Mat>* pool : {&ws.other, &ws.step})
-    {
-        pool->resize(std::max<size_t>(pool->size(), 3));
-        for (Mat& m : *pool)
-            m.create(latentSize, CV_32FC1);
-    }
-    Mat luminance = ws.step[1](Rect(Point(), op.frameSize()));
+    ws.other.resize(std::max<size_t>(ws.other.size(), 3));
+    for (Mat& m : ws.other)
+        m.create(latentSize, CV_32FC1);
+    ws.step.resize(std::max<size_t>(ws.step.size(), 1));
+    ws.step[0].create(latentSize, CV_16UC1);
+    ws.observed.resize(std::max<size_t>(ws.observed.size(), 1));
+    ws.observed[0].create(op.frameSize(), CV_32FC1);
+    Mat luminance = ws.observed[0];
     Mat& start = ws.other[2];
     std::vector<Mat> latent{ws.other[1]}, other{ws.other[0]}, step{ws.step[0]};
     // Blur is linear and the same for every plane, so the planes' mean is blurred by it too.
@@ -680,7 +717,7 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& norma
     });
     RLParams rest = params;
     rest.iterations = params.iterations - colour;
-    done += iteratePlanes(op, luminance, levelOf(luminance), normalizer, rest, latent, other, step, ws);
+    done += iteratePlanes(op, {luminance}, levelOf(luminance), normalizer, rest, latent, other, step, ws);
     /* The luminance's change goes to every plane as a ratio, which keeps each pixel's chromaticity
        (an added difference shifts dark and saturated colours: in DeblurQuality's fruits it cost
        3.5 dB with no colour iteration, 0.5 dB with one). Where the start is (nearly) black the difference is added instead.

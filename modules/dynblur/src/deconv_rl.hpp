@@ -15,7 +15,9 @@ on first touch, which for a 1280×960 RGB frame's dozen planes takes longer than
 themselves; DynamicDeblurrer keeps one workspace, so a stream of frames allocates nothing. */
 struct RLWorkspace
 {
-    std::vector<Mat> estimate, other, step;
+    std::vector<Mat> estimate, other;
+    std::vector<Mat> step;      // the last RL step per plane, bfloat16 (CV_16U)
+    std::vector<Mat> observed;  // the frame's planes, when it has several
     Mat ratio, reblurred, correction;  // shared by the planes
     Mat normalizer, valid;
     //! Keep the iterations' planes after a call (for the next frame) instead of freeing them before the output is written.

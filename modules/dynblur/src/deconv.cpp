@@ -343,7 +343,8 @@ void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, cons
     if (pad)
         op.adjoint(Mat::ones(blurred.size(), CV_32F), normalizer);
     detail::RLWorkspace workspace;
-    detail::iterateRichardsonLucy(op, observed, normalizer, scaled, estimate, workspace);
+    detail::iterateRichardsonLucy(op, observed, detail::planesOf(observed, workspace.observed), normalizer, scaled,
+                                  estimate, workspace);
 
     const Rect frame(op.origin(), op.frameSize());
     for (Mat& e : estimate)
@@ -382,6 +383,7 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
     const Rect moveInLatent(op.origin() - move->origin(), moveSize);
     const Rect common = moveInLatent & Rect(Point(), latentSize);
     const Scalar channelMean = mean(observed);
+    const std::vector<Mat> observedPlanes = planesOf(observed, ws.observed);
     std::vector<Mat>& estimate = ws.estimate;
     estimate.resize(size_t(observed.channels()));
     const int channels = observed.channels();
@@ -390,11 +392,7 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
         const float fill = float(std::max(channelMean[c], 0.0));
         Mat& e = estimate[size_t(c)];
         e.create(latentSize, CV_32F);
-        parallel_for_(Range(0, frameSize.height), [&](const Range& rows) {
-            for (int y = rows.start; y < rows.end; y++)
-                channelRow(observed.ptr<float>(y), channels, c, frameSize.width, plane.ptr<float>(y));
-        });
-        move->adjoint(plane, moved);
+        move->adjoint(observedPlanes[size_t(c)], moved);
         parallel_for_(Range(0, latentSize.height), [&](const Range& rows) {
             for (int y = rows.start; y < rows.end; y++)
             {
@@ -411,10 +409,11 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
         });
     }
 
-    iterateRichardsonLucy(op, observed, ws.normalizer, resolveDamping(params, observed), estimate, ws);
+    iterateRichardsonLucy(op, observed, observedPlanes, ws.normalizer, resolveDamping(params, observed), estimate, ws);
 
     if (!ws.persistent)
     {
+        ws.observed.clear();
         ws.other.clear();
         ws.step.clear();
         ws.ratio.release();

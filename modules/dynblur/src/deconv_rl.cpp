@@ -324,28 +324,6 @@ float projectionBound(const BlurOperator& op, const ImageLevel& level)
     return float(std::min(op.spotGain() * std::max(level.peak, 0.0), double(FLT_MAX)));
 }
 
-/* The frame's planes: a one-channel frame itself, a colour frame's split once into `pool`. Every
-   iteration reads each plane, and reading one from the interleaved frame pulls in all of them. */
-std::vector<Mat> planesOf(const Mat& frame, std::vector<Mat>& pool)
-{
-    const int channels = frame.channels();
-    if (channels == 1)
-        return {frame};
-    pool.resize(std::max(pool.size(), size_t(channels)));
-    std::vector<Mat> planes(static_cast<size_t>(channels));
-    for (int c = 0; c < channels; c++)
-    {
-        pool[size_t(c)].create(frame.size(), CV_32FC1);
-        planes[size_t(c)] = pool[size_t(c)];
-    }
-    parallel_for_(Range(0, frame.rows), [&](const Range& rows) {
-        for (int y = rows.start; y < rows.end; y++)
-            for (int c = 0; c < channels; c++)
-                channelRow(frame.ptr<float>(y), channels, c, frame.cols, planes[size_t(c)].ptr<float>(y));
-    });
-    return planes;
-}
-
 /* RL over every plane for params.iterations (colorIterations ignored): `observed` holds the frame's
    planes, `level` is the frame's levelOf. */
 int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const ImageLevel& level, const Mat& normalizer,
@@ -617,6 +595,26 @@ void interleaveRow(const float* const* planes, int channels, int n, float* __res
     }
 }
 
+std::vector<Mat> planesOf(const Mat& frame, std::vector<Mat>& pool)
+{
+    const int channels = frame.channels();
+    if (channels == 1)
+        return {frame};
+    pool.resize(std::max(pool.size(), size_t(channels)));
+    std::vector<Mat> planes(static_cast<size_t>(channels));
+    for (int c = 0; c < channels; c++)
+    {
+        pool[size_t(c)].create(frame.size(), CV_32FC1);
+        planes[size_t(c)] = pool[size_t(c)];
+    }
+    parallel_for_(Range(0, frame.rows), [&](const Range& rows) {
+        for (int y = rows.start; y < rows.end; y++)
+            for (int c = 0; c < channels; c++)
+                channelRow(frame.ptr<float>(y), channels, c, frame.cols, planes[size_t(c)].ptr<float>(y));
+    });
+    return planes;
+}
+
 bool finiteRange(const Mat& image, float& low, float& high)
 {
     const int n = image.cols * image.channels();
@@ -665,13 +663,12 @@ bool finiteRange(const Mat& image, float& low, float& high)
     return true;
 }
 
-int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& normalizer, const RLParams& params,
-                          std::vector<Mat>& estimate, RLWorkspace& ws)
+int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const std::vector<Mat>& planes, const Mat& normalizer,
+                          const RLParams& params, std::vector<Mat>& estimate, RLWorkspace& ws)
 {
     const int colour = params.colorIterations;
     if (blurred.channels() < 3 || colour < 0 || colour >= params.iterations)
-        return iteratePlanes(op, planesOf(blurred, ws.observed), levelOf(blurred), normalizer, params, estimate,
-                             ws.other, ws.step, ws);
+        return iteratePlanes(op, planes, levelOf(blurred), normalizer, params, estimate, ws.other, ws.step, ws);
 
     const ImageLevel colourLevel = levelOf(blurred);
     int done = 0;
@@ -679,8 +676,7 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& norma
     {
         RLParams first = params;
         first.iterations = colour;
-        done = iteratePlanes(op, planesOf(blurred, ws.observed), colourLevel, normalizer, first, estimate, ws.other,
-                             ws.step, ws);
+        done = iteratePlanes(op, planes, colourLevel, normalizer, first, estimate, ws.other, ws.step, ws);
         if (params.tolerance > 0 && done < colour)
             return done;  // converged in colour already
     }

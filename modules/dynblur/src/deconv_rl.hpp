@@ -31,13 +31,19 @@ params.accelerate, stopping early at params.tolerance. With 3–4 planes and par
 in [0, iterations), the iterations after the first colorIterations run on the planes' mean alone,
 whose change then scales every plane.
 @param op the blur. @param blurred the frame, CV_32F with one channel per estimate plane.
+@param planes planesOf(blurred); the luminance phase may overwrite them.
 @param normalizer Aᵀ1 (latent size); empty: 1 everywhere, the unnormalised update of scikit-image's
 richardson_lucy. Latent pixels whose normaliser is ≤ kUnobserved are not updated.
 @param estimate in: the start (latent-sized planes, ≥ 0); out: the result.
 @param workspace buffers, reused when their sizes fit.
 @return the iterations run. */
-int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const Mat& normalizer, const RLParams& params,
-                          std::vector<Mat>& estimate, RLWorkspace& workspace);
+int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const std::vector<Mat>& planes, const Mat& normalizer,
+                          const RLParams& params, std::vector<Mat>& estimate, RLWorkspace& workspace);
+
+/** @brief The planes of `frame` (CV_32F): a one-channel frame itself, a colour frame's split once into
+`pool` (reused when the sizes fit). RL reads each plane every iteration, and reading one from the
+interleaved frame would pull in every channel. Rows in parallel. */
+std::vector<Mat> planesOf(const Mat& frame, std::vector<Mat>& pool);
 
 /** @brief richardsonLucyVariant in a workspace, without its argument checks (the caller has made
 them): the frame-rate path of DynamicDeblurrer.

@@ -20,17 +20,18 @@ constexpr float kRatioEpsilon = 1e-12f;
 //! Rows blurred at a time by a row-gathering operator, then consumed row by row while in L2 (even: see bandRange).
 constexpr int kBlockRows = 8;
 
-/* ln x for a positive normal float, within a few ulps: Cephes' logf (exponent split, mantissa in
-   [√½, √2), degree-8 polynomial). Branch-free and inline, so the loop that calls it vectorises:
+/* ln x for a positive normal float, within a few ulps (finite for any finite x ≥ 0): Cephes' logf
+   (exponent split, mantissa in [√½, √2), degree-8 polynomial). Branch-free and inline, so the loop that calls it vectorises:
    hal::log32f's extra pass through a buffer cost more than the log itself. */
 inline float logPositive(float x)
 {
-    // Bit casts, not memcpy: GCC vectorises the loop only then (memcpy leaves "control flow").
+    /* Bit casts, not memcpy (GCC vectorises the loop only then), and the split by integer
+       arithmetic alone, offset by √½'s bits so the mantissa lands in [√½, √2): a select there made
+       GCC evaluate the polynomial once per side. */
     const int32_t bits = __builtin_bit_cast(int32_t, x);
-    const float mantissa = __builtin_bit_cast(float, (bits & 0x007fffff) | 0x3f800000);  // [1, 2)
-    const bool high = mantissa > 1.41421356f;
-    const float m = high ? 0.5f * mantissa : mantissa;
-    const int exponent = (bits >> 23) - (high ? 126 : 127);
+    const int32_t offset = bits - 0x3f3504f3;
+    const int exponent = offset >> 23;
+    const float m = __builtin_bit_cast(float, bits - (offset & int32_t(0xff800000)));
     const float f = m - 1.f, z = f * f, e = float(exponent);
     float p = 7.0376836292e-2f;
     p = p * f - 1.1514610310e-1f;
@@ -62,12 +63,13 @@ void ratioRow(const float* __restrict b, const float* __restrict ab, float* __re
     }
     for (int x = 0; x < n; x++)
     {
-        // Every value is computed and then selected (A x ≥ 0, so the quotient is finite): a
-        // conditional division or log would keep the loop scalar.
+        /* Every value is computed and then selected: a conditional division or log keeps the loop
+           scalar. A x ≥ 0, so the quotient is finite; logPositive of 0 is finite too (its bit
+           split does not care), and b = 0 multiplies it by 0. */
         const float bs = b[x] * scale, abs = ab[x] * scale;
         const float quotient = bs / (abs + kRatioEpsilon);
         const bool both = (b[x] > 0.f) & (ab[x] > 0.f);
-        float g = (bs * logPositive(both ? quotient : 1.f) + abs - bs) * invThreshold;
+        float g = (bs * logPositive(quotient) + abs - bs) * invThreshold;
         g = std::min(std::max(g, 0.f), 1.f);
         const float g2 = g * g, g4 = g2 * g2, g8 = g4 * g4;
         const float G = g8 * g * (10.f - 9.f * g);  // g^9 (10 − 9 g): 0 within the noise, 1 beyond

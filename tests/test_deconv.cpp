@@ -12,6 +12,7 @@
 #include <malloc.h>
 
 #include <atomic>
+#include <cmath>
 #include <iostream>
 #include <random>
 
@@ -810,6 +811,32 @@ TEST(DeconvRegularisation, AutomaticDampingFollowsTheFramesNoise)
                 stdAuto[0]);
     EXPECT_LT(stdAuto[0], 0.6 * stdPlain[0]);
     EXPECT_NEAR(meanAuto[0], 0.4, 0.01);
+}
+
+// −0 is a valid black pixel (≥ 0 holds): the damped ratio's bit-level log must take it as 0 does,
+// in the uniform and the row-variant restoration alike.
+TEST(DeconvRegularisation, NegativeZeroPixelsRestoreAsZero)
+{
+    cv::Mat frame(64, 48, CV_32FC3);
+    cv::RNG(5).fill(frame, cv::RNG::UNIFORM, 0.2, 0.8);
+    frame(cv::Rect(10, 20, 12, 9)).setTo(0.f);
+    cv::Mat negative = frame.clone();
+    negative(cv::Rect(10, 20, 12, 9)).setTo(-0.f);
+    ASSERT_TRUE(std::signbit(negative.at<cv::Vec3f>(20, 10)[0]));
+    cv::dynblur::RLParams params;
+    params.damping = std::numeric_limits<double>::quiet_NaN();
+    params.iterations = 6;
+    const cv::Mat kernel = cv::Mat::ones(7, 1, CV_32F) / 7.0f;
+    cv::Mat expected, restored;
+    cv::dynblur::richardsonLucy(frame, kernel, expected, params);
+    cv::dynblur::richardsonLucy(negative, kernel, restored, params);
+    EXPECT_TRUE(cv::checkRange(restored));
+    EXPECT_EQ(cv::norm(restored, expected, cv::NORM_INF), 0.0);
+    const PsfBank bank = rowBank(frame.size(), 8, 6);
+    cv::dynblur::richardsonLucyVariant(frame, bank, expected, params);
+    cv::dynblur::richardsonLucyVariant(negative, bank, restored, params);
+    EXPECT_TRUE(cv::checkRange(restored));
+    EXPECT_EQ(cv::norm(restored, expected, cv::NORM_INF), 0.0);
 }
 
 namespace {

@@ -28,10 +28,10 @@ inline float logPositive(float x)
     /* Bit casts, not memcpy (GCC vectorises the loop only then), and the split by integer
        arithmetic alone, offset by √½'s bits so the mantissa lands in [√½, √2): a select there made
        GCC evaluate the polynomial once per side. */
-    const int32_t bits = __builtin_bit_cast(int32_t, x);
-    const int32_t offset = bits - 0x3f3504f3;
-    const int exponent = offset >> 23;
-    const float m = __builtin_bit_cast(float, bits - (offset & int32_t(0xff800000)));
+    const uint32_t bits = __builtin_bit_cast(uint32_t, x);  // unsigned: −0 wraps instead of overflowing
+    const uint32_t offset = bits - 0x3f3504f3u;
+    const int exponent = int32_t(offset) >> 23;
+    const float m = __builtin_bit_cast(float, bits - (offset & 0xff800000u));
     const float f = m - 1.f, z = f * f, e = float(exponent);
     float p = 7.0376836292e-2f;
     p = p * f - 1.1514610310e-1f;

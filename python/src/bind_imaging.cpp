@@ -257,7 +257,7 @@ camera's image height; thetaRef: radians, NaN = the schedule's final resting ang
         .def_readwrite("boundary", &RLParams::boundary, "RL_BOUNDARY_ZERO or RL_BOUNDARY_PAD")
         .def_readwrite("accelerate", &RLParams::accelerate, "Biggs–Andrews vector extrapolation")
         .def_readwrite("tolerance", &RLParams::tolerance,
-                       "stop early when the relative change of an iteration falls below it, ≥ 0 (0: never)")
+                       "stop a plane early when the relative change of its iteration falls below it, ≥ 0 (0: never)")
         .def_readwrite("colorIterations", &RLParams::colorIterations,
                        "iterations on every colour plane of a 3–4 channel image, >= 0; the rest restore the luminance "
                        "alone and scale every plane by its change; -1 (default) or >= iterations: all")

@@ -327,7 +327,7 @@ float projectionBound(const BlurOperator& op, const ImageLevel& level)
 }
 
 /* RL over every plane for params.iterations (colorIterations ignored): `observed` holds the frame's
-   planes, `level` is the frame's levelOf. */
+   planes, `level` is the frame's levelOf. Returns the most iterations a plane ran. */
 int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const ImageLevel& level, const Mat& normalizer,
                   const RLParams& params, std::vector<Mat>& estimate, std::vector<Mat>& other, std::vector<Mat>& step,
                   RLWorkspace& ws)
@@ -352,39 +352,42 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
     const float tvEpsilon = 1e-3f;
     const float upper = projectionBound(op, level);
 
-    /* Per channel: the estimate x_k, `other` (x_{k−1}, overwritten by the extrapolated y_k and then
-       by x_{k+1} in place) and, when accelerating, the last step g_{k−1} (overwritten by g_k while
-       its dot product with g_k is taken). Shared: the ratio and, for operators
-       that cannot gather rows, whole reblurred and correction planes. */
+    /* The planes are independent problems and run one after another, each through all its
+       iterations with its own extrapolation and stopping test: one plane's working set fits in the
+       last-level cache where all three did not. Per plane: the estimate x_k. For the plane running:
+       `other` (x_{k−1}, overwritten by the extrapolated y_k and then by x_{k+1} in place) and, when
+       accelerating, the last step g_{k−1} (overwritten by g_k while its dot product with g_k is
+       taken). Shared: the ratio and, for operators that cannot gather rows, whole reblurred and
+       correction planes. */
     // Never shrunk: a workspace keeps its planes for the next frame.
-    other.resize(std::max(other.size(), channels));
-    step.resize(std::max(step.size(), channels));
+    other.resize(std::max<size_t>(other.size(), 1));
+    step.resize(std::max<size_t>(step.size(), 1));
     Mat& ratio = ws.ratio;
     Mat& reblurred = ws.reblurred;
     Mat& correction = ws.correction;
     ratio.create(frameSize, CV_32FC1);
     std::vector<float> halo(size_t(2 * bands) * size_t(latentSize.width));
-    if (params.accelerate)
-        for (size_t c = 0; c < channels; c++)
-        {
-            step[c].create(latentSize, CV_16UC1);  // bfloat16
-            step[c].setTo(0);
-        }
-    double alpha = 0;
-    UpdateSums previousSums;
-    int iteration = 0;
-    for (; iteration < params.iterations; iteration++)
+    int most = 0;
+    for (size_t c = 0; c < channels; c++)
     {
-        // Biggs–Andrews: extrapolate along the last step, by how well the last two steps agree.
-        if (params.accelerate && iteration >= 2)
-            alpha = previousSums.stepBeforeSq > 0
-                        ? std::min(std::max(previousSums.stepDot / previousSums.stepBeforeSq, 0.0), 1.0)
-                        : 0.0;
-        std::vector<UpdateSums> sums(static_cast<size_t>(bands));
-        for (size_t c = 0; c < channels; c++)
+        if (params.accelerate)
         {
+            step[0].create(latentSize, CV_16UC1);  // bfloat16
+            step[0].setTo(0);
+        }
+        double alpha = 0;
+        UpdateSums previousSums;
+        int iteration = 0;
+        for (; iteration < params.iterations; iteration++)
+        {
+            // Biggs–Andrews: extrapolate along the last step, by how well the last two steps agree.
+            if (params.accelerate && iteration >= 2)
+                alpha = previousSums.stepBeforeSq > 0
+                            ? std::min(std::max(previousSums.stepDot / previousSums.stepBeforeSq, 0.0), 1.0)
+                            : 0.0;
+            std::vector<UpdateSums> sums(static_cast<size_t>(bands));
             const Mat& x = estimate[c];
-            Mat& next = other[c];
+            Mat& next = other[0];
             next.create(latentSize, CV_32FC1);
             const Mat* predicted = &x;
             if (alpha > 0)
@@ -457,7 +460,7 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                     updateRow(y.ptr<float>(r), cp, normalizer.empty() ? nullptr : normalizer.ptr<float>(r),
                               curvatureRow, tvWeight, upper, width, out, stepRow);
                     if (accelerate)
-                        dotAndReplace(stepRow, step[c].ptr<uint16_t>(r), width, scale, s.stepDot, s.stepBeforeSq);
+                        dotAndReplace(stepRow, step[0].ptr<uint16_t>(r), width, scale, s.stepDot, s.stepBeforeSq);
                     if (measure)
                     {
                         const float* xp = x.ptr<float>(r);
@@ -471,23 +474,24 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                 }
             });
             std::swap(estimate[c], next);  // next now holds x_k, the next extrapolation's x_{k−1}
+            UpdateSums total;
+            for (const UpdateSums& s : sums)
+            {
+                total.stepDot += s.stepDot;
+                total.stepBeforeSq += s.stepBeforeSq;
+                total.changeSq += s.changeSq;
+                total.sizeSq += s.sizeSq;
+            }
+            previousSums = total;
+            if (params.tolerance > 0 && total.sizeSq > 0 && std::sqrt(total.changeSq / total.sizeSq) < params.tolerance)
+            {
+                iteration++;
+                break;
+            }
         }
-        UpdateSums total;
-        for (const UpdateSums& s : sums)
-        {
-            total.stepDot += s.stepDot;
-            total.stepBeforeSq += s.stepBeforeSq;
-            total.changeSq += s.changeSq;
-            total.sizeSq += s.sizeSq;
-        }
-        previousSums = total;
-        if (params.tolerance > 0 && total.sizeSq > 0 && std::sqrt(total.changeSq / total.sizeSq) < params.tolerance)
-        {
-            iteration++;
-            break;
-        }
+        most = std::max(most, iteration);
     }
-    return iteration;
+    return most;
 }
 
 //! out[x] = the mean of the `channels` interleaved values of pixel x (constant strides, as channelRow).

@@ -27,7 +27,8 @@ struct RLWorkspace
 /** @brief Runs RL on every channel plane with one operator.
 
 x ← x ⊙ Aᵀ(damped(b / A x)) / (Aᵀ1 − λ div(∇x/|∇x|)), with Biggs–Andrews extrapolation of x when
-params.accelerate, stopping early at params.tolerance. With 3–4 planes and params.colorIterations
+params.accelerate, stopping early at params.tolerance; each plane is its own problem (extrapolation
+and stopping per plane). With 3–4 planes and params.colorIterations
 in [0, iterations), the iterations after the first colorIterations run on the planes' mean alone,
 whose change then scales every plane.
 @param op the blur. @param blurred the frame, CV_32F with one channel per estimate plane.
@@ -36,7 +37,7 @@ whose change then scales every plane.
 richardson_lucy. Latent pixels whose normaliser is ≤ kUnobserved are not updated.
 @param estimate in: the start (latent-sized planes, ≥ 0); out: the result.
 @param workspace buffers, reused when their sizes fit.
-@return the iterations run. */
+@return the iterations run (the most any plane ran). */
 int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const std::vector<Mat>& planes, const Mat& normalizer,
                           const RLParams& params, std::vector<Mat>& estimate, RLWorkspace& workspace);
 

@@ -29,7 +29,7 @@ struct CV_EXPORTS_W_SIMPLE RLParams
     CV_PROP_RW double tvWeight;    //!< total-variation regularisation weight λ, ≥ 0 (0: off) @cite Dey2006RLTV
     CV_PROP_RW int boundary;       //!< RLBoundary
     CV_PROP_RW bool accelerate;    //!< Biggs–Andrews vector extrapolation @cite Biggs1997Acceleration
-    CV_PROP_RW double tolerance;   //!< stop early when the relative change of an iteration falls below it, ≥ 0 (0: never)
+    CV_PROP_RW double tolerance;   //!< stop a plane early when the relative change of its iteration falls below it, ≥ 0 (0: never)
     /** Iterations run on every colour plane of a 3- or 4-channel image, ≥ 0; the remaining ones
         restore the luminance (the planes' mean) alone and scale every plane by its change, which
         keeps each pixel's chromaticity. Fine detail is mostly luminance, so the result stays close

@@ -890,42 +890,56 @@ double heapInUse()
     return double(m.uordblks + m.hblkhd);
 }
 
+/* Peak extra memory of richardsonLucyVariant on `frame` with `bank`, in frame planes per channel:
+   its Mats, counted at their peak (the output excluded), plus the blur operator's tap lists, which
+   live through the whole restoration. `operatorPlanes` receives the second part. */
+double extraPlanesPerChannel(const Mat& frame, const PsfBank& bank, const RLParams& params, double& operatorPlanes)
+{
+    const double plane = double(frame.total()) * sizeof(float) * frame.channels();
+    const double before = heapInUse();
+    {
+        const auto op = cv::dynblur::detail::createBankOperator(bank, true);
+        operatorPlanes = (heapInUse() - before) / plane;
+    }
+    Mat latent;
+    CountingAllocator counter;
+    MatAllocator* previous = Mat::getDefaultAllocator();
+    Mat::setDefaultAllocator(&counter);
+    richardsonLucyVariant(frame, bank, latent, params);
+    Mat::setDefaultAllocator(previous);
+    const double mats = (double(counter.peak()) - double(latent.total() * latent.elemSize())) / plane;
+    latent.release();  // freed through the counter, which must outlive it
+    return mats + operatorPlanes;
+}
+
 // The row-wise restoration of a 1280×960 RGB window III frame (the speed benchmark's) holds at
-// most 4 frame-sized float planes per channel besides its input and output: its Mats, counted at
-// their peak, and the blur operator's tap lists, which live through the whole restoration.
+// most 4 frame-sized float planes per channel besides its input and output (issue #8). The
+// tile-wise one is measured beside it and held to what it needs now: its tap lists alone take ~3.9.
 TEST(DeconvMemory, RowWiseRestorationStaysWithinFourFramePlanesPerChannel)
 {
     Ptr<Plant> plant = Plant::create(14.4, 0.12, CV_PI / 180);
     Ptr<CameraModel> camera = CameraModel::create(1230, 1230, 639.5, 479.5, 1280, 960);
     const SwitchSchedule schedule = SwitchPlanner::create(plant, 16, PLAN_ROBUST)->plan(0.0, 10 * CV_PI / 180, 0.0);
     const RollingShutter shutter{0.012, 0.008, 1.0 / 30 / 960, 960};
-    const PsfBank bank = PsfGenerator::create(plant, camera)->generate(PSF_ROWS, schedule, shutter);
-    Mat frame(960, 1280, CV_32FC3), latent;
+    Ptr<PsfGenerator> generator = PsfGenerator::create(plant, camera);
+    Mat frame(960, 1280, CV_32FC3);
     randu(frame, 0.05f, 0.95f);
-    const double taps = [&] {
-        const double before = heapInUse();
-        const auto op = cv::dynblur::detail::createBankOperator(bank, true);
-        return heapInUse() - before;
-    }();
     RLParams params = DynamicDeblurrer::create(plant, camera)->getRLParams();
     params.iterations = 10;
-    for (int colorIterations : {-1, 3})
+    for (int model : {PSF_ROWS, PSF_TILES})
     {
-        params.colorIterations = colorIterations;
-        latent.release();
-        CountingAllocator counter;
-        MatAllocator* previous = Mat::getDefaultAllocator();
-        Mat::setDefaultAllocator(&counter);
-        richardsonLucyVariant(frame, bank, latent, params);
-        Mat::setDefaultAllocator(previous);
-        const double plane = double(frame.total()) * sizeof(float);
-        const double mats = (double(counter.peak()) - double(latent.total() * latent.elemSize())) / plane / 3;
-        const double extra = mats + taps / plane / 3;
-        std::cout << "[ measured ] row-wise RL, 1280x960 RGB, 10 iterations, colorIterations " << colorIterations
-                  << ": peak extra memory " << extra << " frame planes per channel (Mats " << mats
-                  << ", operator's taps " << taps / plane / 3 << ")" << std::endl;
-        EXPECT_LE(extra, 4.0);
-        latent.release();  // freed through the counter, which must outlive it
+        const PsfBank bank = generator->generate(model, schedule, shutter);
+        for (int colorIterations : {-1, 3})
+        {
+            params.colorIterations = colorIterations;
+            double taps = 0;
+            const double extra = extraPlanesPerChannel(frame, bank, params, taps);
+            std::cout << "[ measured ] " << (model == PSF_ROWS ? "row" : "tile")
+                      << "-wise RL, 1280x960 RGB, 10 iterations, colorIterations " << colorIterations
+                      << ": peak extra memory " << extra << " frame planes per channel (Mats " << extra - taps
+                      << ", operator's taps " << taps << ")" << std::endl;
+            EXPECT_LE(extra, model == PSF_ROWS ? 4.0 : 9.5);  // tiles: 9.07 / 8.89 measured on 2026-11-22
+        }
     }
 }
 

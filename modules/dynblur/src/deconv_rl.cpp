@@ -21,8 +21,8 @@ constexpr float kRatioEpsilon = 1e-12f;
 constexpr int kBlockRows = 8;
 
 /* ln x for a positive normal float, within a few ulps (finite for any finite x ≥ 0): Cephes' logf
-   (exponent split, mantissa in [√½, √2), degree-8 polynomial). Branch-free and inline, so the loop that calls it vectorises:
-   hal::log32f's extra pass through a buffer cost more than the log itself. */
+   (exponent split, mantissa in [√½, √2), degree-8 polynomial). Branch-free and inline, so the loop
+   that calls it vectorises: hal::log32f's extra pass through a buffer cost more than the log. */
 inline float logPositive(float x)
 {
     /* Bit casts, not memcpy (GCC vectorises the loop only then), and the split by integer
@@ -329,8 +329,7 @@ float projectionBound(const BlurOperator& op, const ImageLevel& level)
 /* RL over every plane for params.iterations (colorIterations ignored): `observed` holds the frame's
    planes, `level` is the frame's levelOf. Returns the most iterations a plane ran. */
 int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const ImageLevel& level, const Mat& normalizer,
-                  const RLParams& params, std::vector<Mat>& estimate, std::vector<Mat>& other, std::vector<Mat>& step,
-                  RLWorkspace& ws)
+                  const RLParams& params, std::vector<Mat>& estimate, RLWorkspace& ws)
 {
     const size_t channels = observed.size();
     CV_Assert(estimate.size() == channels);
@@ -355,13 +354,14 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
     /* The planes are independent problems and run one after another, each through all its
        iterations with its own extrapolation and stopping test: one plane's working set fits in the
        last-level cache where all three did not. Per plane: the estimate x_k. For the plane running:
-       `other` (x_{k−1}, overwritten by the extrapolated y_k and then by x_{k+1} in place) and, when
-       accelerating, the last step g_{k−1} (overwritten by g_k while its dot product with g_k is
-       taken). Shared: the ratio and, for operators that cannot gather rows, whole reblurred and
-       correction planes. */
+       `other[0]` (x_{k−1}, overwritten by the extrapolated y_k and then by x_{k+1} in place) and,
+       when accelerating, `step[0]`, the last step g_{k−1} (overwritten by g_k while its dot product
+       with g_k is taken). Shared: the ratio and, for operators that cannot gather rows, whole
+       reblurred and correction planes. */
     // Never shrunk: a workspace keeps its planes for the next frame.
-    other.resize(std::max<size_t>(other.size(), 1));
-    step.resize(std::max<size_t>(step.size(), 1));
+    ws.other.resize(std::max<size_t>(ws.other.size(), 1));
+    ws.step.resize(std::max<size_t>(ws.step.size(), 1));
+    Mat& step = ws.step[0];
     Mat& ratio = ws.ratio;
     Mat& reblurred = ws.reblurred;
     Mat& correction = ws.correction;
@@ -372,8 +372,8 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
     {
         if (params.accelerate)
         {
-            step[0].create(latentSize, CV_16UC1);  // bfloat16
-            step[0].setTo(0);
+            step.create(latentSize, CV_16UC1);  // bfloat16
+            step.setTo(0);
         }
         double alpha = 0;
         UpdateSums previousSums;
@@ -387,7 +387,7 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                             : 0.0;
             std::vector<UpdateSums> sums(static_cast<size_t>(bands));
             const Mat& x = estimate[c];
-            Mat& next = other[0];
+            Mat& next = ws.other[0];
             next.create(latentSize, CV_32FC1);
             const Mat* predicted = &x;
             if (alpha > 0)
@@ -460,7 +460,7 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                     updateRow(y.ptr<float>(r), cp, normalizer.empty() ? nullptr : normalizer.ptr<float>(r),
                               curvatureRow, tvWeight, upper, width, out, stepRow);
                     if (accelerate)
-                        dotAndReplace(stepRow, step[0].ptr<uint16_t>(r), width, scale, s.stepDot, s.stepBeforeSq);
+                        dotAndReplace(stepRow, step.ptr<uint16_t>(r), width, scale, s.stepDot, s.stepBeforeSq);
                     if (measure)
                     {
                         const float* xp = x.ptr<float>(r);
@@ -674,7 +674,7 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const std::vecto
 {
     const int colour = params.colorIterations;
     if (blurred.channels() < 3 || colour < 0 || colour >= params.iterations)
-        return iteratePlanes(op, planes, levelOf(blurred), normalizer, params, estimate, ws.other, ws.step, ws);
+        return iteratePlanes(op, planes, levelOf(blurred), normalizer, params, estimate, ws);
 
     const ImageLevel colourLevel = levelOf(blurred);
     int done = 0;
@@ -682,23 +682,22 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const std::vecto
     {
         RLParams first = params;
         first.iterations = colour;
-        done = iteratePlanes(op, planes, colourLevel, normalizer, first, estimate, ws.other, ws.step, ws);
+        done = iteratePlanes(op, planes, colourLevel, normalizer, first, estimate, ws);
         if (params.tolerance > 0 && done < colour)
             return done;  // converged in colour already
     }
-    /* The luminance phase works in the colour phase's buffers (`observed`, `other` and `step`,
-       which that phase no longer needs), so it adds nothing to the peak memory. */
+    /* The luminance phase works in the colour phase's buffers (`observed`, whose planes that phase
+       no longer reads, `other` and `step`), `other` grown to three latent planes: the running
+       plane's, the luminance estimate and its start. */
     const Size latentSize = op.latentSize();
     ws.other.resize(std::max<size_t>(ws.other.size(), 3));
     for (Mat& m : ws.other)
         m.create(latentSize, CV_32FC1);
-    ws.step.resize(std::max<size_t>(ws.step.size(), 1));
-    ws.step[0].create(latentSize, CV_16UC1);
     ws.observed.resize(std::max<size_t>(ws.observed.size(), 1));
     ws.observed[0].create(op.frameSize(), CV_32FC1);
     Mat luminance = ws.observed[0];
     Mat& start = ws.other[2];
-    std::vector<Mat> latent{ws.other[1]}, other{ws.other[0]}, step{ws.step[0]};
+    std::vector<Mat> latent{ws.other[1]};
     // Blur is linear and the same for every plane, so the planes' mean is blurred by it too.
     const int channels = blurred.channels();
     const float perChannel = 1.f / float(channels);
@@ -719,7 +718,7 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const std::vecto
     });
     RLParams rest = params;
     rest.iterations = params.iterations - colour;
-    done += iteratePlanes(op, {luminance}, levelOf(luminance), normalizer, rest, latent, other, step, ws);
+    done += iteratePlanes(op, {luminance}, levelOf(luminance), normalizer, rest, latent, ws);
     /* The luminance's change goes to every plane as a ratio, which keeps each pixel's chromaticity
        (an added difference shifts dark and saturated colours: in DeblurQuality's fruits it cost
        3.5 dB with no colour iteration, 0.5 dB with one). Where the start is (nearly) black the difference is added instead.
@@ -733,7 +732,6 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const std::vecto
                                   e.ptr<float>(y));
     });
     ws.other[1] = latent[0];  // the two buffers may have swapped: keep the pool's set intact
-    ws.other[0] = other[0];
     return done;
 }
 

@@ -26,10 +26,4 @@ source "$here/scripts/sanitizer_env.sh"
 default_exclude='DeblurQuality\.|PsfGenerator\.PointSourceMatchesRendererRollingShutter|PsfGenerator\.TilesCaptureColumnVariation|RenderBlurred\.FullFrameSaccadeSpeed|ServoTrack\.|ServoLoop\.'
 exclude="${DYNBLUR_ASAN_CTEST_EXCLUDE-$default_exclude}"
 echo "[sanitize] C++ tests under ASan + UBSan (CTest${exclude:+, without the heavy quality tests})"
-# DeconvArguments.BadInputThrows runs apart, with full malloc stacks: see sanitizer/lsan.supp.
-apart='DeconvArguments\.BadInputThrows'
-status=0
-ctest --test-dir "$build" --output-on-failure -j "$(nproc)" -E "${exclude:+$exclude|}$apart" || status=$?
-ASAN_OPTIONS="$ASAN_OPTIONS:fast_unwind_on_malloc=0" \
-  ctest --test-dir "$build" --output-on-failure -R "$apart" || status=$?
-exit $status
+ctest --test-dir "$build" --output-on-failure -j "$(nproc)" ${exclude:+-E "$exclude"}

@@ -50,7 +50,7 @@ void parallelLoop(void* (*work)(char*), char* jobData, size_t jobSize, int jobs,
     });
 }
 
-/* Plans live for the whole process, keyed by grid size and thread count. FFTW's planner is not
+/* Plans live until the process exits, keyed by grid size and thread count. FFTW's planner is not
    thread safe, so creation is serialised; executing a plan on other (equally aligned) arrays with
    the new-array API is thread safe, which is how every FftKernel shares them. */
 class PlanCache
@@ -91,6 +91,17 @@ private:
     {
         fftwf_init_threads();
         fftwf_threads_set_callback(parallelLoop, nullptr);
+    }
+    /* At exit: every FftKernel holding these plans was constructed after the cache (its
+       constructor is what creates it), so it is destroyed before. */
+    ~PlanCache()
+    {
+        for (auto& entry : plans_)
+        {
+            fftwf_destroy_plan(entry.second.forward);
+            fftwf_destroy_plan(entry.second.inverse);
+        }
+        fftwf_cleanup_threads();
     }
     std::mutex mutex_;
     std::map<std::tuple<int, int, int>, PlanPair> plans_;

@@ -415,7 +415,7 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
     {
         ws.observed.clear();
         ws.other.clear();
-        ws.step.clear();
+        ws.step.release();
         ws.ratio.release();
     }
     const Rect frame(op.origin(), frameSize);

@@ -355,13 +355,12 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
        iterations with its own extrapolation and stopping test: one plane's working set fits in the
        last-level cache where all three did not. Per plane: the estimate x_k. For the plane running:
        `other[0]` (x_{k−1}, overwritten by the extrapolated y_k and then by x_{k+1} in place) and,
-       when accelerating, `step[0]`, the last step g_{k−1} (overwritten by g_k while its dot product
+       when accelerating, `step`, the last step g_{k−1} (overwritten by g_k while its dot product
        with g_k is taken). Shared: the ratio and, for operators that cannot gather rows, whole
        reblurred and correction planes. */
     // Never shrunk: a workspace keeps its planes for the next frame.
     ws.other.resize(std::max<size_t>(ws.other.size(), 1));
-    ws.step.resize(std::max<size_t>(ws.step.size(), 1));
-    Mat& step = ws.step[0];
+    Mat& step = ws.step;
     Mat& ratio = ws.ratio;
     Mat& reblurred = ws.reblurred;
     Mat& correction = ws.correction;

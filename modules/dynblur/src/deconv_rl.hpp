@@ -16,8 +16,8 @@ themselves; DynamicDeblurrer keeps one workspace, so a stream of frames allocate
 struct RLWorkspace
 {
     std::vector<Mat> estimate, other;
-    std::vector<Mat> step;      // the last RL step per plane, bfloat16 (CV_16U)
     std::vector<Mat> observed;  // the frame's planes, when it has several
+    Mat step;                   // the running plane's last RL step, bfloat16 (CV_16U)
     Mat ratio, reblurred, correction;  // shared by the planes
     Mat normalizer, valid;
     //! Keep the iterations' planes after a call (for the next frame) instead of freeing them before the output is written.

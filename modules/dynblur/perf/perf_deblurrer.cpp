@@ -1,9 +1,17 @@
 // The whole pipeline on one C270-sized frame: DynamicDeblurrer::deblur (exposure window, PSF bank,
 // 10 RL iterations) for each PSF model, on a 1280x960 RGB rolling-shutter frame in window III of a
-// 10° saccade. Compare with BM_RichardsonLucyFilter2DBaseline (perf_deconv.cpp) in the same run.
+// 10° saccade; and the speed targets' ratios, from rounds that time the row-wise and tile-wise
+// restorations and the filter2D reference back to back on that frame.
+#include "perf_baseline.hpp"
+
 #include <benchmark/benchmark.h>
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <functional>
+#include <vector>
 
 using namespace cv;
 using namespace cv::dynblur;
@@ -35,17 +43,30 @@ const SaccadeFrame& saccadeFrame()
     return frame;
 }
 
+//! DynamicDeblurrer in the frame-rate setting (10 iterations, 3 in colour) with `psfModel`.
+Ptr<DynamicDeblurrer> frameRateDeblurrer(const SaccadeFrame& f, int psfModel)
+{
+    Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(f.plant, f.camera);
+    deblurrer->setPsfModel(psfModel);
+    RLParams params = deblurrer->getRLParams();
+    params.iterations = 10;
+    params.colorIterations = 3;  // the frame-rate setting; its quality is DeblurQuality's to check
+    deblurrer->setRLParams(params);
+    return deblurrer;
+}
+
+double median(std::vector<double> values)
+{
+    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+    return values[values.size() / 2];
+}
+
 void BM_DeblurFrame(benchmark::State& state)
 {
     const SaccadeFrame& f = saccadeFrame();
     if (classifyExposure(f.plant, f.schedule, f.shutter) != EXPOSURE_III)
         state.SkipWithError("the benchmark frame is not in exposure window III");
-    Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(f.plant, f.camera);
-    deblurrer->setPsfModel(static_cast<int>(state.range(0)));
-    RLParams params = deblurrer->getRLParams();
-    params.iterations = 10;
-    params.colorIterations = 3;  // the frame-rate setting; its quality is DeblurQuality's to check
-    deblurrer->setRLParams(params);
+    Ptr<DynamicDeblurrer> deblurrer = frameRateDeblurrer(f, static_cast<int>(state.range(0)));
     Mat restored;
     for (auto _ : state)
     {
@@ -60,3 +81,49 @@ void BM_DeblurFrame(benchmark::State& state)
 
 BENCHMARK(BM_DeblurFrame)->ArgName("psfModel")->Arg(PSF_UNIFORM)->Arg(PSF_ROWS)->Arg(PSF_TILES)
     ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+
+/* The targets' ratios: each round restores the frame row-wise and tile-wise and runs the filter2D
+   reference (10 iterations, uniform 21×1 kernel) on it, in an order that rotates from round to
+   round; each ratio is the median of the rounds' ratios. This machine's speed drifts by ±20 % over
+   minutes, which ratios of medians taken minutes apart carry in full; within a round the three
+   see nearly the same machine. Counters: the medians (ms) and the ratios. */
+void BM_FrameRatePaired(benchmark::State& state)
+{
+    const SaccadeFrame& f = saccadeFrame();
+    Ptr<DynamicDeblurrer> rows = frameRateDeblurrer(f, PSF_ROWS), tiles = frameRateDeblurrer(f, PSF_TILES);
+    const Mat kernel = dynblur_perf::uniformKernel21x1();
+    Mat restored, estimate;
+    const auto timed = [](auto&& work) {
+        const auto start = std::chrono::steady_clock::now();
+        work();
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    };
+    const std::function<double()> runs[3] = {
+        [&] { return timed([&] { rows->deblur(f.frame, f.schedule, f.shutter, restored); }); },
+        [&] { return timed([&] { tiles->deblur(f.frame, f.schedule, f.shutter, restored); }); },
+        [&] { return timed([&] { dynblur_perf::filter2DRichardsonLucy(f.frame, kernel, 10, estimate); }); }};
+    for (const auto& run : runs)
+        run();  // warm: buffers and FFTW/thread pools set up once
+    std::vector<double> ms[3], tilesOverRows, filter2DOverRows;
+    int round = 0;
+    for (auto _ : state)
+    {
+        double t[3];
+        for (int k = 0; k < 3; k++)
+        {
+            const int which = (round + k) % 3;
+            t[which] = runs[which]();
+        }
+        for (int k = 0; k < 3; k++)
+            ms[k].push_back(t[k]);
+        tilesOverRows.push_back(t[1] / t[0]);
+        filter2DOverRows.push_back(t[2] / t[0]);
+        round++;
+    }
+    state.counters["rows_ms"] = median(ms[0]);
+    state.counters["tiles_ms"] = median(ms[1]);
+    state.counters["filter2d_ms"] = median(ms[2]);
+    state.counters["tiles_over_rows"] = median(tilesOverRows);
+    state.counters["filter2d_over_rows"] = median(filter2DOverRows);
+}
+BENCHMARK(BM_FrameRatePaired)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(15)->Repetitions(1);

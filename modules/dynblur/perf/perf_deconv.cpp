@@ -1,6 +1,8 @@
 // Speed of deconv.hpp on a 1280×960 RGB CV_32F frame, 10 RL iterations: uniform FFTW RL, the
 // row-variant bank (bands of 8 rows, ~31×3 kernels, displacements up to 200 px), a 4×3 tile
 // bank, and a baseline RL written with cv::filter2D for scale.
+#include "perf_baseline.hpp"
+
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -102,21 +104,11 @@ BENCHMARK(BM_RichardsonLucyTileBank)->Unit(benchmark::kMillisecond)->UseRealTime
 //! Scale reference: plain RL with cv::filter2D (spatial, OpenCV's own parallel/SIMD code).
 void BM_RichardsonLucyFilter2DBaseline(benchmark::State& state)
 {
-    const Mat blurred = frame();
-    const Mat kernel = pathKernel(Point2d(10, 0), 1, 21);
-    Mat flipped;
-    flip(kernel, flipped, -1);
-    Mat estimate, reblurred, ratio, correction;
+    const Mat blurred = frame(), kernel = dynblur_perf::uniformKernel21x1();
+    Mat estimate;
     for (auto _ : state)
     {
-        blurred.copyTo(estimate);
-        for (int i = 0; i < 10; i++)
-        {
-            filter2D(estimate, reblurred, CV_32F, flipped, Point(-1, -1), 0, BORDER_REPLICATE);
-            divide(blurred, reblurred + Scalar::all(1e-12), ratio);
-            filter2D(ratio, correction, CV_32F, kernel, Point(-1, -1), 0, BORDER_REPLICATE);
-            multiply(estimate, correction, estimate);
-        }
+        dynblur_perf::filter2DRichardsonLucy(blurred, kernel, 10, estimate);
         benchmark::DoNotOptimize(estimate.data);
     }
 }

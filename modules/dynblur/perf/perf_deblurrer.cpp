@@ -93,17 +93,12 @@ void BM_FrameRatePaired(benchmark::State& state)
     Ptr<DynamicDeblurrer> rows = frameRateDeblurrer(f, PSF_ROWS), tiles = frameRateDeblurrer(f, PSF_TILES);
     const Mat kernel = dynblur_perf::uniformKernel21x1();
     Mat restored, estimate;
-    const auto timed = [](auto&& work) {
-        const auto start = std::chrono::steady_clock::now();
-        work();
-        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    };
-    const std::function<double()> runs[3] = {
-        [&] { return timed([&] { rows->deblur(f.frame, f.schedule, f.shutter, restored); }); },
-        [&] { return timed([&] { tiles->deblur(f.frame, f.schedule, f.shutter, restored); }); },
-        [&] { return timed([&] { dynblur_perf::filter2DRichardsonLucy(f.frame, kernel, 10, estimate); }); }};
-    for (const auto& run : runs)
-        run();  // warm: buffers and FFTW/thread pools set up once
+    const std::function<void()> work[3] = {
+        [&] { rows->deblur(f.frame, f.schedule, f.shutter, restored); },
+        [&] { tiles->deblur(f.frame, f.schedule, f.shutter, restored); },
+        [&] { dynblur_perf::filter2DRichardsonLucy(f.frame, kernel, 10, estimate); }};
+    for (const auto& w : work)
+        w();  // warm: buffers and thread pools set up once
     std::vector<double> ms[3], tilesOverRows, filter2DOverRows;
     int round = 0;
     for (auto _ : state)
@@ -112,7 +107,9 @@ void BM_FrameRatePaired(benchmark::State& state)
         for (int k = 0; k < 3; k++)
         {
             const int which = (round + k) % 3;
-            t[which] = runs[which]();
+            const auto start = std::chrono::steady_clock::now();
+            work[which]();
+            t[which] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         }
         for (int k = 0; k < 3; k++)
             ms[k].push_back(t[k]);

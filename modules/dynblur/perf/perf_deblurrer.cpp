@@ -99,28 +99,31 @@ void BM_FrameRatePaired(benchmark::State& state)
         [&] { dynblur_perf::filter2DRichardsonLucy(f.frame, kernel, 10, estimate); }};
     for (const auto& w : work)
         w();  // warm: buffers and thread pools set up once
-    std::vector<double> ms[3], tilesOverRows, filter2DOverRows;
+    std::vector<double> ms[3];  // per workload, one time per round
     int round = 0;
     for (auto _ : state)
     {
-        double t[3];
         for (int k = 0; k < 3; k++)
         {
             const int which = (round + k) % 3;
             const auto start = std::chrono::steady_clock::now();
             work[which]();
-            t[which] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+            ms[which].push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
         }
-        for (int k = 0; k < 3; k++)
-            ms[k].push_back(t[k]);
-        tilesOverRows.push_back(t[1] / t[0]);
-        filter2DOverRows.push_back(t[2] / t[0]);
         round++;
     }
+    //! Median over the rounds of workload `which`'s time over the row-wise one's.
+    const auto overRows = [&](int which) {
+        std::vector<double> ratio(ms[0].size());
+        for (size_t r = 0; r < ratio.size(); r++)
+            ratio[r] = ms[which][r] / ms[0][r];
+        return median(ratio);
+    };
     state.counters["rows_ms"] = median(ms[0]);
     state.counters["tiles_ms"] = median(ms[1]);
     state.counters["filter2d_ms"] = median(ms[2]);
-    state.counters["tiles_over_rows"] = median(tilesOverRows);
-    state.counters["filter2d_over_rows"] = median(filter2DOverRows);
+    state.counters["tiles_over_rows"] = overRows(1);
+    state.counters["filter2d_over_rows"] = overRows(2);
 }
 BENCHMARK(BM_FrameRatePaired)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(15)->Repetitions(1);

@@ -13,6 +13,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <random>
 
@@ -362,6 +363,77 @@ TEST(DeconvOperator, AdjointIsExactForRowBankWithLargeShifts)
     }
 }
 
+//! `m` with every element rounded to the nearest bfloat16, so packing it loses nothing.
+Mat bfloat16Exact(const Mat& m)
+{
+    Mat rounded = m.clone();
+    for (int y = 0; y < rounded.rows; y++)
+    {
+        std::vector<uint32_t> packed(size_t(rounded.cols));
+        cv::dynblur::detail::packRowPair(rounded.ptr<float>(y), nullptr, 0.f, rounded.cols, packed.data());
+        for (int x = 0; x < rounded.cols; x++)
+        {
+            const uint32_t bits = packed[size_t(x)] << 16;
+            std::memcpy(rounded.ptr<float>(y) + x, &bits, sizeof bits);
+        }
+    }
+    return rounded;
+}
+
+/* A packed (bfloat16) operator agrees with the float one within bfloat16's rounding (weights and
+   data each to 2^-9, so sums of positive terms to ~2^-8), is the exact transpose of itself on data
+   that packs exactly (tiles: to the re-rounding of the tent-weighted copies), and gives the same
+   with and without the AVX512-BF16 instructions. */
+void expectPackedAgrees(cv::dynblur::detail::BlurOperator& packed, cv::dynblur::detail::BlurOperator& exact,
+                        double adjointTolerance, const std::string& what)
+{
+    ASSERT_TRUE(packed.gathersPackedRows());
+    ASSERT_FALSE(packed.gathersRows());
+    ASSERT_EQ(packed.latentSize(), exact.latentSize());
+    Mat x(packed.latentSize(), CV_32F), y(packed.frameSize(), CV_32F);
+    RNG(7).fill(x, RNG::UNIFORM, 0.1, 1);
+    RNG(8).fill(y, RNG::UNIFORM, 0.1, 1);
+    x = bfloat16Exact(x);
+    y = bfloat16Exact(y);
+    Mat a, b, widened;
+    exact.forward(x, a);
+    packed.forward(x, b);
+    EXPECT_LT(norm(a, b, NORM_INF), 4e-3 * norm(a, NORM_INF)) << what << ": forward";
+    cv::dynblur::detail::setPackedGatherWidened(true);
+    packed.forward(x, widened);
+    cv::dynblur::detail::setPackedGatherWidened(false);
+    EXPECT_LT(norm(b, widened, NORM_INF), 1e-5 * norm(b, NORM_INF)) << what << ": forward widened";
+    const double lhs = b.dot(y);
+    exact.adjoint(y, a);
+    packed.adjoint(y, b);
+    EXPECT_LT(norm(a, b, NORM_INF), 4e-3 * norm(a, NORM_INF)) << what << ": adjoint";
+    cv::dynblur::detail::setPackedGatherWidened(true);
+    packed.adjoint(y, widened);
+    cv::dynblur::detail::setPackedGatherWidened(false);
+    EXPECT_LT(norm(b, widened, NORM_INF), 1e-5 * norm(b, NORM_INF)) << what << ": adjoint widened";
+    const double rhs = x.dot(b);
+    EXPECT_LT(std::abs(lhs - rhs), adjointTolerance * std::abs(lhs)) << what << ": " << lhs << " vs " << rhs;
+}
+
+// Odd heights (a last row without a partner), slanted kernels and large shifts, both boundaries.
+TEST(DeconvOperator, PackedBfloat16GathersAgreeWithFloat)
+{
+    PsfBank rows = rowBank(Size(150, 161), 8, 120);
+    rows.kernels[3] = Mat::zeros(5, 7, CV_32F);
+    for (int i = 0; i < 5; i++)
+        rows.kernels[3].at<float>(i, i + 1) = 0.2f;
+    rows.shifts[3] = Point(-4, 3);
+    const PsfBank tiles = unevenTaps(tileBank(Size(151, 111), 5, 4, 41), 6);
+    for (bool pad : {true, false})
+    {
+        const std::string suffix = pad ? ", pad" : ", zero";
+        cv::dynblur::detail::RowBankOperator rowPacked(rows, pad, true), rowExact(rows, pad);
+        expectPackedAgrees(rowPacked, rowExact, 1e-6, "rows" + suffix);
+        cv::dynblur::detail::TileBankOperator tilePacked(tiles, pad, true), tileExact(tiles, pad);
+        expectPackedAgrees(tilePacked, tileExact, 1e-4, "tiles" + suffix);
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // (3) The forward model is filter2D with the flipped kernel, moved by the shift.
 
@@ -503,6 +575,44 @@ double borderToInterior(const Mat& restored, const Mat& truth, int border)
     Mat borderMask(err.size(), CV_8U, Scalar(255));
     borderMask(Rect(border, border, err.cols - 2 * border, err.rows - 2 * border)).setTo(0);
     return mean(err, borderMask)[0] / mean(err, ~borderMask)[0];
+}
+
+// bfloat16 blurs restore as float ones do, with and without extrapolation, in colour and through
+// the luminance phase, row-wise and tile-wise (odd heights: a last row without a partner).
+TEST(DeconvVariant, Bfloat16BlursRestoreAsFloatDoes)
+{
+    DYNBLUR_REQUIRE_DATA(path, "fruits.jpg");
+    const Size frame(240, 181);
+    const Point offset(40, 40);
+    const Mat canvas = loadImage(path, Size(320, 261), true);
+    for (const PsfBank& bank : {rowBank(frame, 8, 12), tileBank(frame, 4, 3, 12)})
+    {
+        Mat blurredCanvas;
+        applyPsfBank(canvas, onCanvas(bank, canvas.size(), offset), blurredCanvas);
+        const Rect frameRect(offset, frame);
+        const Mat truth = canvas(frameRect).clone();
+        const Mat blurred = addGaussianNoise(blurredCanvas(frameRect), 0.003, 2);
+        for (bool accelerate : {true, false})
+            for (int colorIterations : {-1, 2})
+            {
+                RLParams params;
+                params.iterations = 10;
+                params.accelerate = accelerate;
+                params.colorIterations = colorIterations;
+                Mat exact, fast, valid;
+                richardsonLucyVariant(blurred, bank, exact, params, valid);
+                params.blurPrecision = RL_BLUR_BFLOAT16;
+                richardsonLucyVariant(blurred, bank, fast, params);
+                const double before = psnr(blurred, truth, valid), floatPsnr = psnr(exact, truth, valid),
+                             bfloat16Psnr = psnr(fast, truth, valid);
+                const std::string what = format("%s, accelerate %d, colorIterations %d",
+                                                bank.model == PSF_ROWS ? "rows" : "tiles", accelerate, colorIterations);
+                std::printf("[ measured ] %s: blurred %.2f dB, float %.2f dB, bfloat16 %.2f dB\n", what.c_str(), before,
+                            floatPsnr, bfloat16Psnr);
+                EXPECT_GT(floatPsnr, before + 2.0) << what;
+                EXPECT_NEAR(bfloat16Psnr, floatPsnr, 0.1) << what;
+            }
+    }
 }
 
 TEST(DeconvBoundary, PadDoesNotRingAtEdges)
@@ -742,6 +852,10 @@ TEST(DeconvArguments, BadInputThrows)
     bad.colorIterations = -2;
     EXPECT_NE(errorOf([&] { richardsonLucyVariant(image, bank, out, bad); }).find("params.colorIterations"),
               std::string::npos);
+    bad = p;
+    bad.blurPrecision = 2;
+    EXPECT_NE(errorOf([&] { richardsonLucyVariant(image, bank, out, bad); }).find("params.blurPrecision"),
+              std::string::npos);
 }
 
 // Luminance iterations: exact where they must be, and close to full colour on a colourful frame.
@@ -899,7 +1013,7 @@ double extraPlanesPerChannel(const Mat& frame, const PsfBank& bank, const RLPara
     const double plane = double(frame.total()) * sizeof(float) * frame.channels();
     const double before = heapInUse();
     {
-        const auto op = cv::dynblur::detail::createBankOperator(bank, true);
+        const auto op = cv::dynblur::detail::createBankOperator(bank, true, params.blurPrecision == RL_BLUR_BFLOAT16);
         operatorPlanes = (heapInUse() - before) / plane;
     }
     Mat latent;
@@ -930,15 +1044,20 @@ TEST(DeconvMemory, RowWiseRestorationStaysWithinFourFramePlanesPerChannel)
     for (int model : {PSF_ROWS, PSF_TILES})
     {
         const PsfBank bank = generator->generate(model, schedule, shutter);
-        for (int colorIterations : {-1, 3})
+        // Full colour, then the frame-rate setting in float and in bfloat16.
+        for (const std::pair<int, int>& setting :
+             {std::make_pair(-1, int(RL_BLUR_FLOAT32)), std::make_pair(3, int(RL_BLUR_FLOAT32)),
+              std::make_pair(3, int(RL_BLUR_BFLOAT16))})
         {
-            params.colorIterations = colorIterations;
+            params.colorIterations = setting.first;
+            params.blurPrecision = setting.second;
             double taps = 0;
             const double extra = extraPlanesPerChannel(frame, bank, params, taps);
             std::cout << "[ measured ] " << (model == PSF_ROWS ? "row" : "tile")
-                      << "-wise RL, 1280x960 RGB, 10 iterations, colorIterations " << colorIterations
-                      << ": peak extra memory " << extra << " frame planes per channel (Mats " << extra - taps
-                      << ", operator's taps " << taps << ")" << std::endl;
+                      << "-wise RL, 1280x960 RGB, 10 iterations, colorIterations " << setting.first
+                      << (setting.second == RL_BLUR_BFLOAT16 ? ", bfloat16" : ", float32") << ": peak extra memory "
+                      << extra << " frame planes per channel (Mats " << extra - taps << ", operator's taps " << taps
+                      << ")" << std::endl;
             EXPECT_LE(extra, model == PSF_ROWS ? 4.0 : 9.5);  // tiles: 9.07 / 8.89 measured on 2026-11-22
         }
     }

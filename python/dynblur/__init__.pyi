@@ -30,6 +30,8 @@ PSF_ROWS: int
 PSF_TILES: int
 RL_BOUNDARY_ZERO: int
 RL_BOUNDARY_PAD: int
+RL_BLUR_FLOAT32: int
+RL_BLUR_BFLOAT16: int
 DEBLUR_RICHARDSON_LUCY: int
 DEBLUR_WIENER: int
 
@@ -169,9 +171,10 @@ class RLParams:
     accelerate: bool
     tolerance: float
     colorIterations: int
+    blurPrecision: int
     def __init__(self, iterations: int = 20, damping: float = 0.0, tvWeight: float = 0.002,
                  boundary: int = 1, accelerate: bool = True, tolerance: float = 0.0,
-                 colorIterations: int = -1) -> None: ...
+                 colorIterations: int = -1, blurPrecision: int = 0) -> None: ...
 
 def richardsonLucy(blurred: ArrayLike, psf: ArrayLike, params: RLParams = ...,
                    initial: ArrayLike | None = None) -> NDArray[np.float32]: ...

@@ -11,7 +11,7 @@ namespace dynblur {
 
 RLParams::RLParams()
     : iterations(20), damping(0), tvWeight(0.002), boundary(RL_BOUNDARY_PAD), accelerate(true), tolerance(0),
-      colorIterations(-1)
+      colorIterations(-1), blurPrecision(RL_BLUR_FLOAT32)
 {
 }
 
@@ -299,6 +299,10 @@ void checkRLParams(const RLParams& params, const char* function)
         CV_Error(Error::StsOutOfRange,
                  format("%s: params.boundary = %d must be RL_BOUNDARY_ZERO (0) or RL_BOUNDARY_PAD (1)", function,
                         params.boundary));
+    if (params.blurPrecision != RL_BLUR_FLOAT32 && params.blurPrecision != RL_BLUR_BFLOAT16)
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: params.blurPrecision = %d must be RL_BLUR_FLOAT32 (0) or RL_BLUR_BFLOAT16 (1)", function,
+                        params.blurPrecision));
 }
 
 void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, const RLParams& params, InputArray initial)
@@ -358,7 +362,7 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
                     OutputArray latent, OutputArray validMask)
 {
     const bool pad = params.boundary == RL_BOUNDARY_PAD;
-    std::unique_ptr<BlurOperator> blur = createBankOperator(bank, pad);
+    std::unique_ptr<BlurOperator> blur = createBankOperator(bank, pad, params.blurPrecision == RL_BLUR_BFLOAT16);
     BlurOperator& op = *blur;
     const Size frameSize = observed.size(), latentSize = op.latentSize();
     /* The set-up's scratch lives in buffers the iterations fill later (the ratio plane and the

@@ -4,7 +4,12 @@
 
 #include <opencv2/core/utility.hpp>
 
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 #include <algorithm>
+#include <atomic>
 #include <climits>
 #include <cstring>
 #include <utility>
@@ -371,6 +376,288 @@ void gatherBlock(const Mat& source, const RowBankOperator::Gather& gather, const
     }
 }
 
+/* Packed bfloat16 row pairs. A row kernel of a tilting camera runs down a column, so consecutive
+   source rows meet the same column offset: AVX512-BF16's dot product of two bfloat16 pairs takes
+   both in one instruction, twice the multiply-adds of a float FMA, and the packed plane is half
+   the bytes. */
+
+inline uint32_t roundToBfloat16(float v)
+{
+    const uint32_t bits = __builtin_bit_cast(uint32_t, v);
+    return (bits + 0x7fffu + ((bits >> 16) & 1u)) >> 16;  // to nearest, ties to even
+}
+
+inline float lowBfloat16(uint32_t packed)
+{
+    return __builtin_bit_cast(float, packed << 16);
+}
+
+inline float highBfloat16(uint32_t packed)
+{
+    return __builtin_bit_cast(float, packed & 0xffff0000u);
+}
+
+typedef void (*PackedPairKernel)(float* __restrict, float* __restrict, const uint32_t*, size_t,
+                                 const RowBankOperator::PackedTap*, int, int, int);
+
+/* out0[x], out1[x] = Σ_t dot(weight_t[k], packed(pair_t, x + col_t)) for x in [begin, end), every
+   read inside: 32 columns at a time in eight 8-float sums, as gatherPairInterior. */
+__attribute__((target("avx512bf16,avx512vl,avx512f,avx2,fma"))) void
+gatherPackedPairBf16(float* __restrict out0, float* __restrict out1, const uint32_t* source, size_t sourceStep,
+                     const RowBankOperator::PackedTap* taps, int tapCount, int begin, int end)
+{
+    int x = begin;
+    for (; x + 32 <= end; x += 32)
+    {
+        __m256 a0 = _mm256_setzero_ps(), a1 = a0, a2 = a0, a3 = a0, b0 = a0, b1 = a0, b2 = a0, b3 = a0;
+        for (int t = 0; t < tapCount; t++)
+        {
+            const __m256i* p = (const __m256i*)(source + size_t(taps[t].pair) * sourceStep + (taps[t].col + x));
+            const __m256bh w = (__m256bh)_mm256_set1_epi32(int(taps[t].weight[0]));
+            const __m256bh u = (__m256bh)_mm256_set1_epi32(int(taps[t].weight[1]));
+            const __m256bh l0 = (__m256bh)_mm256_loadu_si256(p), l1 = (__m256bh)_mm256_loadu_si256(p + 1),
+                           l2 = (__m256bh)_mm256_loadu_si256(p + 2), l3 = (__m256bh)_mm256_loadu_si256(p + 3);
+            a0 = _mm256_dpbf16_ps(a0, l0, w);
+            a1 = _mm256_dpbf16_ps(a1, l1, w);
+            a2 = _mm256_dpbf16_ps(a2, l2, w);
+            a3 = _mm256_dpbf16_ps(a3, l3, w);
+            b0 = _mm256_dpbf16_ps(b0, l0, u);
+            b1 = _mm256_dpbf16_ps(b1, l1, u);
+            b2 = _mm256_dpbf16_ps(b2, l2, u);
+            b3 = _mm256_dpbf16_ps(b3, l3, u);
+        }
+        _mm256_storeu_ps(out0 + x, a0);
+        _mm256_storeu_ps(out0 + x + 8, a1);
+        _mm256_storeu_ps(out0 + x + 16, a2);
+        _mm256_storeu_ps(out0 + x + 24, a3);
+        _mm256_storeu_ps(out1 + x, b0);
+        _mm256_storeu_ps(out1 + x + 8, b1);
+        _mm256_storeu_ps(out1 + x + 16, b2);
+        _mm256_storeu_ps(out1 + x + 24, b3);
+    }
+    for (; x + 8 <= end; x += 8)
+    {
+        __m256 a = _mm256_setzero_ps(), b = a;
+        for (int t = 0; t < tapCount; t++)
+        {
+            const __m256bh l = (__m256bh)_mm256_loadu_si256(
+                (const __m256i*)(source + size_t(taps[t].pair) * sourceStep + (taps[t].col + x)));
+            a = _mm256_dpbf16_ps(a, l, (__m256bh)_mm256_set1_epi32(int(taps[t].weight[0])));
+            b = _mm256_dpbf16_ps(b, l, (__m256bh)_mm256_set1_epi32(int(taps[t].weight[1])));
+        }
+        _mm256_storeu_ps(out0 + x, a);
+        _mm256_storeu_ps(out1 + x, b);
+    }
+    for (; x < end; x++)
+    {
+        float a = 0.f, b = 0.f;
+        for (int t = 0; t < tapCount; t++)
+        {
+            const uint32_t l = source[size_t(taps[t].pair) * sourceStep + size_t(taps[t].col + x)];
+            const uint32_t w = taps[t].weight[0], u = taps[t].weight[1];
+            a += lowBfloat16(w) * lowBfloat16(l) + highBfloat16(w) * highBfloat16(l);
+            b += lowBfloat16(u) * lowBfloat16(l) + highBfloat16(u) * highBfloat16(l);
+        }
+        out0[x] = a;
+        out1[x] = b;
+    }
+}
+
+//! gatherPackedPairBf16 for CPUs without AVX512-BF16: the halves widened to floats, two FMAs each.
+DYNBLUR_SIMD_CLONES
+void gatherPackedPairWidened(float* __restrict out0, float* __restrict out1, const uint32_t* source,
+                             size_t sourceStep, const RowBankOperator::PackedTap* taps, int tapCount, int begin,
+                             int end)
+{
+    typedef float v8 __attribute__((vector_size(32), aligned(4)));
+    typedef uint32_t v8u __attribute__((vector_size(32), aligned(4)));
+    int x = begin;
+    for (; x + 16 <= end; x += 16)
+    {
+        v8 a0 = {}, a1 = {}, b0 = {}, b1 = {};
+        for (int t = 0; t < tapCount; t++)
+        {
+            const uint32_t* p = source + size_t(taps[t].pair) * sourceStep + (taps[t].col + x);
+            const uint32_t w = taps[t].weight[0], u = taps[t].weight[1];
+            const v8 wl = v8{} + lowBfloat16(w), wh = v8{} + highBfloat16(w);
+            const v8 ul = v8{} + lowBfloat16(u), uh = v8{} + highBfloat16(u);
+            const v8u p0 = *(const v8u*)p, p1 = *(const v8u*)(p + 8);
+            const v8 l0 = (v8)(p0 << 16), h0 = (v8)(p0 & 0xffff0000u), l1 = (v8)(p1 << 16),
+                     h1 = (v8)(p1 & 0xffff0000u);
+            a0 += wl * l0 + wh * h0;
+            a1 += wl * l1 + wh * h1;
+            b0 += ul * l0 + uh * h0;
+            b1 += ul * l1 + uh * h1;
+        }
+        *(v8*)(out0 + x) = a0;
+        *(v8*)(out0 + x + 8) = a1;
+        *(v8*)(out1 + x) = b0;
+        *(v8*)(out1 + x + 8) = b1;
+    }
+    for (; x < end; x++)
+    {
+        float a = 0.f, b = 0.f;
+        for (int t = 0; t < tapCount; t++)
+        {
+            const uint32_t l = source[size_t(taps[t].pair) * sourceStep + size_t(taps[t].col + x)];
+            const uint32_t w = taps[t].weight[0], u = taps[t].weight[1];
+            a += lowBfloat16(w) * lowBfloat16(l) + highBfloat16(w) * highBfloat16(l);
+            b += lowBfloat16(u) * lowBfloat16(l) + highBfloat16(u) * highBfloat16(l);
+        }
+        out0[x] = a;
+        out1[x] = b;
+    }
+}
+
+PackedPairKernel bestPackedPairKernel()
+{
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    if (__builtin_cpu_supports("avx512bf16"))
+        return gatherPackedPairBf16;
+#endif
+    return gatherPackedPairWidened;
+}
+
+std::atomic<bool> packedGatherWidened{false};
+
+/* Columns [begin, end) of output rows 2k, 2k + 1 of a packed gather, reads outside the source
+   skipped (border columns). */
+void gatherPackedRange(const Mat& packed, const RowBankOperator::PackedTap* taps, int count, int begin, int end,
+                       float* out0, float* out1)
+{
+    const uint32_t* base = packed.ptr<uint32_t>();
+    const size_t step = packed.step1();
+    for (int x = begin; x < end; x++)
+    {
+        float a = 0.f, b = 0.f;
+        for (int t = 0; t < count; t++)
+        {
+            const int c = x + taps[t].col;
+            if (c < 0 || c >= packed.cols)
+                continue;
+            const uint32_t l = base[size_t(taps[t].pair) * step + size_t(c)];
+            const uint32_t w = taps[t].weight[0], u = taps[t].weight[1];
+            a += lowBfloat16(w) * lowBfloat16(l) + highBfloat16(w) * highBfloat16(l);
+            b += lowBfloat16(u) * lowBfloat16(l) + highBfloat16(u) * highBfloat16(l);
+        }
+        out0[x] = a;
+        out1[x] = b;
+    }
+}
+
+/* gatherBlock over a packed source: rows [rows.start, rows.end) (rows.start even) and columns
+   `cols`, in the same column chunks; the second row of an odd last pair goes to a scratch row. */
+void gatherPackedBlock(const Mat& packed, const RowBankOperator::PackedGather& gather, const Range& rows,
+                       const Range& cols, float* out, size_t outStep)
+{
+    static const PackedPairKernel best = bestPackedPairKernel();
+    const PackedPairKernel kernel = packedGatherWidened.load(std::memory_order_relaxed) ? gatherPackedPairWidened : best;
+    constexpr int kChunk = 64;
+    CV_DbgAssert(rows.start % 2 == 0);
+    const int pairBegin = rows.start / 2, pairEnd = (rows.end + 1) / 2;
+    std::vector<float> scratch(rows.size() % 2 ? size_t(cols.end) : 0);
+    const auto outputs = [&](int k, float*& o0, float*& o1) {
+        o0 = out + size_t(2 * k - rows.start) * outStep;
+        o1 = 2 * k + 1 < rows.end ? o0 + outStep : scratch.data();
+    };
+    int commonBegin = cols.start, commonEnd = cols.end;
+    for (int k = pairBegin; k < pairEnd; k++)
+    {
+        commonBegin = std::max(commonBegin, gather.pairs[size_t(k)].safeBegin);
+        commonEnd = std::min(commonEnd, gather.pairs[size_t(k)].safeEnd);
+    }
+    commonEnd = std::max(commonEnd, commonBegin);
+    const uint32_t* base = packed.ptr<uint32_t>();
+    const size_t step = packed.step1();
+    float *o0, *o1;
+    for (int x = commonBegin; x < commonEnd; x += kChunk)
+    {
+        const int end = std::min(x + kChunk, commonEnd);
+        for (int k = pairBegin; k < pairEnd; k++)
+        {
+            const RowBankOperator::GatherRow& g = gather.pairs[size_t(k)];
+            outputs(k, o0, o1);
+            kernel(o0, o1, base, step, gather.taps.data() + g.begin, g.end - g.begin, x, end);
+        }
+    }
+    for (int k = pairBegin; k < pairEnd; k++)
+    {
+        const RowBankOperator::GatherRow& g = gather.pairs[size_t(k)];
+        outputs(k, o0, o1);
+        gatherPackedRange(packed, gather.taps.data() + g.begin, g.end - g.begin, cols.start, commonBegin, o0, o1);
+        gatherPackedRange(packed, gather.taps.data() + g.begin, g.end - g.begin, commonEnd, cols.end, o0, o1);
+    }
+}
+
+/* The packed form of a gather whose rows are filled, each row's taps in (row, col) order
+   (sourceWidth: the source's columns): output rows 2k and 2k + 1 together, each term taking source
+   rows 2j and 2j + 1 at one column offset, weights rounded to bfloat16. Two linear merges per pair
+   (a sort took a sixth of a tile-wise frame): the output rows' taps by (row, col), then each
+   source row pair's two runs by column. */
+void buildPacked(const RowBankOperator::Gather& gather, int outWidth, int sourceWidth,
+                 RowBankOperator::PackedGather& packed)
+{
+    typedef RowBankOperator::Tap Tap;
+    typedef RowBankOperator::PairTap PairTap;
+    const int rows = int(gather.rows.size());
+    packed.pairs.assign(size_t((rows + 1) / 2), RowBankOperator::GatherRow());
+    packed.taps.clear();
+    std::vector<PairTap> merged;
+    for (int k = 0; k < int(packed.pairs.size()); k++)
+    {
+        const RowBankOperator::GatherRow& first = gather.rows[size_t(2 * k)];
+        const RowBankOperator::GatherRow* second = 2 * k + 1 < rows ? &gather.rows[size_t(2 * k + 1)] : nullptr;
+        merged.clear();
+        forUnion(gather.taps.data() + first.begin, size_t(first.end - first.begin),
+                 second ? gather.taps.data() + second->begin : nullptr, second ? size_t(second->end - second->begin) : 0,
+                 [](const Tap& t) { return std::make_pair(t.row, t.col); },
+                 [&](const Tap& t, float w0, float w1) { merged.push_back({t.row, t.col, {w0, w1}}); });
+        RowBankOperator::GatherRow& g = packed.pairs[size_t(k)];
+        g.begin = int(packed.taps.size());
+        g.safeBegin = 0;
+        g.safeEnd = outWidth;
+        for (size_t i = 0; i < merged.size();)
+        {
+            // The run of source row 2j (empty when the pair starts at an odd row), then of 2j + 1.
+            const int pair = merged[i].row / 2;
+            size_t even = i;
+            while (even < merged.size() && merged[even].row == 2 * pair)
+                even++;
+            size_t odd = even;
+            while (odd < merged.size() && merged[odd].row == 2 * pair + 1)
+                odd++;
+            for (size_t p = i, q = even; p < even || q < odd;)
+            {
+                const bool takeEven = p < even && (q == odd || merged[p].col <= merged[q].col);
+                const bool takeOdd = q < odd && (p == even || merged[q].col <= merged[p].col);
+                const int col = takeEven ? merged[p].col : merged[q].col;
+                RowBankOperator::PackedTap term{pair, col, {0u, 0u}};
+                for (int o = 0; o < 2; o++)
+                    term.weight[o] = (takeEven ? roundToBfloat16(merged[p].weight[o]) : 0u) |
+                                     (takeOdd ? roundToBfloat16(merged[q].weight[o]) << 16 : 0u);
+                packed.taps.push_back(term);
+                g.safeBegin = std::max(g.safeBegin, -col);
+                g.safeEnd = std::min(g.safeEnd, sourceWidth - col);
+                p += takeEven;
+                q += takeOdd;
+            }
+            i = odd;
+        }
+        g.end = int(packed.taps.size());
+        g.safeBegin = std::min(g.safeBegin, outWidth);
+        g.safeEnd = std::max(g.safeEnd, g.safeBegin);
+    }
+}
+
+//! dst = src ⊙ weight over n packed pairs (both halves of element x times weight[x]), re-rounded.
+DYNBLUR_SIMD_CLONES
+void scalePackedRow(const uint32_t* __restrict src, const float* __restrict weight, int n, uint32_t* __restrict dst)
+{
+    for (int x = 0; x < n; x++)
+        dst[x] = roundToBfloat16(lowBfloat16(src[x]) * weight[x]) |
+                 (roundToBfloat16(highBfloat16(src[x]) * weight[x]) << 16);
+}
+
 // The inner loops: contiguous, restrict-qualified so the compiler vectorises them.
 inline void accumulateScaled(float* __restrict dst, const float* __restrict src, float w, int begin, int end)
 {
@@ -655,7 +942,8 @@ void buildPairs(RowBankOperator::Gather& gather)
 
 }  // namespace
 
-RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad) : BlurOperator(bank.imageSize)
+RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad, bool packed)
+    : BlurOperator(bank.imageSize), packed_(packed)
 {
     spotGain_ = bankSpotGain(bank);
     CV_Assert(bank.nodeCols.size() == 1 && bank.kernels.size() == bank.nodeRows.size());
@@ -732,6 +1020,14 @@ RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad) : BlurOperator(b
         safeColumns(adjoint_.taps.data() + g.begin, g.end - g.begin, latent_.width, frame_.width, g.safeBegin,
                     g.safeEnd);
     }
+    if (packed_)
+    {
+        buildPacked(forward_, frame_.width, latent_.width, packedForward_);
+        buildPacked(adjoint_, latent_.width, frame_.width, packedAdjoint_);
+        forward_ = Gather();
+        adjoint_ = Gather();
+        return;
+    }
     buildPairs(forward_);
     buildPairs(adjoint_);
 }
@@ -744,6 +1040,37 @@ void RowBankOperator::forwardBlock(const Mat& latent, const Range& frameRows, fl
 void RowBankOperator::adjointBlock(const Mat& frame, const Range& latentRows, float* out, size_t outStep) const
 {
     gatherBlock(frame, adjoint_, latentRows, Range(0, latent_.width), out, outStep);
+}
+
+void RowBankOperator::forwardPackedBlock(const Mat& packedLatent, const Range& frameRows, float* out,
+                                         size_t outStep) const
+{
+    CV_DbgAssert(packedLatent.type() == CV_32SC1 && packedLatent.rows == (latent_.height + 1) / 2);
+    gatherPackedBlock(packedLatent, packedForward_, frameRows, Range(0, frame_.width), out, outStep);
+}
+
+void RowBankOperator::adjointPackedBlock(const Mat& packedFrame, const Range& latentRows, float* out,
+                                         size_t outStep) const
+{
+    CV_DbgAssert(packedFrame.type() == CV_32SC1 && packedFrame.rows == (frame_.height + 1) / 2);
+    gatherPackedBlock(packedFrame, packedAdjoint_, latentRows, Range(0, latent_.width), out, outStep);
+}
+
+void setPackedGatherWidened(bool widened)
+{
+    packedGatherWidened = widened;
+}
+
+DYNBLUR_SIMD_CLONES
+void packRowPair(const float* __restrict first, const float* __restrict second, float offset, int n,
+                 uint32_t* __restrict out)
+{
+    if (second)
+        for (int x = 0; x < n; x++)
+            out[x] = roundToBfloat16(first[x] + offset) | (roundToBfloat16(second[x] + offset) << 16);
+    else
+        for (int x = 0; x < n; x++)
+            out[x] = roundToBfloat16(first[x] + offset);
 }
 
 void BlurOperator::forwardByBlocks(const Mat& latent, Mat& frame) const
@@ -761,6 +1088,51 @@ void BlurOperator::adjointByBlocks(const Mat& frame, Mat& latent)
     prepareAdjoint(frame);
     parallel_for_(Range(0, latent_.height),
                   [&](const Range& rows) { adjointBlock(frame, rows, latent.ptr<float>(rows.start), latent.step1()); });
+}
+
+namespace {
+
+//! packRowPair over every row pair of `plane` (CV_32FC1), pairs in parallel.
+Mat packedPlane(const Mat& plane)
+{
+    Mat packed((plane.rows + 1) / 2, plane.cols, CV_32SC1);
+    parallel_for_(Range(0, packed.rows), [&](const Range& pairs) {
+        for (int k = pairs.start; k < pairs.end; k++)
+            packRowPair(plane.ptr<float>(2 * k), 2 * k + 1 < plane.rows ? plane.ptr<float>(2 * k + 1) : nullptr, 0.f,
+                        plane.cols, packed.ptr<uint32_t>(k));
+    });
+    return packed;
+}
+
+//! Row pairs of `rows` in parallel, each part's rows starting on an even row.
+template <typename Body>
+void forRowPairs(int rows, const Body& body)
+{
+    parallel_for_(Range(0, (rows + 1) / 2),
+                  [&](const Range& pairs) { body(Range(2 * pairs.start, std::min(2 * pairs.end, rows))); });
+}
+
+}  // namespace
+
+void BlurOperator::forwardByPackedBlocks(const Mat& latent, Mat& frame) const
+{
+    CV_DbgAssert(latent.type() == CV_32FC1 && latent.size() == latent_);
+    const Mat packed = packedPlane(latent);
+    frame.create(frame_, CV_32FC1);
+    forRowPairs(frame_.height, [&](const Range& rows) {
+        forwardPackedBlock(packed, rows, frame.ptr<float>(rows.start), frame.step1());
+    });
+}
+
+void BlurOperator::adjointByPackedBlocks(const Mat& frame, Mat& latent)
+{
+    CV_DbgAssert(frame.type() == CV_32FC1 && frame.size() == frame_);
+    const Mat packed = packedPlane(frame);
+    latent.create(latent_, CV_32FC1);
+    prepareAdjointPacked(packed);
+    forRowPairs(latent_.height, [&](const Range& rows) {
+        adjointPackedBlock(packed, rows, latent.ptr<float>(rows.start), latent.step1());
+    });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -824,7 +1196,8 @@ struct UnionColumn
 
 }  // namespace
 
-TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad) : BlurOperator(bank.imageSize)
+TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
+    : BlurOperator(bank.imageSize), packed_(packed)
 {
     spotGain_ = bankSpotGain(bank);
     nodeCols_ = int(bank.nodeCols.size());
@@ -860,6 +1233,11 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad) : BlurOperator
     /* Each node column's taps for every frame row (forward) and every latent row (adjoint), with
        the row blend's weights applied: built once per bank, node columns in parallel. */
     std::vector<Gather> forwardParts(static_cast<size_t>(nodeCols_)), adjointParts(static_cast<size_t>(nodeCols_));
+    if (packed_)
+    {
+        packedForwardColumns_.resize(size_t(nodeCols_));
+        packedAdjointColumns_.resize(size_t(nodeCols_));
+    }
     parallel_for_(Range(0, nodeCols_), [&](const Range& range) {
         for (int i = range.start; i < range.end; i++)
         {
@@ -904,7 +1282,13 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad) : BlurOperator
             }
             fw.taps.resize(size_t(count));
             fw.taps.shrink_to_fit();
-            buildPairs(fw);
+            if (packed_)
+            {
+                buildPacked(fw, frame_.width, latent_.width, packedForwardColumns_[size_t(i)]);
+                fw = Gather();
+            }
+            else
+                buildPairs(fw);
             // Adjoint: latent row l gathers frame row y = l − origin.y − dy, column x − dx − origin.x,
             // at its place in the node column's weighted copy. Frame rows in order, for each the
             // latent rows its kernel reaches, so a latent row's taps come in frame row order; a
@@ -961,37 +1345,68 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad) : BlurOperator
                 g.safeBegin = std::max(0, cols.start + dxMin_ + origin_.x);
                 g.safeEnd = std::min(latent_.width, cols.end + dxMax_ + origin_.x);
             }
-            buildPairs(aw);
+            if (packed_)
+            {
+                buildPacked(aw, latent_.width, cols.size() + 2 * margin_, packedAdjointColumns_[size_t(i)]);
+                aw = Gather();
+            }
+            else
+                buildPairs(aw);
         }
     });
     forwardColumns_ = std::move(forwardParts);
     adjointColumns_ = std::move(adjointParts);
 }
 
-void TileBankOperator::forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const
+template <typename GatherColumn>
+void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, size_t outStep,
+                              const GatherColumn& gather) const
 {
-    const int width = frame_.width;
+    const int width = adjoint ? latent_.width : frame_.width;
     std::vector<float> part(size_t(kTileBlockRows) * size_t(width));
-    for (int start = frameRows.start; start < frameRows.end; start += kTileBlockRows)
+    for (int start = outRows.start; start < outRows.end; start += kTileBlockRows)
     {
-        const Range rows(start, std::min(start + kTileBlockRows, frameRows.end));
+        const Range rows(start, std::min(start + kTileBlockRows, outRows.end));
         for (int y = rows.start; y < rows.end; y++)
-            std::fill(out + size_t(y - frameRows.start) * outStep, out + size_t(y - frameRows.start) * outStep + width,
+            std::fill(out + size_t(y - outRows.start) * outStep, out + size_t(y - outRows.start) * outStep + width,
                       0.f);
         for (int i = 0; i < nodeCols_; i++)
         {
-            const Range cols = colSupport_[size_t(i)];
-            gatherBlock(latent, forwardColumns_[size_t(i)], rows, cols, part.data(), size_t(width));
-            const float* cw = colWeight_[size_t(i)].data() - cols.start;
+            const Range support = colSupport_[size_t(i)];
+            // The adjoint's weights are in the source (prepareAdjoint), and its rows reach past the support.
+            const Range cols = adjoint ? Range(std::max(0, support.start + dxMin_ + origin_.x),
+                                               std::min(width, support.end + dxMax_ + origin_.x))
+                                       : support;
+            gather(i, rows, cols, part.data());
+            const float* cw = colWeight_[size_t(i)].data() - support.start;
             for (int y = rows.start; y < rows.end; y++)
             {
-                float* o = out + size_t(y - frameRows.start) * outStep;
+                float* o = out + size_t(y - outRows.start) * outStep;
                 const float* p = part.data() + size_t(y - rows.start) * size_t(width);
-                for (int x = cols.start; x < cols.end; x++)
-                    o[x] += cw[x] * p[x];
+                if (adjoint)
+                    for (int x = cols.start; x < cols.end; x++)
+                        o[x] += p[x];
+                else
+                    for (int x = cols.start; x < cols.end; x++)
+                        o[x] += cw[x] * p[x];
             }
         }
     }
+}
+
+void TileBankOperator::forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const
+{
+    blocks(false, frameRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* part) {
+        gatherBlock(latent, forwardColumns_[size_t(i)], rows, cols, part, size_t(frame_.width));
+    });
+}
+
+void TileBankOperator::forwardPackedBlock(const Mat& packedLatent, const Range& frameRows, float* out,
+                                          size_t outStep) const
+{
+    blocks(false, frameRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* part) {
+        gatherPackedBlock(packedLatent, packedForwardColumns_[size_t(i)], rows, cols, part, size_t(frame_.width));
+    });
 }
 
 void TileBankOperator::prepareAdjoint(const Mat& frame)
@@ -1015,39 +1430,49 @@ void TileBankOperator::prepareAdjoint(const Mat& frame)
     });
 }
 
+void TileBankOperator::prepareAdjointPacked(const Mat& packedFrame)
+{
+    weighted_.resize(size_t(nodeCols_));
+    for (int i = 0; i < nodeCols_; i++)
+        weighted_[size_t(i)].create(packedFrame.rows, colSupport_[size_t(i)].size() + 2 * margin_, CV_32SC1);
+    parallel_for_(Range(0, packedFrame.rows), [&](const Range& pairs) {
+        for (int k = pairs.start; k < pairs.end; k++)
+        {
+            const uint32_t* src = packedFrame.ptr<uint32_t>(k);
+            for (int i = 0; i < nodeCols_; i++)
+            {
+                const Range cols = colSupport_[size_t(i)];
+                uint32_t* w = weighted_[size_t(i)].ptr<uint32_t>(k);
+                std::fill(w, w + margin_, 0u);
+                scalePackedRow(src + cols.start, colWeight_[size_t(i)].data(), cols.size(), w + margin_);
+                std::fill(w + margin_ + cols.size(), w + cols.size() + 2 * margin_, 0u);
+            }
+        }
+    });
+}
+
 void TileBankOperator::adjointBlock(const Mat& /*frame: read through prepareAdjoint's weighted copies*/,
                                     const Range& latentRows, float* out, size_t outStep) const
 {
-    const int width = latent_.width;
-    std::vector<float> part(size_t(kTileBlockRows) * size_t(width));
-    for (int start = latentRows.start; start < latentRows.end; start += kTileBlockRows)
-    {
-        const Range rows(start, std::min(start + kTileBlockRows, latentRows.end));
-        for (int l = rows.start; l < rows.end; l++)
-            std::fill(out + size_t(l - latentRows.start) * outStep,
-                      out + size_t(l - latentRows.start) * outStep + width, 0.f);
-        for (int i = 0; i < nodeCols_; i++)
-        {
-            const Range cols = colSupport_[size_t(i)];
-            const Range reach(std::max(0, cols.start + dxMin_ + origin_.x),
-                              std::min(width, cols.end + dxMax_ + origin_.x));
-            gatherBlock(weighted_[size_t(i)], adjointColumns_[size_t(i)], rows, reach, part.data(), size_t(width));
-            for (int l = rows.start; l < rows.end; l++)
-            {
-                float* o = out + size_t(l - latentRows.start) * outStep;
-                const float* p = part.data() + size_t(l - rows.start) * size_t(width);
-                for (int x = reach.start; x < reach.end; x++)
-                    o[x] += p[x];
-            }
-        }
-    }
+    blocks(true, latentRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* part) {
+        gatherBlock(weighted_[size_t(i)], adjointColumns_[size_t(i)], rows, cols, part, size_t(latent_.width));
+    });
 }
 
-std::unique_ptr<BlurOperator> createBankOperator(const PsfBank& bank, bool pad)
+void TileBankOperator::adjointPackedBlock(const Mat& /*packedFrame: read through prepareAdjointPacked's copies*/,
+                                          const Range& latentRows, float* out, size_t outStep) const
+{
+    blocks(true, latentRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* part) {
+        gatherPackedBlock(weighted_[size_t(i)], packedAdjointColumns_[size_t(i)], rows, cols, part,
+                          size_t(latent_.width));
+    });
+}
+
+std::unique_ptr<BlurOperator> createBankOperator(const PsfBank& bank, bool pad, bool packed)
 {
     if (bank.nodeCols.size() == 1)
-        return std::unique_ptr<BlurOperator>(new RowBankOperator(bank, pad));
-    return std::unique_ptr<BlurOperator>(new TileBankOperator(bank, pad));
+        return std::unique_ptr<BlurOperator>(new RowBankOperator(bank, pad, packed));
+    return std::unique_ptr<BlurOperator>(new TileBankOperator(bank, pad, packed));
 }
 
 }  // namespace detail

@@ -5,6 +5,7 @@
 
 #include "opencv2/dynblur/deconv.hpp"
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -53,6 +54,23 @@ public:
     //! Whatever adjointBlock needs of the whole `frame` first (before any block runs).
     virtual void prepareAdjoint(const Mat& /*frame*/) {}
 
+    /** True when the operator works on packed planes (packRowPair: rows 2k and 2k + 1 as the
+    bfloat16 halves of one CV_32SC1 row) with bfloat16 weights, summing in float: with AVX512-BF16
+    one instruction takes two multiply-adds per lane, twice a float FMA, from half the bytes.
+    forward() and adjoint() then pack their input first; gathersRows() is false, and the RL loop
+    uses the packed blocks below. */
+    virtual bool gathersPackedRows() const { return false; }
+    /** Rows `frameRows` (starting on an even row) of A · latent, from `packedLatent`, laid out as
+    forwardBlock's. Only when gathersPackedRows(). */
+    virtual void forwardPackedBlock(const Mat& /*packedLatent*/, const Range& /*frameRows*/, float* /*out*/,
+                                    size_t /*outStep*/) const {}
+    /** Rows `latentRows` (starting on an even row) of Aᵀ · frame, from the packed frame, after
+    prepareAdjointPacked(packedFrame). Only when gathersPackedRows(). */
+    virtual void adjointPackedBlock(const Mat& /*packedFrame*/, const Range& /*latentRows*/, float* /*out*/,
+                                    size_t /*outStep*/) const {}
+    //! Whatever adjointPackedBlock needs of the whole packed frame first.
+    virtual void prepareAdjointPacked(const Mat& /*packedFrame*/) {}
+
 protected:
     //! The latent domain starts as the frame; operators with padding grow it.
     explicit BlurOperator(Size frameSize) : frame_(frameSize), latent_(frameSize) {}
@@ -60,6 +78,9 @@ protected:
     void forwardByBlocks(const Mat& latent, Mat& frame) const;
     //! adjoint() of an operator that gathers rows: prepareAdjoint, then its blocks in parallel.
     void adjointByBlocks(const Mat& frame, Mat& latent);
+    //! forward() and adjoint() of an operator that gathers packed rows: pack, then the packed blocks.
+    void forwardByPackedBlocks(const Mat& latent, Mat& frame) const;
+    void adjointByPackedBlocks(const Mat& frame, Mat& latent);
     Size frame_, latent_;
     Point origin_;
     double spotGain_ = 1;
@@ -138,12 +159,24 @@ and padding as BankBlurOperator. The bank is trusted (validated by the caller). 
 class CV_EXPORTS RowBankOperator CV_FINAL : public BlurOperator
 {
 public:
-    RowBankOperator(const PsfBank& bank, bool pad);
-    void forward(const Mat& latent, Mat& frame) CV_OVERRIDE { forwardByBlocks(latent, frame); }
-    void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE { adjointByBlocks(frame, latent); }
-    bool gathersRows() const CV_OVERRIDE { return true; }
+    //! `packed`: bfloat16 packed planes and weights (gathersPackedRows), float otherwise.
+    RowBankOperator(const PsfBank& bank, bool pad, bool packed = false);
+    void forward(const Mat& latent, Mat& frame) CV_OVERRIDE
+    {
+        packed_ ? forwardByPackedBlocks(latent, frame) : forwardByBlocks(latent, frame);
+    }
+    void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE
+    {
+        packed_ ? adjointByPackedBlocks(frame, latent) : adjointByBlocks(frame, latent);
+    }
+    bool gathersRows() const CV_OVERRIDE { return !packed_; }
     void forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const CV_OVERRIDE;
     void adjointBlock(const Mat& frame, const Range& latentRows, float* out, size_t outStep) const CV_OVERRIDE;
+    bool gathersPackedRows() const CV_OVERRIDE { return packed_; }
+    void forwardPackedBlock(const Mat& packedLatent, const Range& frameRows, float* out,
+                            size_t outStep) const CV_OVERRIDE;
+    void adjointPackedBlock(const Mat& packedFrame, const Range& latentRows, float* out,
+                            size_t outStep) const CV_OVERRIDE;
 
     //! One term of a gathered row: out[x] += weight · source(row, x + col).
     struct Tap
@@ -174,9 +207,25 @@ public:
         std::vector<PairTap> pairTaps;
         std::vector<GatherRow> pairs;
     };
+    /** One term of output rows 2k and 2k + 1 from a packed source: out_k[x] += the dot product of
+    the two bfloat16 halves of weight[k] (rows 2·pair and 2·pair + 1) with those of packed(pair, x + col). */
+    struct PackedTap
+    {
+        int pair;
+        int col;
+        uint32_t weight[2];
+    };
+    //! A gather over packed sources: the taps of each output row pair (the last one single when the rows are odd).
+    struct PackedGather
+    {
+        std::vector<PackedTap> taps;
+        std::vector<GatherRow> pairs;
+    };
 
 private:
-    Gather forward_, adjoint_;
+    bool packed_;
+    Gather forward_, adjoint_;                      // float mode
+    PackedGather packedForward_, packedAdjoint_;    // packed mode
 };
 
 /** @brief A bank with several node columns (PSF_TILES): a frame pixel blends the kernels of its
@@ -190,37 +239,68 @@ Domains and padding as BankBlurOperator. The bank is trusted (validated by the c
 class CV_EXPORTS TileBankOperator CV_FINAL : public BlurOperator
 {
 public:
-    TileBankOperator(const PsfBank& bank, bool pad);
-    void forward(const Mat& latent, Mat& frame) CV_OVERRIDE { forwardByBlocks(latent, frame); }
-    void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE { adjointByBlocks(frame, latent); }
-    bool gathersRows() const CV_OVERRIDE { return true; }
+    //! `packed`: as RowBankOperator's.
+    TileBankOperator(const PsfBank& bank, bool pad, bool packed = false);
+    void forward(const Mat& latent, Mat& frame) CV_OVERRIDE
+    {
+        packed_ ? forwardByPackedBlocks(latent, frame) : forwardByBlocks(latent, frame);
+    }
+    void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE
+    {
+        packed_ ? adjointByPackedBlocks(frame, latent) : adjointByBlocks(frame, latent);
+    }
+    bool gathersRows() const CV_OVERRIDE { return !packed_; }
     void forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const CV_OVERRIDE;
     void adjointBlock(const Mat& frame, const Range& latentRows, float* out, size_t outStep) const CV_OVERRIDE;
     void prepareAdjoint(const Mat& frame) CV_OVERRIDE;
+    bool gathersPackedRows() const CV_OVERRIDE { return packed_; }
+    void forwardPackedBlock(const Mat& packedLatent, const Range& frameRows, float* out,
+                            size_t outStep) const CV_OVERRIDE;
+    void adjointPackedBlock(const Mat& packedFrame, const Range& latentRows, float* out,
+                            size_t outStep) const CV_OVERRIDE;
+    void prepareAdjointPacked(const Mat& packedFrame) CV_OVERRIDE;
 
 private:
     typedef RowBankOperator::Tap Tap;
     typedef RowBankOperator::GatherRow GatherRow;
     typedef RowBankOperator::Gather Gather;
+    typedef RowBankOperator::PackedGather PackedGather;
+
+    /* Rows `frameRows` of A · latent (or of Aᵀ · frame with `adjoint`), where gather(i, rows, cols, part)
+       writes node column i's gathered rows, float or packed. */
+    template <typename GatherColumn>
+    void blocks(bool adjoint, const Range& outRows, float* out, size_t outStep, const GatherColumn& gather) const;
+
+    bool packed_;
 
     int nodeCols_ = 1;
     int dxMin_ = 0, dxMax_ = 0;  // the bank's column offsets (latent − frame)
     /* Per node column i: rows[y] of forwardColumns_[i] is frame row y's gather (safe columns
        within the column's support); rows[l] of adjointColumns_[i] latent row l's, reading the
        weighted copy of node column i. */
-    std::vector<Gather> forwardColumns_, adjointColumns_;
+    std::vector<Gather> forwardColumns_, adjointColumns_;                // float mode
+    std::vector<PackedGather> packedForwardColumns_, packedAdjointColumns_;  // packed mode
     std::vector<Range> colSupport_;                // frame columns each node column covers
     std::vector<std::vector<float>> colWeight_;    // per node column, over its support
     int margin_ = 0;                               // zero columns around each weighted part
-    std::vector<Mat> weighted_;                    // per node column: frame × tent, with margins
+    std::vector<Mat> weighted_;                    // per node column: frame × tent, with margins (packed: packed)
 };
+
+/** @brief Rows 2k and 2k + 1 of a plane, plus `offset`, as bfloat16 (rounded to nearest even) in
+the low and high halves of out[x], x in [0, n): the packed sources of gathersPackedRows().
+`second` null: the high halves are 0 (the last row of an odd height). */
+CV_EXPORTS void packRowPair(const float* first, const float* second, float offset, int n, uint32_t* out);
+
+/** @brief For tests: packed gathers widen the bfloat16 halves to floats, as on a CPU without
+AVX512-BF16, even where the CPU has it (`widened` true), or use the CPU's best (false, the default). */
+CV_EXPORTS void setPackedGatherWidened(bool widened);
 
 /** @brief spotGain of a bank: blended kernels per pixel / the smallest kernel peak. */
 double bankSpotGain(const PsfBank& bank);
 
 /** @brief The operator that applies `bank` fastest: RowBankOperator when the bank has one node
 column, TileBankOperator otherwise. */
-std::unique_ptr<BlurOperator> createBankOperator(const PsfBank& bank, bool pad);
+std::unique_ptr<BlurOperator> createBankOperator(const PsfBank& bank, bool pad, bool packed = false);
 
 /** @brief Bilinear tent weights of every integer coordinate in [0, length) between the nodes `z`
 (increasing), constant beyond the outermost nodes: the PsfBank blending weights along one axis,

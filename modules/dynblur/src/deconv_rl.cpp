@@ -158,18 +158,19 @@ private:
 };
 
 /* x_{k+1} = y ⊙ correction / (norm − λ curvature) over one row, kept within [0, upper], and the
-   data term's step y ⊙ (correction / norm − 1). Pixels whose normaliser is ≤ kUnobserved keep y.
+   data term's step y ⊙ (correction / norm − 1); with `correctionExcess`, `correction` holds
+   correction − norm. Pixels whose normaliser is ≤ kUnobserved keep y.
    `norm` and `curvature` may be null (1 and 0); `out` may be `y` (each element is read before it
    is written). Branch-free, so it vectorises. */
 DYNBLUR_SIMD_CLONES
-void updateRow(const float* y, const float* __restrict correction, const float* __restrict norm,
+void updateRow(const float* y, const float* __restrict correction, bool correctionExcess, const float* __restrict norm,
                const float* __restrict curvature, float tvWeight, float upper, int n, float* out,
                float* __restrict step)
 {
     for (int x = 0; x < n; x++)
     {
         const float nv = norm ? norm[x] : 1.f;
-        const float yv = y[x], cv = correction[x];
+        const float yv = y[x], cv = correctionExcess ? correction[x] + nv : correction[x];
         float den = curvature ? nv - tvWeight * curvature[x] : nv;
         den = std::max(den, 0.1f * nv);  // keeps a large λ from flipping the sign
         const bool seen = nv > kUnobserved;
@@ -336,6 +337,10 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
     const Size latentSize = op.latentSize(), frameSize = op.frameSize();
     const float tvWeight = float(params.tvWeight);
     const bool fused = op.gathersRows();
+    /* A packed operator reads the ratio as ratio − 1 (its deviation from 1 is what a bfloat16 keeps
+       to 2^-9 relative), so its adjoint gives Aᵀratio − Aᵀ1, and the update adds Aᵀ1 back. */
+    const bool packed = op.gathersPackedRows();
+    CV_Assert(!packed || !normalizer.empty());
 
     const int bands = std::max(1, std::min(latentSize.height, 8 * getNumThreads()));
 
@@ -364,7 +369,8 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
     Mat& ratio = ws.ratio;
     Mat& reblurred = ws.reblurred;
     Mat& correction = ws.correction;
-    ratio.create(frameSize, CV_32FC1);
+    if (!packed)
+        ratio.create(frameSize, CV_32FC1);
     std::vector<float> halo(size_t(2 * bands) * size_t(latentSize.width));
     int most = 0;
     for (size_t c = 0; c < channels; c++)
@@ -375,6 +381,7 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
             step.setTo(0);
         }
         double alpha = 0;
+        bool packedReady = false;  // ws.packedEstimate holds the next iteration's y
         UpdateSums previousSums;
         int iteration = 0;
         for (; iteration < params.iterations; iteration++)
@@ -389,34 +396,77 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
             Mat& next = ws.other[0];
             next.create(latentSize, CV_32FC1);
             const Mat* predicted = &x;
+            Mat& packedY = ws.packedEstimate;
+            if (packed)
+                packedY.create((latentSize.height + 1) / 2, latentSize.width, CV_32SC1);
+            // Packs rows r and r + 1 of `plane` (r even) once both hold their final values.
+            const auto packPair = [&](const Mat& plane, int r) {
+                packRowPair(plane.ptr<float>(r), r + 1 < latentSize.height ? plane.ptr<float>(r + 1) : nullptr, 0.f,
+                            latentSize.width, packedY.ptr<uint32_t>(r / 2));
+            };
             if (alpha > 0)
             {
                 const float a = float(alpha);
                 forBands(latentSize.height, bands, [&](int, const Range& rows) {
                     for (int r = rows.start; r < rows.end; r++)
+                    {
                         extrapolateRow(x.ptr<float>(r), a, latentSize.width, next.ptr<float>(r));
+                        if (packed && (r % 2 == 1 || r + 1 == rows.end))
+                            packPair(next, r & ~1);
+                    }
                 });
                 predicted = &next;
+                packedReady = true;
             }
             const Mat& y = *predicted;
 
             // ratio = damped(b / A y), each row straight from its blur while it is in cache.
-            if (!fused)
+            if (!fused && !packed)
                 op.forward(y, reblurred);
-            forBands(frameSize.height, bands, [&](int, const Range& rows) {
-                const int width = frameSize.width;
-                std::vector<float> reblurredBlock(size_t(width) * kBlockRows);
-                for (int r = rows.start; r < rows.end; r++)
-                {
-                    const int inBlock = (r - rows.start) % kBlockRows;
-                    if (fused && inBlock == 0)
-                        op.forwardBlock(y, Range(r, std::min(r + kBlockRows, rows.end)), reblurredBlock.data(),
-                                        size_t(width));
-                    const float* ab =
-                        fused ? reblurredBlock.data() + size_t(inBlock) * size_t(width) : reblurred.ptr<float>(r);
-                    ratioRow(observed[c].ptr<float>(r), ab, ratio.ptr<float>(r), width, scale, invThreshold);
-                }
-            });
+            if (packed)
+            {
+                if (!packedReady)
+                    forBands(latentSize.height, bands, [&](int, const Range& rows) {
+                        for (int r = rows.start; r < rows.end; r += 2)
+                            packPair(y, r);
+                    });
+                Mat& packedRatio = ws.packedRatio;
+                packedRatio.create((frameSize.height + 1) / 2, frameSize.width, CV_32SC1);
+                forBands(frameSize.height, bands, [&](int, const Range& rows) {
+                    const int width = frameSize.width;
+                    std::vector<float> buffer(size_t(width) * 2 * kBlockRows);
+                    float *reblurredBlock = buffer.data(), *ratioBlock = reblurredBlock + size_t(width) * kBlockRows;
+                    for (int r = rows.start; r < rows.end; r += kBlockRows)
+                    {
+                        const Range block(r, std::min(r + kBlockRows, rows.end));
+                        op.forwardPackedBlock(packedY, block, reblurredBlock, size_t(width));
+                        for (int i = 0; i < block.size(); i++)
+                            ratioRow(observed[c].ptr<float>(r + i), reblurredBlock + size_t(i) * size_t(width),
+                                     ratioBlock + size_t(i) * size_t(width), width, scale, invThreshold);
+                        for (int i = 0; i < block.size(); i += 2)
+                            packRowPair(ratioBlock + size_t(i) * size_t(width),
+                                        i + 1 < block.size() ? ratioBlock + size_t(i + 1) * size_t(width) : nullptr,
+                                        -1.f, width, packedRatio.ptr<uint32_t>((r + i) / 2));
+                    }
+                });
+            }
+            else
+            {
+                forBands(frameSize.height, bands, [&](int, const Range& rows) {
+                    const int width = frameSize.width;
+                    std::vector<float> reblurredBlock(size_t(width) * kBlockRows);
+                    for (int r = rows.start; r < rows.end; r++)
+                    {
+                        const int inBlock = (r - rows.start) % kBlockRows;
+                        if (fused && inBlock == 0)
+                            op.forwardBlock(y, Range(r, std::min(r + kBlockRows, rows.end)), reblurredBlock.data(),
+                                            size_t(width));
+                        const float* ab =
+                            fused ? reblurredBlock.data() + size_t(inBlock) * size_t(width) : reblurred.ptr<float>(r);
+                        ratioRow(observed[c].ptr<float>(r), ab, ratio.ptr<float>(r), width, scale, invThreshold);
+                    }
+                });
+            }
             // The rows around each band, as they are before any band updates y in place.
             const int width = latentSize.width;
             if (tvWeight > 0)
@@ -429,13 +479,17 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                     if (rows.end < latentSize.height)
                         std::memcpy(above + width, y.ptr<float>(rows.end), sizeof(float) * size_t(width));
                 }
-            if (fused)
+            if (packed)
+                op.prepareAdjointPacked(ws.packedRatio);
+            else if (fused)
                 op.prepareAdjoint(ratio);
             else
                 op.adjoint(ratio, correction);
 
             // x_{k+1} = y ⊙ Aᵀratio / (Aᵀ1 − λ div(∇y/|∇y|)), row by row from the adjoint's row.
             const bool accelerate = params.accelerate, measure = params.tolerance > 0;
+            // The next iteration's y is this one's output where it will not extrapolate.
+            packedReady = packed && iteration + 1 < params.iterations && (!params.accelerate || iteration + 1 < 2);
             forBands(latentSize.height, bands, [&](int band, const Range& rows) {
                 UpdateSums& s = sums[size_t(band)];
                 std::vector<float> buffer(size_t(width) * (kBlockRows + 2));
@@ -449,15 +503,20 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                     if (curvatureRow)
                         curvature.next(r, curvatureRow);
                     const int inBlock = (r - rows.start) % kBlockRows;
-                    if (fused && inBlock == 0)
+                    if (packed && inBlock == 0)
+                        op.adjointPackedBlock(ws.packedRatio, Range(r, std::min(r + kBlockRows, rows.end)),
+                                              correctionBlock, size_t(width));
+                    else if (fused && inBlock == 0)
                         op.adjointBlock(ratio, Range(r, std::min(r + kBlockRows, rows.end)), correctionBlock,
                                         size_t(width));
-                    const float* cp = fused ? correctionBlock + size_t(inBlock) * size_t(width)
+                    const float* cp = fused || packed ? correctionBlock + size_t(inBlock) * size_t(width)
                                             : correction.ptr<float>(r);
                     // `next` may be y itself: the walk has read row r of y for the last time.
                     float* out = next.ptr<float>(r);
-                    updateRow(y.ptr<float>(r), cp, normalizer.empty() ? nullptr : normalizer.ptr<float>(r),
+                    updateRow(y.ptr<float>(r), cp, packed, normalizer.empty() ? nullptr : normalizer.ptr<float>(r),
                               curvatureRow, tvWeight, upper, width, out, stepRow);
+                    if (packedReady && (r % 2 == 1 || r + 1 == rows.end))
+                        packPair(next, r & ~1);
                     if (accelerate)
                         dotAndReplace(stepRow, step.ptr<uint16_t>(r), width, scale, s.stepDot, s.stepBeforeSq);
                     if (measure)

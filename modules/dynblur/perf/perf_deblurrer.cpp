@@ -1,5 +1,5 @@
 // The whole pipeline on one C270-sized frame: DynamicDeblurrer::deblur (exposure window, PSF bank,
-// 10 RL iterations) for each PSF model, on a 1280x960 RGB rolling-shutter frame in window III of a
+// 10 RL iterations, bfloat16 blurs) for each PSF model, on a 1280x960 RGB rolling-shutter frame in window III of a
 // 10° saccade; and the speed targets' ratios, from rounds that time the row-wise and tile-wise
 // restorations and the filter2D reference back to back on that frame.
 #include "perf_baseline.hpp"
@@ -43,14 +43,17 @@ const SaccadeFrame& saccadeFrame()
     return frame;
 }
 
-//! DynamicDeblurrer in the frame-rate setting (10 iterations, 3 in colour) with `psfModel`.
-Ptr<DynamicDeblurrer> frameRateDeblurrer(const SaccadeFrame& f, int psfModel)
+/* DynamicDeblurrer in the frame-rate setting (10 iterations, 3 in colour, bfloat16 blurs; its
+   quality is DeblurQuality's to check) with `psfModel`, or with float blurs. */
+Ptr<DynamicDeblurrer> frameRateDeblurrer(const SaccadeFrame& f, int psfModel,
+                                         int blurPrecision = RL_BLUR_BFLOAT16)
 {
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(f.plant, f.camera);
     deblurrer->setPsfModel(psfModel);
     RLParams params = deblurrer->getRLParams();
     params.iterations = 10;
-    params.colorIterations = 3;  // the frame-rate setting; its quality is DeblurQuality's to check
+    params.colorIterations = 3;
+    params.blurPrecision = blurPrecision;
     deblurrer->setRLParams(params);
     return deblurrer;
 }
@@ -82,30 +85,34 @@ void BM_DeblurFrame(benchmark::State& state)
 BENCHMARK(BM_DeblurFrame)->ArgName("psfModel")->Arg(PSF_UNIFORM)->Arg(PSF_ROWS)->Arg(PSF_TILES)
     ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 
-/* The targets' ratios: each round restores the frame row-wise and tile-wise and runs the filter2D
-   reference (10 iterations, uniform 21×1 kernel) on it, in an order that rotates from round to
-   round; each ratio is the median of the rounds' ratios. This machine's speed drifts by ±20 % over
-   minutes, which ratios of medians taken minutes apart carry in full; within a round the three
-   see nearly the same machine. Counters: the medians (ms) and the ratios. */
+/* The targets' ratios: each round restores the frame row-wise and tile-wise, runs the filter2D
+   reference (10 iterations, uniform 21×1 kernel) on it and restores it row-wise with float blurs,
+   in an order that rotates from round to round; each ratio is the median of the rounds' ratios.
+   This machine's speed drifts by ±20 % over minutes, which ratios of medians taken minutes apart
+   carry in full; within a round the four see nearly the same machine. Counters: the medians (ms)
+   and the ratios. */
 void BM_FrameRatePaired(benchmark::State& state)
 {
     const SaccadeFrame& f = saccadeFrame();
-    Ptr<DynamicDeblurrer> rows = frameRateDeblurrer(f, PSF_ROWS), tiles = frameRateDeblurrer(f, PSF_TILES);
+    Ptr<DynamicDeblurrer> rows = frameRateDeblurrer(f, PSF_ROWS), tiles = frameRateDeblurrer(f, PSF_TILES),
+                          rowsFloat = frameRateDeblurrer(f, PSF_ROWS, RL_BLUR_FLOAT32);
     const Mat kernel = dynblur_perf::uniformKernel21x1();
     Mat restored, estimate;
-    const std::function<void()> work[3] = {
+    constexpr int kWorkloads = 4;
+    const std::function<void()> work[kWorkloads] = {
         [&] { rows->deblur(f.frame, f.schedule, f.shutter, restored); },
         [&] { tiles->deblur(f.frame, f.schedule, f.shutter, restored); },
-        [&] { dynblur_perf::filter2DRichardsonLucy(f.frame, kernel, 10, estimate); }};
+        [&] { dynblur_perf::filter2DRichardsonLucy(f.frame, kernel, 10, estimate); },
+        [&] { rowsFloat->deblur(f.frame, f.schedule, f.shutter, restored); }};
     for (const auto& w : work)
         w();  // warm: buffers and thread pools set up once
-    std::vector<double> ms[3];  // per workload, one time per round
+    std::vector<double> ms[kWorkloads];  // per workload, one time per round
     int round = 0;
     for (auto _ : state)
     {
-        for (int k = 0; k < 3; k++)
+        for (int k = 0; k < kWorkloads; k++)
         {
-            const int which = (round + k) % 3;
+            const int which = (round + k) % kWorkloads;
             const auto start = std::chrono::steady_clock::now();
             work[which]();
             ms[which].push_back(
@@ -123,7 +130,9 @@ void BM_FrameRatePaired(benchmark::State& state)
     state.counters["rows_ms"] = median(ms[0]);
     state.counters["tiles_ms"] = median(ms[1]);
     state.counters["filter2d_ms"] = median(ms[2]);
+    state.counters["rows_float32_ms"] = median(ms[3]);
     state.counters["tiles_over_rows"] = overRows(1);
     state.counters["filter2d_over_rows"] = overRows(2);
+    state.counters["float32_over_rows"] = overRows(3);
 }
 BENCHMARK(BM_FrameRatePaired)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(15)->Repetitions(1);

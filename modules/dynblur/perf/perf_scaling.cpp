@@ -37,6 +37,7 @@ struct ScaledDeblur
         RLParams params = deblurrer->getRLParams();  // defaults (damping, TV, acceleration) at frame rate:
         params.iterations = iterations;
         params.colorIterations = 3;
+        params.blurPrecision = RL_BLUR_BFLOAT16;
         deblurrer->setRLParams(params);
         frame.create(height, width, CV_32FC3);
         randu(frame, 0.05f, 0.95f);

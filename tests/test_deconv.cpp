@@ -395,23 +395,23 @@ void expectPackedAgrees(cv::dynblur::detail::BlurOperator& packed, cv::dynblur::
     RNG(8).fill(y, RNG::UNIFORM, 0.1, 1);
     x = bfloat16Exact(x);
     y = bfloat16Exact(y);
-    Mat a, b, widened;
-    exact.forward(x, a);
-    packed.forward(x, b);
-    EXPECT_LT(norm(a, b, NORM_INF), 4e-3 * norm(a, NORM_INF)) << what << ": forward";
-    cv::dynblur::detail::setPackedGatherWidened(true);
-    packed.forward(x, widened);
-    cv::dynblur::detail::setPackedGatherWidened(false);
-    EXPECT_LT(norm(b, widened, NORM_INF), 1e-5 * norm(b, NORM_INF)) << what << ": forward widened";
-    const double lhs = b.dot(y);
-    exact.adjoint(y, a);
-    packed.adjoint(y, b);
-    EXPECT_LT(norm(a, b, NORM_INF), 4e-3 * norm(a, NORM_INF)) << what << ": adjoint";
-    cv::dynblur::detail::setPackedGatherWidened(true);
-    packed.adjoint(y, widened);
-    cv::dynblur::detail::setPackedGatherWidened(false);
-    EXPECT_LT(norm(b, widened, NORM_INF), 1e-5 * norm(b, NORM_INF)) << what << ": adjoint widened";
-    const double rhs = x.dot(b);
+    // Packed result, compared with the float one and with the widened kernel's.
+    const auto compare = [&](const std::function<void(cv::dynblur::detail::BlurOperator&, Mat&)>& apply,
+                             const char* direction) {
+        Mat a, b, widened;
+        apply(exact, a);
+        apply(packed, b);
+        EXPECT_LT(norm(a, b, NORM_INF), 4e-3 * norm(a, NORM_INF)) << what << ": " << direction;
+        cv::dynblur::detail::setPackedGatherWidened(true);
+        apply(packed, widened);
+        cv::dynblur::detail::setPackedGatherWidened(false);
+        EXPECT_LT(norm(b, widened, NORM_INF), 1e-5 * norm(b, NORM_INF)) << what << ": " << direction << " widened";
+        return b;
+    };
+    const double lhs = compare([&](cv::dynblur::detail::BlurOperator& op, Mat& out) { op.forward(x, out); }, "forward")
+                           .dot(y);
+    const double rhs = x.dot(compare([&](cv::dynblur::detail::BlurOperator& op, Mat& out) { op.adjoint(y, out); },
+                                     "adjoint"));
     EXPECT_LT(std::abs(lhs - rhs), adjointTolerance * std::abs(lhs)) << what << ": " << lhs << " vs " << rhs;
 }
 

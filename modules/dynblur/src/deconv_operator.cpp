@@ -397,6 +397,30 @@ inline float highBfloat16(uint32_t packed)
     return __builtin_bit_cast(float, packed & 0xffff0000u);
 }
 
+//! The dot product of two bfloat16 pairs (each in one 32-bit word), in float.
+inline float packedDot(uint32_t a, uint32_t b)
+{
+    return lowBfloat16(a) * lowBfloat16(b) + highBfloat16(a) * highBfloat16(b);
+}
+
+//! The packed pair gathers' last columns [begin, end), one at a time.
+void gatherPackedTail(float* __restrict out0, float* __restrict out1, const uint32_t* source, size_t sourceStep,
+                      const RowBankOperator::PackedTap* taps, int tapCount, int begin, int end)
+{
+    for (int x = begin; x < end; x++)
+    {
+        float a = 0.f, b = 0.f;
+        for (int t = 0; t < tapCount; t++)
+        {
+            const uint32_t l = source[size_t(taps[t].pair) * sourceStep + size_t(taps[t].col + x)];
+            a += packedDot(taps[t].weight[0], l);
+            b += packedDot(taps[t].weight[1], l);
+        }
+        out0[x] = a;
+        out1[x] = b;
+    }
+}
+
 typedef void (*PackedPairKernel)(float* __restrict, float* __restrict, const uint32_t*, size_t,
                                  const RowBankOperator::PackedTap*, int, int, int);
 
@@ -448,19 +472,7 @@ gatherPackedPairBf16(float* __restrict out0, float* __restrict out1, const uint3
         _mm256_storeu_ps(out0 + x, a);
         _mm256_storeu_ps(out1 + x, b);
     }
-    for (; x < end; x++)
-    {
-        float a = 0.f, b = 0.f;
-        for (int t = 0; t < tapCount; t++)
-        {
-            const uint32_t l = source[size_t(taps[t].pair) * sourceStep + size_t(taps[t].col + x)];
-            const uint32_t w = taps[t].weight[0], u = taps[t].weight[1];
-            a += lowBfloat16(w) * lowBfloat16(l) + highBfloat16(w) * highBfloat16(l);
-            b += lowBfloat16(u) * lowBfloat16(l) + highBfloat16(u) * highBfloat16(l);
-        }
-        out0[x] = a;
-        out1[x] = b;
-    }
+    gatherPackedTail(out0, out1, source, sourceStep, taps, tapCount, x, end);
 }
 
 //! gatherPackedPairBf16 for CPUs without AVX512-BF16: the halves widened to floats, two FMAs each.
@@ -494,19 +506,7 @@ void gatherPackedPairWidened(float* __restrict out0, float* __restrict out1, con
         *(v8*)(out1 + x) = b0;
         *(v8*)(out1 + x + 8) = b1;
     }
-    for (; x < end; x++)
-    {
-        float a = 0.f, b = 0.f;
-        for (int t = 0; t < tapCount; t++)
-        {
-            const uint32_t l = source[size_t(taps[t].pair) * sourceStep + size_t(taps[t].col + x)];
-            const uint32_t w = taps[t].weight[0], u = taps[t].weight[1];
-            a += lowBfloat16(w) * lowBfloat16(l) + highBfloat16(w) * highBfloat16(l);
-            b += lowBfloat16(u) * lowBfloat16(l) + highBfloat16(u) * highBfloat16(l);
-        }
-        out0[x] = a;
-        out1[x] = b;
-    }
+    gatherPackedTail(out0, out1, source, sourceStep, taps, tapCount, x, end);
 }
 
 PackedPairKernel bestPackedPairKernel()
@@ -536,9 +536,8 @@ void gatherPackedRange(const Mat& packed, const RowBankOperator::PackedTap* taps
             if (c < 0 || c >= packed.cols)
                 continue;
             const uint32_t l = base[size_t(taps[t].pair) * step + size_t(c)];
-            const uint32_t w = taps[t].weight[0], u = taps[t].weight[1];
-            a += lowBfloat16(w) * lowBfloat16(l) + highBfloat16(w) * highBfloat16(l);
-            b += lowBfloat16(u) * lowBfloat16(l) + highBfloat16(u) * highBfloat16(l);
+            a += packedDot(taps[t].weight[0], l);
+            b += packedDot(taps[t].weight[1], l);
         }
         out0[x] = a;
         out1[x] = b;
@@ -1409,46 +1408,38 @@ void TileBankOperator::forwardPackedBlock(const Mat& packedLatent, const Range& 
     });
 }
 
-void TileBankOperator::prepareAdjoint(const Mat& frame)
+template <typename T, typename WeightRow>
+void TileBankOperator::weightColumns(const Mat& source, int type, const WeightRow& weightRow)
 {
     weighted_.resize(size_t(nodeCols_));
     for (int i = 0; i < nodeCols_; i++)
-        weighted_[size_t(i)].create(frame_.height, colSupport_[size_t(i)].size() + 2 * margin_, CV_32F);
-    parallel_for_(Range(0, frame_.height), [&](const Range& rows) {
+        weighted_[size_t(i)].create(source.rows, colSupport_[size_t(i)].size() + 2 * margin_, type);
+    parallel_for_(Range(0, source.rows), [&](const Range& rows) {
         for (int r = rows.start; r < rows.end; r++)
         {
-            const float* src = frame.ptr<float>(r);
+            const T* src = source.ptr<T>(r);
             for (int i = 0; i < nodeCols_; i++)
             {
                 const Range cols = colSupport_[size_t(i)];
-                float* w = weighted_[size_t(i)].ptr<float>(r);
-                std::fill(w, w + margin_, 0.f);
-                multiplyInto(w + margin_, colWeight_[size_t(i)].data(), src + cols.start, cols.size());
-                std::fill(w + margin_ + cols.size(), w + cols.size() + 2 * margin_, 0.f);
+                T* w = weighted_[size_t(i)].ptr<T>(r);
+                std::fill(w, w + margin_, T(0));
+                weightRow(src + cols.start, colWeight_[size_t(i)].data(), cols.size(), w + margin_);
+                std::fill(w + margin_ + cols.size(), w + cols.size() + 2 * margin_, T(0));
             }
         }
     });
 }
 
+void TileBankOperator::prepareAdjoint(const Mat& frame)
+{
+    weightColumns<float>(frame, CV_32FC1, [](const float* src, const float* weight, int n, float* dst) {
+        multiplyInto(dst, weight, src, n);
+    });
+}
+
 void TileBankOperator::prepareAdjointPacked(const Mat& packedFrame)
 {
-    weighted_.resize(size_t(nodeCols_));
-    for (int i = 0; i < nodeCols_; i++)
-        weighted_[size_t(i)].create(packedFrame.rows, colSupport_[size_t(i)].size() + 2 * margin_, CV_32SC1);
-    parallel_for_(Range(0, packedFrame.rows), [&](const Range& pairs) {
-        for (int k = pairs.start; k < pairs.end; k++)
-        {
-            const uint32_t* src = packedFrame.ptr<uint32_t>(k);
-            for (int i = 0; i < nodeCols_; i++)
-            {
-                const Range cols = colSupport_[size_t(i)];
-                uint32_t* w = weighted_[size_t(i)].ptr<uint32_t>(k);
-                std::fill(w, w + margin_, 0u);
-                scalePackedRow(src + cols.start, colWeight_[size_t(i)].data(), cols.size(), w + margin_);
-                std::fill(w + margin_ + cols.size(), w + cols.size() + 2 * margin_, 0u);
-            }
-        }
-    });
+    weightColumns<uint32_t>(packedFrame, CV_32SC1, scalePackedRow);
 }
 
 void TileBankOperator::adjointBlock(const Mat& /*frame: read through prepareAdjoint's weighted copies*/,

@@ -270,6 +270,10 @@ private:
        writes node column i's gathered rows, float or packed. */
     template <typename GatherColumn>
     void blocks(bool adjoint, const Range& outRows, float* out, size_t outStep, const GatherColumn& gather) const;
+    /* weighted_: per node column, `source` (frame rows, float or packed) times the column's tent,
+       with zero margins; weightRow(src, weight, n, dst) weights one row's support. */
+    template <typename T, typename WeightRow>
+    void weightColumns(const Mat& source, int type, const WeightRow& weightRow);
 
     bool packed_;
 

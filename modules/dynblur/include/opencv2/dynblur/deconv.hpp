@@ -25,7 +25,8 @@ enum RLBlurPrecision
         the ratio is rounded as its deviation from 1, and both blurs of an iteration read pairs of rows
         packed in one 32-bit word, two multiply-adds per instruction on CPUs with AVX512-BF16 (others
         widen the halves to floats, with the same rounding). Blurred values are within 2^-8 of the
-        float ones; the restoration then differs by a few hundredths of a dB. */
+        float ones; the restorations differ by a few hundredths of a dB (10 iterations), by up to
+        0.13 dB after 20 tile-wise ones. */
     RL_BLUR_BFLOAT16 = 1
 };
 

@@ -285,6 +285,16 @@ void expectAdjoint(cv::dynblur::detail::BlurOperator& op, bool pad)
     EXPECT_GT(norm(ax), 1.0);
 }
 
+//! The bank with node `node`'s kernel a slanted 5-tap line (5×7, offsets in both axes) at `shift`.
+PsfBank withSlantedKernel(PsfBank bank, size_t node, Point shift)
+{
+    bank.kernels[node] = Mat::zeros(5, 7, CV_32F);
+    for (int i = 0; i < 5; i++)
+        bank.kernels[node].at<float>(i, i + 1) = 0.2f;
+    bank.shifts[node] = shift;
+    return bank;
+}
+
 //! The bank with a little noise on every non-zero tap (zero taps stay zero), renormalised.
 PsfBank unevenTaps(PsfBank bank, uint64 seed)
 {
@@ -331,11 +341,7 @@ void expectSameAsGeneral(cv::dynblur::detail::BlurOperator& gather, const PsfBan
 // both boundaries included.
 TEST(DeconvOperator, TileGatherAgreesWithTheGeneralOperator)
 {
-    PsfBank bank = unevenTaps(tileBank(Size(150, 110), 5, 4, 40), 6);
-    bank.kernels[7] = Mat::zeros(5, 7, CV_32F);
-    for (int i = 0; i < 5; i++)
-        bank.kernels[7].at<float>(i, i + 1) = 0.2f;
-    bank.shifts[7] = Point(-6, 3);
+    const PsfBank bank = withSlantedKernel(unevenTaps(tileBank(Size(150, 110), 5, 4, 40), 6), 7, Point(-6, 3));
     for (bool pad : {true, false})
     {
         cv::dynblur::detail::TileBankOperator tiles(bank, pad);
@@ -347,12 +353,8 @@ TEST(DeconvOperator, TileGatherAgreesWithTheGeneralOperator)
 // Both operators of a row bank (the general one and the row gather) have exact adjoints and agree.
 TEST(DeconvOperator, AdjointIsExactForRowBankWithLargeShifts)
 {
-    PsfBank bank = rowBank(Size(150, 160), 8, 120);
     // Slanted kernels too: taps with column offsets exercise the gather's edge columns.
-    bank.kernels[3] = Mat::zeros(5, 7, CV_32F);
-    for (int i = 0; i < 5; i++)
-        bank.kernels[3].at<float>(i, i + 1) = 0.2f;
-    bank.shifts[3] = Point(-4, 2);
+    const PsfBank bank = withSlantedKernel(rowBank(Size(150, 160), 8, 120), 3, Point(-4, 2));
     for (bool pad : {true, false})
     {
         cv::dynblur::detail::BankBlurOperator general(bank, pad);
@@ -418,11 +420,7 @@ void expectPackedAgrees(cv::dynblur::detail::BlurOperator& packed, cv::dynblur::
 // Odd heights (a last row without a partner), slanted kernels and large shifts, both boundaries.
 TEST(DeconvOperator, PackedBfloat16GathersAgreeWithFloat)
 {
-    PsfBank rows = rowBank(Size(150, 161), 8, 120);
-    rows.kernels[3] = Mat::zeros(5, 7, CV_32F);
-    for (int i = 0; i < 5; i++)
-        rows.kernels[3].at<float>(i, i + 1) = 0.2f;
-    rows.shifts[3] = Point(-4, 3);
+    const PsfBank rows = withSlantedKernel(rowBank(Size(150, 161), 8, 120), 3, Point(-4, 3));
     const PsfBank tiles = unevenTaps(tileBank(Size(151, 111), 5, 4, 41), 6);
     for (bool pad : {true, false})
     {

@@ -942,7 +942,7 @@ void buildPairs(RowBankOperator::Gather& gather)
 }  // namespace
 
 RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad, bool packed)
-    : BlurOperator(bank.imageSize), packed_(packed)
+    : BlurOperator(bank.imageSize, packed)
 {
     spotGain_ = bankSpotGain(bank);
     CV_Assert(bank.nodeCols.size() == 1 && bank.kernels.size() == bank.nodeRows.size());
@@ -1072,36 +1072,17 @@ void packRowPair(const float* __restrict first, const float* __restrict second, 
             out[x] = roundToBfloat16(first[x] + offset);
 }
 
-void BlurOperator::forwardByBlocks(const Mat& latent, Mat& frame) const
+void packPlane(const Mat& plane, Mat& packed)
 {
-    CV_DbgAssert(latent.type() == CV_32FC1 && latent.size() == latent_);
-    frame.create(frame_, CV_32FC1);
-    parallel_for_(Range(0, frame_.height),
-                  [&](const Range& rows) { forwardBlock(latent, rows, frame.ptr<float>(rows.start), frame.step1()); });
-}
-
-void BlurOperator::adjointByBlocks(const Mat& frame, Mat& latent)
-{
-    CV_DbgAssert(frame.type() == CV_32FC1 && frame.size() == frame_);
-    latent.create(latent_, CV_32FC1);
-    prepareAdjoint(frame);
-    parallel_for_(Range(0, latent_.height),
-                  [&](const Range& rows) { adjointBlock(frame, rows, latent.ptr<float>(rows.start), latent.step1()); });
-}
-
-namespace {
-
-//! packRowPair over every row pair of `plane` (CV_32FC1), pairs in parallel.
-Mat packedPlane(const Mat& plane)
-{
-    Mat packed((plane.rows + 1) / 2, plane.cols, CV_32SC1);
+    packed.create((plane.rows + 1) / 2, plane.cols, CV_32SC1);
     parallel_for_(Range(0, packed.rows), [&](const Range& pairs) {
         for (int k = pairs.start; k < pairs.end; k++)
             packRowPair(plane.ptr<float>(2 * k), 2 * k + 1 < plane.rows ? plane.ptr<float>(2 * k + 1) : nullptr, 0.f,
                         plane.cols, packed.ptr<uint32_t>(k));
     });
-    return packed;
 }
+
+namespace {
 
 //! Row pairs of `rows` in parallel, each part's rows starting on an even row.
 template <typename Body>
@@ -1113,25 +1094,40 @@ void forRowPairs(int rows, const Body& body)
 
 }  // namespace
 
-void BlurOperator::forwardByPackedBlocks(const Mat& latent, Mat& frame) const
+void BlurOperator::forwardByBlocks(const Mat& latent, Mat& frame) const
 {
     CV_DbgAssert(latent.type() == CV_32FC1 && latent.size() == latent_);
-    const Mat packed = packedPlane(latent);
     frame.create(frame_, CV_32FC1);
-    forRowPairs(frame_.height, [&](const Range& rows) {
-        forwardPackedBlock(packed, rows, frame.ptr<float>(rows.start), frame.step1());
-    });
+    if (packed_)
+    {
+        Mat packed;
+        packPlane(latent, packed);
+        forRowPairs(frame_.height, [&](const Range& rows) {
+            forwardPackedBlock(packed, rows, frame.ptr<float>(rows.start), frame.step1());
+        });
+        return;
+    }
+    parallel_for_(Range(0, frame_.height),
+                  [&](const Range& rows) { forwardBlock(latent, rows, frame.ptr<float>(rows.start), frame.step1()); });
 }
 
-void BlurOperator::adjointByPackedBlocks(const Mat& frame, Mat& latent)
+void BlurOperator::adjointByBlocks(const Mat& frame, Mat& latent)
 {
     CV_DbgAssert(frame.type() == CV_32FC1 && frame.size() == frame_);
-    const Mat packed = packedPlane(frame);
     latent.create(latent_, CV_32FC1);
-    prepareAdjointPacked(packed);
-    forRowPairs(latent_.height, [&](const Range& rows) {
-        adjointPackedBlock(packed, rows, latent.ptr<float>(rows.start), latent.step1());
-    });
+    if (packed_)
+    {
+        Mat packed;
+        packPlane(frame, packed);
+        prepareAdjointPacked(packed);
+        forRowPairs(latent_.height, [&](const Range& rows) {
+            adjointPackedBlock(packed, rows, latent.ptr<float>(rows.start), latent.step1());
+        });
+        return;
+    }
+    prepareAdjoint(frame);
+    parallel_for_(Range(0, latent_.height),
+                  [&](const Range& rows) { adjointBlock(frame, rows, latent.ptr<float>(rows.start), latent.step1()); });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1196,7 +1192,7 @@ struct UnionColumn
 }  // namespace
 
 TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
-    : BlurOperator(bank.imageSize), packed_(packed)
+    : BlurOperator(bank.imageSize, packed)
 {
     spotGain_ = bankSpotGain(bank);
     nodeCols_ = int(bank.nodeCols.size());

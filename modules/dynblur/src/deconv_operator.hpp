@@ -59,7 +59,7 @@ public:
     one instruction takes two multiply-adds per lane, twice a float FMA, from half the bytes.
     forward() and adjoint() then pack their input first; gathersRows() is false, and the RL loop
     uses the packed blocks below. */
-    virtual bool gathersPackedRows() const { return false; }
+    bool gathersPackedRows() const { return packed_; }
     /** Rows `frameRows` (starting on an even row) of A · latent, from `packedLatent`, laid out as
     forwardBlock's. Only when gathersPackedRows(). */
     virtual void forwardPackedBlock(const Mat& /*packedLatent*/, const Range& /*frameRows*/, float* /*out*/,
@@ -73,15 +73,17 @@ public:
 
 protected:
     //! The latent domain starts as the frame; operators with padding grow it.
-    explicit BlurOperator(Size frameSize) : frame_(frameSize), latent_(frameSize) {}
-    //! forward() of an operator that gathers rows: its blocks, in parallel over the frame.
+    explicit BlurOperator(Size frameSize, bool packed = false)
+        : frame_(frameSize), latent_(frameSize), packed_(packed)
+    {
+    }
+    /** forward() of an operator that gathers rows: its blocks, in parallel over the frame (packed:
+    the latent packed first, then the packed blocks over row pairs). */
     void forwardByBlocks(const Mat& latent, Mat& frame) const;
-    //! adjoint() of an operator that gathers rows: prepareAdjoint, then its blocks in parallel.
+    //! adjoint() of an operator that gathers rows: prepareAdjoint, then its blocks in parallel (packed: likewise).
     void adjointByBlocks(const Mat& frame, Mat& latent);
-    //! forward() and adjoint() of an operator that gathers packed rows: pack, then the packed blocks.
-    void forwardByPackedBlocks(const Mat& latent, Mat& frame) const;
-    void adjointByPackedBlocks(const Mat& frame, Mat& latent);
     Size frame_, latent_;
+    bool packed_;
     Point origin_;
     double spotGain_ = 1;
 };
@@ -161,18 +163,11 @@ class CV_EXPORTS RowBankOperator CV_FINAL : public BlurOperator
 public:
     //! `packed`: bfloat16 packed planes and weights (gathersPackedRows), float otherwise.
     RowBankOperator(const PsfBank& bank, bool pad, bool packed = false);
-    void forward(const Mat& latent, Mat& frame) CV_OVERRIDE
-    {
-        packed_ ? forwardByPackedBlocks(latent, frame) : forwardByBlocks(latent, frame);
-    }
-    void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE
-    {
-        packed_ ? adjointByPackedBlocks(frame, latent) : adjointByBlocks(frame, latent);
-    }
+    void forward(const Mat& latent, Mat& frame) CV_OVERRIDE { forwardByBlocks(latent, frame); }
+    void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE { adjointByBlocks(frame, latent); }
     bool gathersRows() const CV_OVERRIDE { return !packed_; }
     void forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const CV_OVERRIDE;
     void adjointBlock(const Mat& frame, const Range& latentRows, float* out, size_t outStep) const CV_OVERRIDE;
-    bool gathersPackedRows() const CV_OVERRIDE { return packed_; }
     void forwardPackedBlock(const Mat& packedLatent, const Range& frameRows, float* out,
                             size_t outStep) const CV_OVERRIDE;
     void adjointPackedBlock(const Mat& packedFrame, const Range& latentRows, float* out,
@@ -223,7 +218,6 @@ public:
     };
 
 private:
-    bool packed_;
     Gather forward_, adjoint_;                      // float mode
     PackedGather packedForward_, packedAdjoint_;    // packed mode
 };
@@ -241,19 +235,12 @@ class CV_EXPORTS TileBankOperator CV_FINAL : public BlurOperator
 public:
     //! `packed`: as RowBankOperator's.
     TileBankOperator(const PsfBank& bank, bool pad, bool packed = false);
-    void forward(const Mat& latent, Mat& frame) CV_OVERRIDE
-    {
-        packed_ ? forwardByPackedBlocks(latent, frame) : forwardByBlocks(latent, frame);
-    }
-    void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE
-    {
-        packed_ ? adjointByPackedBlocks(frame, latent) : adjointByBlocks(frame, latent);
-    }
+    void forward(const Mat& latent, Mat& frame) CV_OVERRIDE { forwardByBlocks(latent, frame); }
+    void adjoint(const Mat& frame, Mat& latent) CV_OVERRIDE { adjointByBlocks(frame, latent); }
     bool gathersRows() const CV_OVERRIDE { return !packed_; }
     void forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const CV_OVERRIDE;
     void adjointBlock(const Mat& frame, const Range& latentRows, float* out, size_t outStep) const CV_OVERRIDE;
     void prepareAdjoint(const Mat& frame) CV_OVERRIDE;
-    bool gathersPackedRows() const CV_OVERRIDE { return packed_; }
     void forwardPackedBlock(const Mat& packedLatent, const Range& frameRows, float* out,
                             size_t outStep) const CV_OVERRIDE;
     void adjointPackedBlock(const Mat& packedFrame, const Range& latentRows, float* out,
@@ -275,8 +262,6 @@ private:
     template <typename T, typename WeightRow>
     void weightColumns(const Mat& source, int type, const WeightRow& weightRow);
 
-    bool packed_;
-
     int nodeCols_ = 1;
     int dxMin_ = 0, dxMax_ = 0;  // the bank's column offsets (latent − frame)
     /* Per node column i: rows[y] of forwardColumns_[i] is frame row y's gather (safe columns
@@ -289,6 +274,10 @@ private:
     int margin_ = 0;                               // zero columns around each weighted part
     std::vector<Mat> weighted_;                    // per node column: frame × tent, with margins (packed: packed)
 };
+
+/** @brief packRowPair over every row pair of `plane` (CV_32FC1) into `packed` (CV_32SC1,
+⌈rows / 2⌉ × cols), pairs in parallel. */
+CV_EXPORTS void packPlane(const Mat& plane, Mat& packed);
 
 /** @brief Rows 2k and 2k + 1 of a plane, plus `offset`, as bfloat16 (rounded to nearest even) in
 the low and high halves of out[x], x in [0, n): the packed sources of gathersPackedRows().

@@ -426,10 +426,7 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
             if (packed)
             {
                 if (!packedReady)
-                    forBands(latentSize.height, bands, [&](int, const Range& rows) {
-                        for (int r = rows.start; r < rows.end; r += 2)
-                            packPair(y, r);
-                    });
+                    packPlane(y, packedY);
                 Mat& packedRatio = ws.packedRatio;
                 packedRatio.create((frameSize.height + 1) / 2, frameSize.width, CV_32SC1);
                 forBands(frameSize.height, bands, [&](int, const Range& rows) {

@@ -1,7 +1,7 @@
 // The whole pipeline on one C270-sized frame: DynamicDeblurrer::deblur (exposure window, PSF bank,
-// 10 RL iterations, bfloat16 blurs) for each PSF model, on a 1280x960 RGB rolling-shutter frame in window III of a
-// 10° saccade; and the speed targets' ratios, from rounds that time the row-wise and tile-wise
-// restorations and the filter2D reference back to back on that frame.
+// 10 RL iterations, bfloat16 blurs) for each PSF model, on a 1280x960 RGB rolling-shutter frame in
+// window III of a 10° saccade; and the speed targets' ratios, from rounds that time the row-wise and
+// tile-wise restorations, the filter2D reference and the float-blur row-wise one back to back.
 #include "perf_baseline.hpp"
 
 #include <benchmark/benchmark.h>

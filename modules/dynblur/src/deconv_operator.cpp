@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <atomic>
 #include <climits>
+#include <mutex>
 #include <cstring>
 #include <utility>
 
@@ -157,13 +158,14 @@ struct KernelTap
     float weight;
 };
 
-//! The non-zero taps of a kernel with its shift, row by row down the kernel.
+/* The non-zero taps of a kernel with its shift, in (dy, dx) order: the kernel walked backwards,
+   since a read offset is the negated kernel position. */
 std::vector<KernelTap> kernelTaps(const Mat& kernel32f, Point shift)
 {
     const int cx = (kernel32f.cols - 1) / 2, cy = (kernel32f.rows - 1) / 2;
     std::vector<KernelTap> taps;
-    for (int v = 0; v < kernel32f.rows; v++)
-        for (int u = 0; u < kernel32f.cols; u++)
+    for (int v = kernel32f.rows - 1; v >= 0; v--)
+        for (int u = kernel32f.cols - 1; u >= 0; u--)
         {
             const float w = kernel32f.at<float>(v, u);
             if (w != 0.f)  // motion kernels are mostly empty: skip, do not multiply by zero
@@ -674,13 +676,20 @@ inline void multiplyInto(float* __restrict dst, const float* __restrict a, const
 
 double bankSpotGain(const PsfBank& bank)
 {
+    // A tile bank holds ~10⁴ kernels: their peaks in parallel (serially they took 3 ms).
+    std::mutex mutex;
     double smallestPeak = 1;
-    for (const Mat& k : bank.kernels)
-    {
-        double peak = 0;
-        minMaxLoc(k, nullptr, &peak);
-        smallestPeak = std::min(smallestPeak, peak);
-    }
+    parallel_for_(Range(0, int(bank.kernels.size())), [&](const Range& range) {
+        double smallest = 1;
+        for (int n = range.start; n < range.end; n++)
+        {
+            double peak = 0;
+            minMaxLoc(bank.kernels[size_t(n)], nullptr, &peak);
+            smallest = std::min(smallest, peak);
+        }
+        std::lock_guard<std::mutex> lock(mutex);
+        smallestPeak = std::min(smallestPeak, smallest);
+    });
     const double blended = double(std::min<size_t>(bank.nodeRows.size(), 2) * std::min<size_t>(bank.nodeCols.size(), 2));
     return smallestPeak > 0 ? blended / smallestPeak : 1.0;
 }
@@ -1189,6 +1198,185 @@ struct UnionColumn
     }
 };
 
+/* One node column's gather, walked straight from its union kernels (building per-row float lists
+   first and merging them took most of a tile-wise frame's set-up). Output rows come in pairs
+   (2k, 2k + 1; the last alone when outRows is odd), source rows in groups of `group` (1, or 2 for
+   packed pairs). For each pair k, each source group g in order and each column in order,
+   term(k, g, col, weight) gets weight[o][h], the weight of source row group·g + h in output row
+   2k + o (0 where none; called when one is not), then pairEnd(k). The kernel and its blend are the
+   frame row's: the output row's in the forward direction (source row = r + dy + originY, column
+   colBase + dx), the source row's in the adjoint (source row = r − originY − dy, column
+   colBase − dx, read from the weighted copy). */
+template <typename Term, typename PairEnd>
+void walkColumn(const UnionColumn& column, const std::vector<BankBlurOperator::AxisWeight>& rowWeights, bool adjoint,
+                int outRows, int sourceRows, int originY, int colBase, int group, const Term& term,
+                const PairEnd& pairEnd)
+{
+    int dxMin = INT_MAX, dxMax = INT_MIN;
+    for (const UnionTap& u : column.taps)
+    {
+        dxMin = std::min(dxMin, u.dx);
+        dxMax = std::max(dxMax, u.dx);
+    }
+    /* The source rows each output row reads: its kernel's rows, which the shifts move along the
+       frame, so the whole column's span would visit mostly empty groups. */
+    std::vector<int> sourceFrom(size_t(outRows), INT_MAX), sourceTo(size_t(outRows), INT_MIN);
+    for (int row = 0; row < (adjoint ? sourceRows : outRows); row++)
+    {
+        const UnionColumn::Kernel& kernel = column.kernels[size_t(rowWeights[size_t(row)].node[0])];
+        if (kernel.end == kernel.begin)
+            continue;
+        if (!adjoint)
+        {
+            sourceFrom[size_t(row)] = row + originY + kernel.dyMin;
+            sourceTo[size_t(row)] = row + originY + kernel.dyMax;
+            continue;
+        }
+        for (int r = std::max(0, row + originY + kernel.dyMin); r <= std::min(outRows - 1, row + originY + kernel.dyMax);
+             r++)
+        {
+            sourceFrom[size_t(r)] = std::min(sourceFrom[size_t(r)], row);
+            sourceTo[size_t(r)] = std::max(sourceTo[size_t(r)], row);
+        }
+    }
+    struct Slot
+    {
+        float weight[2][2];
+        bool used;
+    };
+    const Slot empty{{{0.f, 0.f}, {0.f, 0.f}}, false};
+    std::vector<Slot> slots(column.taps.empty() ? 0 : size_t(dxMax - dxMin + 1), empty);  // one per dx
+    const int groups = (sourceRows + group - 1) / group;
+    for (int k = 0; k < (outRows + 1) / 2; k++)
+    {
+        const size_t high = size_t(std::min(2 * k + 1, outRows - 1));
+        const int from = std::min(sourceFrom[size_t(2 * k)], sourceFrom[high]);
+        const int to = std::max(sourceTo[size_t(2 * k)], sourceTo[high]);
+        for (int g = std::max(0, from / group); g <= std::min(groups - 1, to / group); g++)  // none if no reads
+        {
+            int lowest = INT_MAX, highest = INT_MIN;  // the slots filled
+            for (int output = 0; output < 2; output++)
+                for (int half = 0; half < group; half++)
+                {
+                    const int r = 2 * k + output, source = group * g + half;
+                    if (r >= outRows || source >= sourceRows)
+                        continue;
+                    const BankBlurOperator::AxisWeight& rw = rowWeights[size_t(adjoint ? source : r)];
+                    const UnionColumn::Kernel& kernel = column.kernels[size_t(rw.node[0])];
+                    const int dy = adjoint ? r - originY - source : source - r - originY;
+                    if (dy < kernel.dyMin || dy > kernel.dyMax)  // also when the kernel is empty
+                        continue;
+                    const float a0 = rw.weight[0], a1 = rw.node[1] != rw.node[0] ? rw.weight[1] : 0.f;
+                    const int* run = &column.runStart[size_t(kernel.runs + dy - kernel.dyMin)];
+                    for (int t = run[0]; t < run[1]; t++)
+                    {
+                        const UnionTap& u = column.taps[size_t(t)];
+                        const float w = a0 * u.weight[0] + a1 * u.weight[1];
+                        if (w == 0.f)
+                            continue;
+                        const int index = u.dx - dxMin;
+                        slots[size_t(index)].weight[output][half] = w;
+                        slots[size_t(index)].used = true;
+                        lowest = std::min(lowest, index);
+                        highest = std::max(highest, index);
+                    }
+                }
+            // Columns ascending: dx ascending forward, descending in the adjoint.
+            for (int i = 0; lowest <= highest && i <= highest - lowest; i++)
+            {
+                const int index = adjoint ? highest - i : lowest + i;
+                Slot& slot = slots[size_t(index)];
+                if (!slot.used)
+                    continue;
+                term(k, g, adjoint ? colBase - (dxMin + index) : colBase + dxMin + index, slot.weight);
+                slot = empty;
+            }
+        }
+        pairEnd(k);
+    }
+}
+
+//! The packed gather of one node column (walkColumn's pairs of source rows, weights as bfloat16).
+void buildPackedColumn(const UnionColumn& column, const std::vector<BankBlurOperator::AxisWeight>& rowWeights,
+                       bool adjoint, int outRows, int sourceRows, int originY, int colBase, int outWidth,
+                       int sourceWidth, RowBankOperator::PackedGather& packed)
+{
+    packed.pairs.assign(size_t((outRows + 1) / 2), RowBankOperator::GatherRow());
+    packed.taps.clear();
+    int begin = 0, safeBegin = 0, safeEnd = outWidth;
+    walkColumn(
+        column, rowWeights, adjoint, outRows, sourceRows, originY, colBase, 2,
+        [&](int, int pair, int col, const float(&weight)[2][2]) {
+            packed.taps.push_back({pair, col, {0u, 0u}});
+            for (int o = 0; o < 2; o++)
+                packed.taps.back().weight[o] = roundToBfloat16(weight[o][0]) | (roundToBfloat16(weight[o][1]) << 16);
+            safeBegin = std::max(safeBegin, -col);
+            safeEnd = std::min(safeEnd, sourceWidth - col);
+        },
+        [&](int k) {
+            RowBankOperator::GatherRow& g = packed.pairs[size_t(k)];
+            g.begin = begin;
+            g.end = begin = int(packed.taps.size());
+            g.safeBegin = std::min(safeBegin, outWidth);
+            g.safeEnd = std::max(safeEnd, g.safeBegin);
+            safeBegin = 0;
+            safeEnd = outWidth;
+        });
+    packed.taps.shrink_to_fit();
+}
+
+/* The float gather of one node column: each output row's taps (walkColumn's single source rows,
+   zero weights left out) and each full pair's union, as buildPairs makes it. Safe columns are the
+   caller's. */
+void buildFloatColumn(const UnionColumn& column, const std::vector<BankBlurOperator::AxisWeight>& rowWeights,
+                      bool adjoint, int outRows, int sourceRows, int originY, int colBase,
+                      RowBankOperator::Gather& gather)
+{
+    /* Every frame row's union kernel once: no list grows past it, so they are sized once and
+       written in place (growing them by push_back copied and faulted in each several times). */
+    size_t most = 0;
+    for (int y = 0; y < (adjoint ? sourceRows : outRows); y++)
+    {
+        const UnionColumn::Kernel& kernel = column.kernels[size_t(rowWeights[size_t(y)].node[0])];
+        most += size_t(kernel.end - kernel.begin);
+    }
+    gather.rows.assign(size_t(outRows), RowBankOperator::GatherRow());
+    gather.pairs.assign(size_t(outRows / 2), RowBankOperator::GatherRow());
+    gather.taps.resize(most);
+    gather.pairTaps.resize(most);
+    std::vector<RowBankOperator::Tap> second;  // the pair's second row, appended after the first's
+    int taps = 0, pairTaps = 0;
+    walkColumn(
+        column, rowWeights, adjoint, outRows, sourceRows, originY, colBase, 1,
+        [&](int k, int row, int col, const float(&weight)[2][2]) {
+            if (weight[0][0] != 0.f)
+                gather.taps[size_t(taps++)] = {row, col, weight[0][0]};
+            if (weight[1][0] != 0.f)
+                second.push_back({row, col, weight[1][0]});
+            if (2 * k + 1 < outRows)
+                gather.pairTaps[size_t(pairTaps++)] = {row, col, {weight[0][0], weight[1][0]}};
+        },
+        [&](int k) {
+            RowBankOperator::GatherRow& first = gather.rows[size_t(2 * k)];
+            first.begin = k > 0 ? gather.rows[size_t(2 * k - 1)].end : 0;
+            first.end = taps;
+            if (2 * k + 1 >= outRows)
+                return;
+            RowBankOperator::GatherRow& next = gather.rows[size_t(2 * k + 1)];
+            std::copy(second.begin(), second.end(), gather.taps.begin() + taps);
+            next.begin = taps;
+            next.end = taps += int(second.size());
+            second.clear();
+            RowBankOperator::GatherRow& pair = gather.pairs[size_t(k)];
+            pair.begin = k > 0 ? gather.pairs[size_t(k - 1)].end : 0;
+            pair.end = pairTaps;
+        });
+    gather.taps.resize(size_t(taps));
+    gather.taps.shrink_to_fit();
+    gather.pairTaps.resize(size_t(pairTaps));
+    gather.pairTaps.shrink_to_fit();
+}
+
 }  // namespace
 
 TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
@@ -1198,24 +1386,27 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
     nodeCols_ = int(bank.nodeCols.size());
     const int nodeRows = int(bank.nodeRows.size());
     std::vector<std::vector<KernelTap>> nodes(bank.kernels.size());
+    std::mutex mutex;
+    int dxMin = 0, dxMax = 0, dyMin = 0, dyMax = 0;
     parallel_for_(Range(0, int(nodes.size())), [&](const Range& r) {
+        int reach[4] = {0, 0, 0, 0};  // dxMin, dxMax, dyMin, dyMax of these nodes
         for (int n = r.start; n < r.end; n++)
         {
             nodes[size_t(n)] = kernelTaps(bank.kernels[size_t(n)], bank.shifts[size_t(n)]);
-            std::sort(nodes[size_t(n)].begin(), nodes[size_t(n)].end(), [](const KernelTap& a, const KernelTap& b) {
-                return a.dy != b.dy ? a.dy < b.dy : a.dx < b.dx;
-            });
+            for (const KernelTap& t : nodes[size_t(n)])
+            {
+                reach[0] = std::min(reach[0], t.dx);
+                reach[1] = std::max(reach[1], t.dx);
+                reach[2] = std::min(reach[2], t.dy);
+                reach[3] = std::max(reach[3], t.dy);
+            }
         }
+        std::lock_guard<std::mutex> lock(mutex);
+        dxMin = std::min(dxMin, reach[0]);
+        dxMax = std::max(dxMax, reach[1]);
+        dyMin = std::min(dyMin, reach[2]);
+        dyMax = std::max(dyMax, reach[3]);
     });
-    int dxMin = 0, dxMax = 0, dyMin = 0, dyMax = 0;
-    for (const std::vector<KernelTap>& node : nodes)
-        for (const KernelTap& t : node)
-        {
-            dxMin = std::min(dxMin, t.dx);
-            dxMax = std::max(dxMax, t.dx);
-            dyMin = std::min(dyMin, t.dy);
-            dyMax = std::max(dyMax, t.dy);
-        }
     domain(frame_, pad, dxMin, dxMax, dyMin, dyMax, latent_, origin_);
     dxMin_ = dxMin;
     dxMax_ = dxMax;
@@ -1238,115 +1429,39 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
         {
             const UnionColumn column(nodes, nodeRows, nodeCols_, i);
             const Range cols = colSupport_[size_t(i)];
+            const int adjointColBase = margin_ - cols.start - origin_.x;  // frame column → weighted copy's
+            if (packed_)
+            {
+                buildPackedColumn(column, rowWeights, false, frame_.height, latent_.height, origin_.y, origin_.x,
+                                  frame_.width, latent_.width, packedForwardColumns_[size_t(i)]);
+                buildPackedColumn(column, rowWeights, true, latent_.height, frame_.height, origin_.y, adjointColBase,
+                                  latent_.width, cols.size() + 2 * margin_, packedAdjointColumns_[size_t(i)]);
+                continue;
+            }
             // Forward: frame row y reads latent row y + dy + origin.y at column x + dx + origin.x.
             Gather& fw = forwardParts[size_t(i)];
-            fw.rows.resize(size_t(frame_.height));
-            size_t most = 0;  // every union tap of every row: the list never grows past it
-            for (int y = 0; y < frame_.height; y++)
+            buildFloatColumn(column, rowWeights, false, frame_.height, latent_.height, origin_.y, origin_.x, fw);
+            for (GatherRow& g : fw.rows)
             {
-                const UnionColumn::Kernel& k = column.kernels[size_t(rowWeights[size_t(y)].node[0])];
-                most += size_t(k.end - k.begin);
-            }
-            fw.taps.resize(most);
-            int count = 0;
-            for (int y = 0; y < frame_.height; y++)
-            {
-                const BankBlurOperator::AxisWeight& rw = rowWeights[size_t(y)];
-                const float a0 = rw.weight[0], a1 = rw.node[1] != rw.node[0] ? rw.weight[1] : 0.f;
-                const UnionColumn::Kernel& k = column.kernels[size_t(rw.node[0])];
-                GatherRow& g = fw.rows[size_t(y)];
-                g.begin = count;
                 int colMin = INT_MAX, colMax = INT_MIN;
-                for (int t = k.begin; t < k.end; t++)
+                for (int t = g.begin; t < g.end; t++)
                 {
-                    const UnionTap& u = column.taps[size_t(t)];
-                    const int row = y + u.dy + origin_.y;
-                    const float w = a0 * u.weight[0] + a1 * u.weight[1];
-                    if (row < 0 || row >= latent_.height || w == 0.f)
-                        continue;
-                    Tap& tap = fw.taps[size_t(count++)];  // within `most`
-                    tap.row = row;
-                    tap.col = u.dx + origin_.x;
-                    tap.weight = w;
-                    colMin = std::min(colMin, tap.col);
-                    colMax = std::max(colMax, tap.col);
+                    colMin = std::min(colMin, fw.taps[size_t(t)].col);
+                    colMax = std::max(colMax, fw.taps[size_t(t)].col);
                 }
-                g.end = count;
                 g.safeBegin = g.end > g.begin ? std::max(cols.start, -colMin) : cols.start;
                 g.safeEnd = g.end > g.begin ? std::max(g.safeBegin, std::min(cols.end, latent_.width - colMax)) : cols.end;
             }
-            fw.taps.resize(size_t(count));
-            fw.taps.shrink_to_fit();
-            if (packed_)
-            {
-                buildPacked(fw, frame_.width, latent_.width, packedForwardColumns_[size_t(i)]);
-                fw = Gather();
-            }
-            else
-                buildPairs(fw);
-            // Adjoint: latent row l gathers frame row y = l − origin.y − dy, column x − dx − origin.x,
-            // at its place in the node column's weighted copy. Frame rows in order, for each the
-            // latent rows its kernel reaches, so a latent row's taps come in frame row order; a
-            // first walk counts them, the second puts them in place.
+            /* Adjoint: latent row l gathers frame row y = l − origin.y − dy, column x − dx − origin.x,
+               at its place in the node column's weighted copy, where every column it produces reads
+               inside (zero margins). */
             Gather& aw = adjointParts[size_t(i)];
-            aw.rows.assign(size_t(latent_.height), GatherRow());
-            const int offset = margin_ - cols.start - origin_.x;
-            for (int pass = 0; pass < 2; pass++)
-            {
-                for (int y = 0; y < frame_.height; y++)
-                {
-                    const BankBlurOperator::AxisWeight& rw = rowWeights[size_t(y)];
-                    const float a0 = rw.weight[0], a1 = rw.node[1] != rw.node[0] ? rw.weight[1] : 0.f;
-                    const UnionColumn::Kernel& k = column.kernels[size_t(rw.node[0])];
-                    const int lFrom = std::max(0, y + origin_.y + k.dyMin);
-                    const int lTo = std::min(latent_.height - 1, y + origin_.y + k.dyMax);
-                    for (int l = lFrom; l <= lTo; l++)
-                    {
-                        const int* run = &column.runStart[size_t(k.runs + l - origin_.y - y - k.dyMin)];
-                        GatherRow& g = aw.rows[size_t(l)];
-                        for (int t = run[1] - 1; t >= run[0]; t--)  // dx down: columns up
-                        {
-                            const UnionTap& u = column.taps[size_t(t)];
-                            const float w = a0 * u.weight[0] + a1 * u.weight[1];
-                            if (w == 0.f)
-                                continue;
-                            if (pass == 0)
-                            {
-                                g.end++;
-                                continue;
-                            }
-                            Tap& tap = aw.taps[size_t(g.end++)];
-                            tap.row = y;
-                            tap.col = offset - u.dx;
-                            tap.weight = w;
-                        }
-                    }
-                }
-                if (pass == 0)
-                {
-                    int total = 0;
-                    for (GatherRow& g : aw.rows)
-                    {
-                        g.begin = total;
-                        total += g.end;
-                        g.end = g.begin;
-                    }
-                    aw.taps.resize(size_t(total));
-                }
-            }
-            // Every column an adjoint row produces reads inside the weighted copy (zero margins).
+            buildFloatColumn(column, rowWeights, true, latent_.height, frame_.height, origin_.y, adjointColBase, aw);
             for (GatherRow& g : aw.rows)
             {
                 g.safeBegin = std::max(0, cols.start + dxMin_ + origin_.x);
                 g.safeEnd = std::min(latent_.width, cols.end + dxMax_ + origin_.x);
             }
-            if (packed_)
-            {
-                buildPacked(aw, latent_.width, cols.size() + 2 * margin_, packedAdjointColumns_[size_t(i)]);
-                aw = Gather();
-            }
-            else
-                buildPairs(aw);
         }
     });
     forwardColumns_ = std::move(forwardParts);

@@ -337,17 +337,22 @@ void expectSameAsGeneral(cv::dynblur::detail::BlurOperator& gather, const PsfBan
     EXPECT_LT(norm(a, b, NORM_INF), 1e-5) << "adjoint, pad=" << pad;
 }
 
-// The tile gather has an exact adjoint and agrees with the general operator, slanted kernels and
-// both boundaries included.
+/* The tile gather has an exact adjoint and agrees with the general operator, slanted kernels and
+   both boundaries included, with this CPU's gather kernels and with those of a CPU without AVX-512
+   (narrow node column supports: the 512-bit kernel's masked partial blocks). */
 TEST(DeconvOperator, TileGatherAgreesWithTheGeneralOperator)
 {
     const PsfBank bank = withSlantedKernel(unevenTaps(tileBank(Size(150, 110), 5, 4, 40), 6), 7, Point(-6, 3));
-    for (bool pad : {true, false})
-    {
-        cv::dynblur::detail::TileBankOperator tiles(bank, pad);
-        expectAdjoint(tiles, pad);
-        expectSameAsGeneral(tiles, bank, pad);
-    }
+    for (bool portable : {false, true})
+        for (bool pad : {true, false})
+        {
+            SCOPED_TRACE(portable ? "portable gathers" : "this CPU's gathers");
+            cv::dynblur::detail::setPortableGathers(portable);
+            cv::dynblur::detail::TileBankOperator tiles(bank, pad);
+            expectAdjoint(tiles, pad);
+            expectSameAsGeneral(tiles, bank, pad);
+        }
+    cv::dynblur::detail::setPortableGathers(false);
 }
 
 // Both operators of a row bank (the general one and the row gather) have exact adjoints and agree.
@@ -355,14 +360,18 @@ TEST(DeconvOperator, AdjointIsExactForRowBankWithLargeShifts)
 {
     // Slanted kernels too: taps with column offsets exercise the gather's edge columns.
     const PsfBank bank = withSlantedKernel(rowBank(Size(150, 160), 8, 120), 3, Point(-4, 2));
-    for (bool pad : {true, false})
-    {
-        cv::dynblur::detail::BankBlurOperator general(bank, pad);
-        cv::dynblur::detail::RowBankOperator rows(bank, pad);
-        expectAdjoint(general, pad);
-        expectAdjoint(rows, pad);
-        expectSameAsGeneral(rows, bank, pad);
-    }
+    for (bool portable : {false, true})
+        for (bool pad : {true, false})
+        {
+            SCOPED_TRACE(portable ? "portable gathers" : "this CPU's gathers");
+            cv::dynblur::detail::setPortableGathers(portable);
+            cv::dynblur::detail::BankBlurOperator general(bank, pad);
+            cv::dynblur::detail::RowBankOperator rows(bank, pad);
+            expectAdjoint(general, pad);
+            expectAdjoint(rows, pad);
+            expectSameAsGeneral(rows, bank, pad);
+        }
+    cv::dynblur::detail::setPortableGathers(false);
 }
 
 //! `m` with every element rounded to the nearest bfloat16, so packing it loses nothing.
@@ -385,7 +394,7 @@ Mat bfloat16Exact(const Mat& m)
 /* A packed (bfloat16) operator agrees with the float one within bfloat16's rounding (weights and
    data each to 2^-9, so sums of positive terms to ~2^-8), is the exact transpose of itself on data
    that packs exactly (tiles: to the re-rounding of the tent-weighted copies), and gives the same
-   with and without the AVX512-BF16 instructions. */
+   with and without the AVX512-BF16 instructions (setPortableGathers). */
 void expectPackedAgrees(cv::dynblur::detail::BlurOperator& packed, cv::dynblur::detail::BlurOperator& exact,
                         double adjointTolerance, const std::string& what)
 {
@@ -404,9 +413,9 @@ void expectPackedAgrees(cv::dynblur::detail::BlurOperator& packed, cv::dynblur::
         apply(exact, a);
         apply(packed, b);
         EXPECT_LT(norm(a, b, NORM_INF), 4e-3 * norm(a, NORM_INF)) << what << ": " << direction;
-        cv::dynblur::detail::setPackedGatherWidened(true);
+        cv::dynblur::detail::setPortableGathers(true);
         apply(packed, widened);
-        cv::dynblur::detail::setPackedGatherWidened(false);
+        cv::dynblur::detail::setPortableGathers(false);
         EXPECT_LT(norm(b, widened, NORM_INF), 1e-5 * norm(b, NORM_INF)) << what << ": " << direction << " widened";
         return b;
     };

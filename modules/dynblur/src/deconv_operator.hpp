@@ -284,9 +284,10 @@ the low and high halves of out[x], x in [0, n): the packed sources of gathersPac
 `second` null: the high halves are 0 (the last row of an odd height). */
 CV_EXPORTS void packRowPair(const float* first, const float* second, float offset, int n, uint32_t* out);
 
-/** @brief For tests: packed gathers widen the bfloat16 halves to floats, as on a CPU without
-AVX512-BF16, even where the CPU has it (`widened` true), or use the CPU's best (false, the default). */
-CV_EXPORTS void setPackedGatherWidened(bool widened);
+/** @brief For tests: every gather uses the kernels of a CPU without AVX-512 (`portable` true):
+packed ones widen the bfloat16 halves to floats, float ones use 256-bit or narrower vectors, even
+where the CPU has AVX-512 and AVX512-BF16; false (the default): the CPU's best. */
+CV_EXPORTS void setPortableGathers(bool portable);
 
 /** @brief spotGain of a bank: blended kernels per pixel / the smallest kernel peak. */
 double bankSpotGain(const PsfBank& bank);

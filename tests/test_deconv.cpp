@@ -786,6 +786,32 @@ std::string errorOf(const std::function<void()>& call)
     return "";
 }
 
+/* A NaN or an infinity anywhere in a row is refused, wherever it falls in the check's 16-value
+   blocks (the first value, which seeds the running range, a block, the tail after the last
+   block), in one channel and in three; the smallest value is still found. */
+TEST(DeconvArguments, NonFiniteValueAnywhereInARowIsRefused)
+{
+    const Mat kernel(3, 5, CV_32F, Scalar(1.0 / 15));
+    for (int channels : {1, 3})
+    {
+        Mat image(4, 13, CV_32FC(channels), Scalar::all(0.5));  // 13 or 39 values a row
+        const int n = image.cols * channels;
+        for (float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                          -std::numeric_limits<float>::infinity()})
+            for (int x = 0; x < n; x++)
+            {
+                Mat corrupt = image.clone();
+                corrupt.ptr<float>(2)[x] = bad;
+                Mat out;
+                EXPECT_NE(errorOf([&] { richardsonLucy(corrupt, kernel, out); }).find("NaN or Inf"), std::string::npos)
+                    << channels << " channels, value " << bad << " at " << x;
+            }
+        image.ptr<float>(3)[n - 1] = -0.25f;  // the last value, after the last block
+        Mat out;
+        EXPECT_NE(errorOf([&] { richardsonLucy(image, kernel, out); }).find("-0.25"), std::string::npos) << channels;
+    }
+}
+
 TEST(DeconvArguments, BadInputThrows)
 {
     const Mat image(20, 30, CV_32F, Scalar(0.5));

@@ -676,6 +676,46 @@ std::vector<Mat> planesOf(const Mat& frame, std::vector<Mat>& pool)
     return planes;
 }
 
+namespace {
+
+/* Whether a row holds only finite values, and its least and largest: a NaN fails every
+   comparison, so v == v catches it, and ±Inf shows in the range. Sixteen lanes of running minima,
+   maxima and flags, in vector types (written per lane, GCC left this loop scalar). */
+DYNBLUR_SIMD_CLONES
+bool finiteRow(const float* p, int n, float& low, float& high)
+{
+    typedef float v16 __attribute__((vector_size(64), aligned(4)));  // aligned(4): unaligned loads allowed
+    typedef int32_t v16i __attribute__((vector_size(64)));
+    v16 lo = v16{} + p[0], hi = lo;
+    v16i number = v16i{} - 1;  // all ones while every value seen in the lane is a number
+    int x = 0;
+    for (; x + 16 <= n; x += 16)
+    {
+        const v16 v = *(const v16*)(p + x);
+        number &= v == v;
+        lo = v < lo ? v : lo;
+        hi = v > hi ? v : hi;
+    }
+    bool numbers = true;
+    low = lo[0];
+    high = hi[0];
+    for (int k = 0; k < 16; k++)
+    {
+        numbers &= number[k] != 0;
+        low = std::min(low, lo[k]);
+        high = std::max(high, hi[k]);
+    }
+    for (; x < n; x++)
+    {
+        numbers &= p[x] == p[x];
+        low = std::min(low, p[x]);
+        high = std::max(high, p[x]);
+    }
+    return numbers && std::isfinite(low) && std::isfinite(high);
+}
+
+}  // namespace
+
 bool finiteRange(const Mat& image, float& low, float& high)
 {
     const int n = image.cols * image.channels();
@@ -683,39 +723,7 @@ bool finiteRange(const Mat& image, float& low, float& high)
     std::vector<float> rowLow(size_t(image.rows)), rowHigh(size_t(image.rows));
     parallel_for_(Range(0, image.rows), [&](const Range& rows) {
         for (int y = rows.start; y < rows.end; y++)
-        {
-            // NaN and ±Inf times 0 are NaN, and NaN stays in a sum: one test per row. Eight lanes
-            // each, in the form the compiler turns into vector min, max and add.
-            const float* p = image.ptr<float>(y);
-            float probe[8] = {}, lo[8], hi[8];
-            for (int k = 0; k < 8; k++)
-                lo[k] = hi[k] = p[0];
-            int x = 0;
-            for (; x + 8 <= n; x += 8)
-                for (int k = 0; k < 8; k++)
-                {
-                    const float v = p[x + k];
-                    probe[k] += v * 0.f;
-                    lo[k] = v < lo[k] ? v : lo[k];
-                    hi[k] = v > hi[k] ? v : hi[k];
-                }
-            for (; x < n; x++)
-            {
-                probe[0] += p[x] * 0.f;
-                lo[0] = std::min(lo[0], p[x]);
-                hi[0] = std::max(hi[0], p[x]);
-            }
-            float total = 0.f, l = lo[0], h = hi[0];
-            for (int k = 0; k < 8; k++)
-            {
-                total += probe[k];
-                l = std::min(l, lo[k]);
-                h = std::max(h, hi[k]);
-            }
-            rowFinite[size_t(y)] = total == 0.f;
-            rowLow[size_t(y)] = l;
-            rowHigh[size_t(y)] = h;
-        }
+            rowFinite[size_t(y)] = finiteRow(image.ptr<float>(y), n, rowLow[size_t(y)], rowHigh[size_t(y)]);
     });
     if (!std::all_of(rowFinite.begin(), rowFinite.end(), [](uchar f) { return f != 0; }))
         return false;

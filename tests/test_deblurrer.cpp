@@ -260,6 +260,40 @@ TEST(DeblurChannels, AlphaPassesThroughAndColourMatchesTheThreeChannelResult)
     EXPECT_EQ(restoredGrey.type(), CV_8UC1);
 }
 
+/* A linear frame is restored into [0, 1] by either method, one channel or three, although the
+   restoration itself overshoots on it (random texture, sharp at every pixel): RL's output is
+   clamped as it is written, Wiener's after. */
+TEST(DeblurRange, LinearOutputStaysWithinTheUnitInterval)
+{
+    Ptr<Plant> plant = Plant::create(14.4, 0.12, kDeg);
+    Ptr<CameraModel> camera = CameraModel::create(300.0, 300.0, 79.5, 59.5, 160, 120);
+    const SwitchSchedule schedule({0.0, 0.0127, 0.0296}, {16, 4, 10});
+    const RollingShutter shutter(0.0, 0.008, 1.0 / 30 / 120, 120);
+    Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
+    for (int channels : {1, 3})
+    {
+        Mat frame(120, 160, CV_32FC(channels));
+        randu(frame, 0.0f, 1.0f);
+        Mat unclamped;
+        deblurrer->setMethod(DEBLUR_RICHARDSON_LUCY);
+        Mat restored;
+        deblurrer->deblur(frame, schedule, shutter, restored);
+        richardsonLucyVariant(frame, deblurrer->getLastPsfBank(), unclamped, deblurrer->getRLParams());
+        double low = 0, high = 0;
+        minMaxLoc(unclamped.reshape(1), &low, &high);
+        EXPECT_GT(high, 1.0) << channels << " channels: the restoration does not overshoot, the test proves nothing";
+        for (int method : {DEBLUR_RICHARDSON_LUCY, DEBLUR_WIENER})
+        {
+            deblurrer->setMethod(method);
+            deblurrer->deblur(frame, schedule, shutter, restored);
+            ASSERT_EQ(restored.type(), frame.type());
+            minMaxLoc(restored.reshape(1), &low, &high);
+            EXPECT_GE(low, 0.0) << channels << " channels, method " << method;
+            EXPECT_LE(high, 1.0) << channels << " channels, method " << method;
+        }
+    }
+}
+
 TEST(DeblurBadInput, FramesAndShuttersAreChecked)
 {
     Ptr<Plant> plant = Plant::create();

@@ -58,6 +58,7 @@ public:
         const bool direct = input.depth() == CV_32F && alpha.empty();
         Mat latent = direct ? Mat() : latent_;
         _OutputArray target = direct ? restored : _OutputArray(latent);
+        // Restoration may overshoot a little at edges; the output is an image in [0, 1].
         if (method_ == DEBLUR_WIENER)
         {
             wienerDeconvolve(linear, lastBank_, target, wienerNoiseToSignal_);
@@ -66,21 +67,17 @@ public:
         }
         else
         {
-            detail::restoreVariant(linear, lastBank_, params_, workspace_, target, mask_);
+            detail::restoreVariant(linear, lastBank_, params_, workspace_, target, mask_, true);
         }
         if (direct)
             latent = restored.getMat();
         else
             latent_ = latent;
-        // Restoration may overshoot a little at edges; the output is an image in [0, 1].
-        parallel_for_(Range(0, latent.rows), [&](const Range& rows) {
-            for (int y = rows.start; y < rows.end; y++)
-            {
-                float* p = latent.ptr<float>(y);
-                for (int x = 0; x < latent.cols * latent.channels(); x++)
-                    p[x] = std::min(std::max(p[x], 0.f), 1.f);
-            }
-        });
+        if (method_ == DEBLUR_WIENER)
+            parallel_for_(Range(0, latent.rows), [&](const Range& rows) {
+                for (int y = rows.start; y < rows.end; y++)
+                    detail::clampRowToUnit(latent.ptr<float>(y), latent.cols * latent.channels());
+            });
 
         if (!direct)
         {

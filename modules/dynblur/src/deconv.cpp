@@ -224,8 +224,8 @@ void fillFromNearest(std::vector<Mat>& planes, const Mat& valid)
     }
 }
 
-//! out = the planes (CV_32F, one size) interleaved, rows in parallel.
-void writeOutput(const std::vector<Mat>& planes, OutputArray out)
+//! out = the planes (CV_32F, one size) interleaved, rows in parallel; clamped to [0, 1] with `clampToUnit`.
+void writeOutput(const std::vector<Mat>& planes, OutputArray out, bool clampToUnit = false)
 {
     const int channels = int(planes.size());
     out.create(planes[0].size(), CV_32FC(channels));
@@ -237,6 +237,8 @@ void writeOutput(const std::vector<Mat>& planes, OutputArray out)
             for (size_t c = 0; c < planes.size(); c++)
                 sources[c] = planes[c].ptr<float>(y);
             detail::interleaveRow(sources.data(), channels, image.cols, image.ptr<float>(y));
+            if (clampToUnit)
+                detail::clampRowToUnit(image.ptr<float>(y), image.cols * channels);
         }
     });
 }
@@ -378,7 +380,7 @@ void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, cons
 namespace detail {
 
 void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& params, RLWorkspace& ws,
-                    OutputArray latent, OutputArray validMask)
+                    OutputArray latent, OutputArray validMask, bool clampToUnit)
 {
     const bool pad = params.boundary == RL_BOUNDARY_PAD;
     std::unique_ptr<BlurOperator> blur = createBankOperator(bank, pad, params.blurPrecision == RL_BLUR_BFLOAT16);
@@ -447,7 +449,7 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
     for (size_t c = 0; c < estimate.size(); c++)
         planes[c] = estimate[c](frame);
     fillFromNearest(planes, ws.valid);
-    writeOutput(planes, latent);
+    writeOutput(planes, latent, clampToUnit);
     if (validMask.needed())
         ws.valid.copyTo(validMask);
 }

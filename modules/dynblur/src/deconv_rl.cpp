@@ -656,6 +656,13 @@ void interleaveRow(const float* const* planes, int channels, int n, float* __res
     }
 }
 
+DYNBLUR_SIMD_CLONES
+void clampRowToUnit(float* __restrict p, int n)
+{
+    for (int x = 0; x < n; x++)
+        p[x] = std::min(std::max(p[x], 0.f), 1.f);
+}
+
 std::vector<Mat> planesOf(const Mat& frame, std::vector<Mat>& pool)
 {
     const int channels = frame.channels();

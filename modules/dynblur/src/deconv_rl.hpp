@@ -49,9 +49,13 @@ std::vector<Mat> planesOf(const Mat& frame, std::vector<Mat>& pool);
 
 /** @brief richardsonLucyVariant in a workspace, without its argument checks (the caller has made
 them): the frame-rate path of DynamicDeblurrer.
-@param observed the frame, CV_32F, 1–4 channels, the bank's size, finite. */
+@param observed the frame, CV_32F, 1–4 channels, the bank's size, finite.
+@param clampToUnit clamp the output to [0, 1] as it is written (saves DynamicDeblurrer a pass). */
 void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& params, RLWorkspace& workspace,
-                    OutputArray latent, OutputArray validMask);
+                    OutputArray latent, OutputArray validMask, bool clampToUnit = false);
+
+//! p[x] = min(max(p[x], 0), 1) for x in [0, n): an image in [0, 1] from a restoration that overshoots.
+void clampRowToUnit(float* p, int n);
 
 //! out[x] = interleaved[x · channels + channel] for x in [0, n).
 void channelRow(const float* interleaved, int channels, int channel, int n, float* out);

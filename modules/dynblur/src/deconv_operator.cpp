@@ -11,8 +11,8 @@
 #include <algorithm>
 #include <atomic>
 #include <climits>
-#include <mutex>
 #include <cstring>
+#include <mutex>
 #include <utility>
 
 namespace cv {
@@ -306,6 +306,18 @@ void gatherPairInterior(float* __restrict out0, float* __restrict out1, const fl
     }
 }
 
+/* The masks of `Vectors` 16-column vectors from x: every lane, but those of the last vector past
+   `end` (end − x > 16 · (Vectors − 1)). */
+template <int Vectors>
+inline void columnMasks(int x, int end, uint16_t (&mask)[Vectors])
+{
+    for (int k = 0; k < Vectors; k++)
+    {
+        const int left = std::min(16, end - x - 16 * k);
+        mask[k] = uint16_t(left >= 16 ? 0xffffu : (1u << left) - 1u);
+    }
+}
+
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define DYNBLUR_AVX512_TARGET __attribute__((target("avx512f,avx2,fma")))
 
@@ -317,11 +329,7 @@ gatherPairBlockAvx512(float* __restrict out0, float* __restrict out1, const floa
                       const RowBankOperator::PairTap* taps, int tapCount, int x, int end)
 {
     __mmask16 mask[Vectors];
-    for (int k = 0; k < Vectors; k++)
-    {
-        const int left = std::min(16, end - x - 16 * k);
-        mask[k] = __mmask16(left >= 16 ? 0xffffu : (1u << left) - 1u);
-    }
+    columnMasks(x, end, mask);
     __m512 a[Vectors], b[Vectors];
     for (int k = 0; k < Vectors; k++)
         a[k] = b[k] = _mm512_setzero_ps();
@@ -516,11 +524,7 @@ gatherPackedBlockBf16(float* __restrict out0, float* __restrict out1, const uint
                       const RowBankOperator::PackedTap* taps, int tapCount, int x, int end)
 {
     __mmask16 mask[Vectors];
-    for (int k = 0; k < Vectors; k++)
-    {
-        const int left = std::min(16, end - x - 16 * k);
-        mask[k] = __mmask16(left >= 16 ? 0xffffu : (1u << left) - 1u);
-    }
+    columnMasks(x, end, mask);
     __m512 a[Vectors], b[Vectors];
     for (int k = 0; k < Vectors; k++)
         a[k] = b[k] = _mm512_setzero_ps();

@@ -351,7 +351,7 @@ gatherPairBlockAvx512(float* __restrict out0, float* __restrict out1, const floa
     }
 }
 
-/* gatherPairInterior in 512-bit vectors: on this project's Xeon a zmm FMA does 1.45× the
+/* gatherPairInterior in 512-bit vectors: on this project's Xeon a zmm FMA does 1.46× the
    multiply-adds of a ymm one per cycle (where 512-bit work is double-pumped, as on AMD Zen 4, as
    many), and masked loads leave no scalar tail. */
 DYNBLUR_AVX512_TARGET void gatherPairInteriorAvx512(float* __restrict out0, float* __restrict out1, const float* source,
@@ -549,7 +549,7 @@ gatherPackedBlockBf16(float* __restrict out0, float* __restrict out1, const uint
 
 /* out0[x], out1[x] = Σ_t dot(weight_t[k], packed(pair_t, x + col_t)) for x in [begin, end), every
    read inside: 64 columns at a time in eight 16-float sums (zmm: on this project's Xeon a 512-bit
-   vdpbf16ps does 1.45× the multiply-adds of a 256-bit one per cycle; where 512-bit work is
+   vdpbf16ps does 1.44× the multiply-adds of a 256-bit one per cycle; where 512-bit work is
    double-pumped, as on AMD Zen 4, it does as many), the rest in one narrower masked block. */
 DYNBLUR_BF16_TARGET void gatherPackedPairBf16(float* __restrict out0, float* __restrict out1, const uint32_t* source,
                                               size_t sourceStep, const RowBankOperator::PackedTap* taps, int tapCount,
@@ -612,7 +612,6 @@ PackedPairKernel bestPackedPairKernel()
 #endif
     return gatherPackedPairWidened;
 }
-
 
 /* Columns [begin, end) of output rows 2k, 2k + 1 of a packed gather, reads outside the source
    skipped (border columns). */
@@ -1295,7 +1294,7 @@ struct UnionColumn
    (2k, 2k + 1; the last alone when outRows is odd), source rows in groups of `group` (1, or 2 for
    packed pairs). For each pair k, each source group g in order and each column in order,
    term(k, g, col, weight) gets weight[o][h], the weight of source row group·g + h in output row
-   2k + o (0 where none; called when one is not), then pairEnd(k). The kernel and its blend are the
+   2k + o (0 where none; term is called only where one of them is not), then pairEnd(k). The kernel and its blend are the
    frame row's: the output row's in the forward direction (source row = r + dy + originY, column
    colBase + dx), the source row's in the adjoint (source row = r − originY − dy, column
    colBase − dx, read from the weighted copy). */

@@ -147,6 +147,20 @@ def plot(results, bandwidth, path):
     fig.savefig(path, dpi=110)
 
 
+def cpu_description():
+    """The CPU's model name and its vector extensions that the gathers choose between (Linux's
+    /proc/cpuinfo; elsewhere the architecture alone): figures from different machines differ."""
+    try:
+        info = pathlib.Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return platform.machine()
+    model = next((line.split(":", 1)[1].strip() for line in info.splitlines() if line.startswith("model name")),
+                 platform.machine())
+    flags = next((line.split(":", 1)[1].split() for line in info.splitlines() if line.startswith("flags")), [])
+    extensions = [name for flag, name in (("avx512f", "AVX-512"), ("avx512_bf16", "AVX512-BF16")) if flag in flags]
+    return ", ".join([model] + extensions)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--build", default=os.environ.get("DYNBLUR_BUILD_DIR", REPO / "build"), type=pathlib.Path,
@@ -195,7 +209,7 @@ def main():
     ]
 
     date = datetime.date.today().isoformat()
-    machine = f"{os.cpu_count()} cores, {platform.processor() or platform.machine()}"
+    machine = f"{os.cpu_count()} cores, {cpu_description()}"
     lines = [f"Measured {date} on {machine}; DRAM bandwidth {bandwidth / 1e9:.1f} GB/s (BM_MemoryBandwidth).", "",
              "| target | measured | required | |", "|---|---|---|---|"]
     lines += [f"| {name} | {value} | {required} | {'PASS' if ok else 'MISS'} |" for name, value, required, ok in targets]

@@ -151,12 +151,12 @@ def cpu_description():
     """The CPU's model name and its vector extensions that the gathers choose between (Linux's
     /proc/cpuinfo; elsewhere the architecture alone): figures from different machines differ."""
     try:
-        info = pathlib.Path("/proc/cpuinfo").read_text()
+        lines = pathlib.Path("/proc/cpuinfo").read_text().splitlines()
     except OSError:
         return platform.machine()
-    model = next((line.split(":", 1)[1].strip() for line in info.splitlines() if line.startswith("model name")),
+    model = next((line.split(":", 1)[1].strip() for line in lines if line.startswith("model name")),
                  platform.machine())
-    flags = next((line.split(":", 1)[1].split() for line in info.splitlines() if line.startswith("flags")), [])
+    flags = next((line.split(":", 1)[1].split() for line in lines if line.startswith("flags")), [])
     extensions = [name for flag, name in (("avx512f", "AVX-512"), ("avx512_bf16", "AVX512-BF16")) if flag in flags]
     return ", ".join([model] + extensions)
 

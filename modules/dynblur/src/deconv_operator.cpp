@@ -604,13 +604,17 @@ void gatherPackedPairWidened(float* __restrict out0, float* __restrict out1, con
     gatherPackedTail(out0, out1, source, sourceStep, taps, tapCount, x, end);
 }
 
-PackedPairKernel bestPackedPairKernel()
+//! The packed pair gather for this CPU, chosen once, as pairKernel() chooses the float one.
+PackedPairKernel packedPairKernel()
 {
+    static const PackedPairKernel best = [] {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    if (__builtin_cpu_supports("avx512bf16"))
-        return gatherPackedPairBf16;
+        if (__builtin_cpu_supports("avx512bf16"))
+            return PackedPairKernel(gatherPackedPairBf16);
 #endif
-    return gatherPackedPairWidened;
+        return PackedPairKernel(gatherPackedPairWidened);
+    }();
+    return portableGathers.load(std::memory_order_relaxed) ? PackedPairKernel(gatherPackedPairWidened) : best;
 }
 
 /* Columns [begin, end) of output rows 2k, 2k + 1 of a packed gather, reads outside the source
@@ -642,8 +646,7 @@ void gatherPackedRange(const Mat& packed, const RowBankOperator::PackedTap* taps
 void gatherPackedBlock(const Mat& packed, const RowBankOperator::PackedGather& gather, const Range& rows,
                        const Range& cols, float* out, size_t outStep)
 {
-    static const PackedPairKernel best = bestPackedPairKernel();
-    const PackedPairKernel kernel = portableGathers.load(std::memory_order_relaxed) ? gatherPackedPairWidened : best;
+    const PackedPairKernel kernel = packedPairKernel();
     constexpr int kChunk = 64;
     CV_DbgAssert(rows.start % 2 == 0);
     const int pairBegin = rows.start / 2, pairEnd = (rows.end + 1) / 2;

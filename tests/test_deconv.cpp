@@ -374,6 +374,53 @@ TEST(DeconvOperator, AdjointIsExactForRowBankWithLargeShifts)
     cv::dynblur::detail::setPortableGathers(false);
 }
 
+/* The restoration's start, the displacement-only blur's adjoint for several planes and a plane of
+   ones at once, equals that blur's operator's adjoint placed in the full blur's latent domain:
+   rows and tiles, both boundaries, kernels whose centroids sit off their centres. */
+TEST(DeconvOperator, DisplacementAdjointEqualsTheOperatorsAdjoint)
+{
+    using namespace cv::dynblur::detail;
+    const PsfBank banks[] = {withSlantedKernel(rowBank(Size(150, 160), 8, 120), 3, Point(-4, 2)),
+                             withSlantedKernel(unevenTaps(tileBank(Size(150, 110), 5, 4, 40), 6), 7, Point(-6, 3))};
+    for (const PsfBank& bank : banks)
+        for (bool pad : {true, false})
+        {
+            SCOPED_TRACE(format("%d node columns, pad=%d", int(bank.nodeCols.size()), int(pad)));
+            const PsfBank moved = displacementBank(bank);
+            const std::unique_ptr<BlurOperator> blur = createBankOperator(bank, pad),
+                                                move = createBankOperator(moved, pad);
+            std::vector<Mat> frames(2, Mat(bank.imageSize, CV_32F));
+            RNG(11).fill(frames[0], RNG::UNIFORM, 0, 1);
+            frames[1] = Mat(bank.imageSize, CV_32F);
+            RNG(12).fill(frames[1], RNG::UNIFORM, 0, 1);
+            // The rows handed over, put together.
+            Mat weight(blur->latentSize(), CV_32F, Scalar(-1));
+            std::vector<Mat> adjoints(frames.size(), Mat());
+            for (Mat& a : adjoints)
+                a = Mat(blur->latentSize(), CV_32F, Scalar(-1));
+            displacementAdjoint(moved, blur->latentSize(), blur->origin(), frames,
+                                [&](int row, const float* w, const float* const* a) {
+                                    std::copy(w, w + weight.cols, weight.ptr<float>(row));
+                                    for (size_t p = 0; p < frames.size(); p++)
+                                        std::copy(a[p], a[p] + weight.cols, adjoints[p].ptr<float>(row));
+                                });
+            // The move's own domain inside the blur's (pad: the displacements reach less far than the kernels).
+            const Rect inBlur(blur->origin() - move->origin(), move->latentSize());
+            ASSERT_EQ(inBlur & Rect(Point(), blur->latentSize()), inBlur);
+            const auto expectEqual = [&](const Mat& frame, const Mat& got, const char* what) {
+                Mat own, expected = Mat::zeros(blur->latentSize(), CV_32F);
+                move->adjoint(frame, own);
+                own.copyTo(expected(inBlur));
+                ASSERT_EQ(got.size(), expected.size()) << what;
+                EXPECT_LT(norm(got, expected, NORM_INF), 1e-5) << what;
+                EXPECT_GT(norm(expected, NORM_INF), 0.5) << what;
+            };
+            expectEqual(Mat::ones(bank.imageSize, CV_32F), weight, "plane of ones");
+            expectEqual(frames[0], adjoints[0], "first plane");
+            expectEqual(frames[1], adjoints[1], "second plane");
+        }
+}
+
 //! `m` with every element rounded to the nearest bfloat16, so packing it loses nothing.
 Mat bfloat16Exact(const Mat& m)
 {

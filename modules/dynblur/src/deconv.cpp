@@ -243,43 +243,6 @@ void writeOutput(const std::vector<Mat>& planes, OutputArray out, bool clampToUn
     });
 }
 
-//! Same bank with every kernel replaced by one tap at its centroid: the bank's displacement alone.
-PsfBank displacementBank(const PsfBank& bank)
-{
-    PsfBank moved = bank;
-    // A tile bank holds ~10⁴ kernels: plain sums in parallel, where cv::moments took 9 ms serially.
-    const Mat delta(1, 1, CV_32F, Scalar(1));  // read-only, so every node can share it
-    parallel_for_(Range(0, int(bank.kernels.size())), [&](const Range& range) {
-        Mat converted;
-        for (int n = range.start; n < range.end; n++)
-        {
-            const Mat& kernel = bank.kernels[size_t(n)];
-            if (kernel.type() != CV_32F)
-                kernel.convertTo(converted, CV_32F);
-            const Mat& k = kernel.type() == CV_32F ? kernel : converted;
-            double mass = 0, sumU = 0, sumV = 0;
-            for (int v = 0; v < k.rows; v++)
-            {
-                const float* row = k.ptr<float>(v);
-                double rowMass = 0, rowSumU = 0;
-                for (int u = 0; u < k.cols; u++)
-                {
-                    rowMass += row[u];
-                    rowSumU += double(u) * row[u];
-                }
-                mass += rowMass;
-                sumU += rowSumU;
-                sumV += double(v) * rowMass;
-            }
-            const Point centre((k.cols - 1) / 2, (k.rows - 1) / 2);
-            const Point centroid = mass > 0 ? Point(cvRound(sumU / mass), cvRound(sumV / mass)) : centre;
-            moved.kernels[size_t(n)] = delta;
-            moved.shifts[size_t(n)] = bank.shifts[size_t(n)] + centroid - centre;
-        }
-    });
-    return moved;
-}
-
 /* out = max(moved / normaliser, 0) where the normaliser exceeds kUnobserved, `fill` elsewhere: the
    start's row. The quotient is taken everywhere (its divisor kept ≥ 1e-3) and then selected, so
    the loop vectorises. */
@@ -386,53 +349,27 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
     std::unique_ptr<BlurOperator> blur = createBankOperator(bank, pad, params.blurPrecision == RL_BLUR_BFLOAT16);
     BlurOperator& op = *blur;
     const Size frameSize = observed.size(), latentSize = op.latentSize();
-    /* The set-up's scratch lives in buffers the iterations fill later (the ratio plane and the
-       first two `other` planes), so it adds nothing to the peak memory. */
+    // The plane of ones lives in the ratio plane, which the iterations fill later: no memory of its own.
     Mat& plane = ws.ratio;
     plane.create(frameSize, CV_32F);
-    plane.setTo(1);  // Aᵀ1 and the start's normaliser read a frame of ones
+    plane.setTo(1);  // Aᵀ1 reads a frame of ones
     op.adjoint(plane, ws.normalizer);
 
     /* Start: the frame moved back by each node's displacement (the normalised adjoint of the
        displacement-only blur), so content begins where the view at θ_ref has it and RL only has to
        sharpen; latent pixels that displacement does not reach start at the channel's mean. */
-    std::unique_ptr<BlurOperator> move = createBankOperator(displacementBank(bank), pad);
-    const Size moveSize = move->latentSize();
-    ws.other.resize(std::max<size_t>(ws.other.size(), 2));
-    for (Mat& m : ws.other)
-        m.create(latentSize, CV_32F);
-    const bool fits = moveSize.width <= latentSize.width && moveSize.height <= latentSize.height;
-    Mat moveNormalizer = fits ? ws.other[0](Rect(Point(), moveSize)) : Mat(moveSize, CV_32F);
-    Mat moved = fits ? ws.other[1](Rect(Point(), moveSize)) : Mat(moveSize, CV_32F);
-    move->adjoint(plane, moveNormalizer);
-    const Rect moveInLatent(op.origin() - move->origin(), moveSize);
-    const Rect common = moveInLatent & Rect(Point(), latentSize);
-    const Scalar channelMean = mean(observed);
     const std::vector<Mat> observedPlanes = planesOf(observed, ws.observed);
+    const Scalar channelMean = mean(observed);
     std::vector<Mat>& estimate = ws.estimate;
-    estimate.resize(size_t(observed.channels()));
-    const int channels = observed.channels();
-    for (int c = 0; c < channels; c++)
-    {
-        const float fill = float(std::max(channelMean[c], 0.0));
-        Mat& e = estimate[size_t(c)];
+    estimate.resize(observedPlanes.size());
+    for (Mat& e : estimate)
         e.create(latentSize, CV_32F);
-        move->adjoint(observedPlanes[size_t(c)], moved);
-        parallel_for_(Range(0, latentSize.height), [&](const Range& rows) {
-            for (int y = rows.start; y < rows.end; y++)
-            {
-                float* out = e.ptr<float>(y);
-                std::fill(out, out + latentSize.width, fill);
-                if (y < common.y || y >= common.y + common.height)
-                    continue;
-                const int r = y - moveInLatent.y;
-                const float* m = moved.ptr<float>(r);
-                const float* n = moveNormalizer.ptr<float>(r);
-                normalizedRow(m + (common.x - moveInLatent.x), n + (common.x - moveInLatent.x), fill, common.width,
-                              out + common.x);
-            }
-        });
-    }
+    displacementAdjoint(displacementBank(bank), latentSize, op.origin(), observedPlanes,
+                        [&](int y, const float* weight, const float* const* moved) {
+                            for (size_t c = 0; c < estimate.size(); c++)
+                                normalizedRow(moved[c], weight, float(std::max(channelMean[int(c)], 0.0)),
+                                              latentSize.width, estimate[c].ptr<float>(y));
+                        });
 
     iterateRichardsonLucy(op, observed, observedPlanes, ws.normalizer, resolveDamping(params, observed), estimate, ws);
 

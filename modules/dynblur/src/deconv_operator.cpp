@@ -163,14 +163,15 @@ struct KernelTap
 std::vector<KernelTap> kernelTaps(const Mat& kernel32f, Point shift)
 {
     const int cx = (kernel32f.cols - 1) / 2, cy = (kernel32f.rows - 1) / 2;
-    std::vector<KernelTap> taps;
+    std::vector<KernelTap> taps(size_t(countNonZero(kernel32f)));  // motion kernels are mostly empty
+    size_t n = 0;
     for (int v = kernel32f.rows - 1; v >= 0; v--)
+    {
+        const float* row = kernel32f.ptr<float>(v);
         for (int u = kernel32f.cols - 1; u >= 0; u--)
-        {
-            const float w = kernel32f.at<float>(v, u);
-            if (w != 0.f)  // motion kernels are mostly empty: skip, do not multiply by zero
-                taps.push_back({-(shift.y + v - cy), -(shift.x + u - cx), w});
-        }
+            if (row[u] != 0.f)  // skip, do not multiply by zero
+                taps[n++] = {-(shift.y + v - cy), -(shift.x + u - cx), row[u]};
+    }
     return taps;
 }
 
@@ -1397,6 +1398,11 @@ struct UnionColumn
     {
         static const std::vector<KernelTap> none;
         kernels.resize(size_t(nodeRows));
+        size_t most = 0;  // every tap of both node rows: no union is larger
+        for (int j = 0; j < nodeRows; j++)
+            most += nodes[size_t(j * nodeCols + column)].size() * (j + 1 < nodeRows ? 2 : 1);
+        taps.reserve(most);
+        runStart.reserve(most + size_t(nodeRows));
         for (int j = 0; j < nodeRows; j++)
         {
             const std::vector<KernelTap>& a = nodes[size_t(j * nodeCols + column)];
@@ -1493,15 +1499,16 @@ void walkColumn(const UnionColumn& column, const std::vector<BankBlurOperator::A
                         continue;
                     const float a0 = rw.weight[0], a1 = rw.node[1] != rw.node[0] ? rw.weight[1] : 0.f;
                     const int* run = &column.runStart[size_t(kernel.runs + dy - kernel.dyMin)];
+                    /* Without branches: a zero weight (a tap of the other node row, blended
+                       at 0) is written to a slot that holds 0 there, and widens the range only
+                       by slots the read-out skips. */
                     for (int t = run[0]; t < run[1]; t++)
                     {
                         const UnionTap& u = column.taps[size_t(t)];
                         const float w = a0 * u.weight[0] + a1 * u.weight[1];
-                        if (w == 0.f)
-                            continue;
                         const int index = u.dx - dxMin;
                         slots[size_t(index)].weight[output][half] = w;
-                        slots[size_t(index)].used = true;
+                        slots[size_t(index)].used |= w != 0.f;
                         lowest = std::min(lowest, index);
                         highest = std::max(highest, index);
                     }

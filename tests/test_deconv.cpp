@@ -473,6 +473,21 @@ void expectPackedAgrees(cv::dynblur::detail::BlurOperator& packed, cv::dynblur::
     EXPECT_LT(std::abs(lhs - rhs), adjointTolerance * std::abs(lhs)) << what << ": " << lhs << " vs " << rhs;
 }
 
+/* The 512-bit gathers do 128 columns per block and end a row with one masked block of 1 to 8
+   vectors: frame widths whose last block takes each of those, float and packed, against the general
+   operator and the kernels of a CPU without AVX-512. */
+TEST(DeconvOperator, GathersAgreeForEveryWidthOfTheLastBlock)
+{
+    for (int width : {135, 150, 170, 185, 200, 215, 235, 250, 256})
+    {
+        SCOPED_TRACE(format("width %d", width));
+        const PsfBank bank = withSlantedKernel(rowBank(Size(width, 41), 8, 20), 2, Point(-3, 2));
+        cv::dynblur::detail::RowBankOperator rows(bank, true), packed(bank, true, true);
+        expectSameAsGeneral(rows, bank, true);
+        expectPackedAgrees(packed, rows, 1e-6, "packed rows");
+    }
+}
+
 // Odd heights (a last row without a partner), slanted kernels and large shifts, both boundaries.
 TEST(DeconvOperator, PackedBfloat16GathersAgreeWithFloat)
 {

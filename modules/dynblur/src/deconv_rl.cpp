@@ -575,13 +575,6 @@ void channelMeanRow(const float* __restrict interleaved, int channels, int n, fl
     }
 }
 
-DYNBLUR_SIMD_CLONES
-void addRow(const float* __restrict p, int n, float* __restrict sum)
-{
-    for (int x = 0; x < n; x++)
-        sum[x] += p[x];
-}
-
 //! p[x] = copy[x] = p[x] · factor.
 DYNBLUR_SIMD_CLONES
 void scaleRow(float* __restrict p, float factor, int n, float* __restrict copy)

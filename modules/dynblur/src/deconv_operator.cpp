@@ -312,6 +312,7 @@ void gatherPairInterior(float* __restrict out0, float* __restrict out1, const fl
 template <int Vectors>
 inline void columnMasks(int x, int end, uint16_t (&mask)[Vectors])
 {
+#pragma GCC unroll 16
     for (int k = 0; k < Vectors; k++)
     {
         const int left = std::min(16, end - x - 16 * k);
@@ -332,12 +333,14 @@ gatherPairBlockAvx512(float* __restrict out0, float* __restrict out1, const floa
     __mmask16 mask[Vectors];
     columnMasks(x, end, mask);
     __m512 a[Vectors], b[Vectors];
+#pragma GCC unroll 16
     for (int k = 0; k < Vectors; k++)
         a[k] = b[k] = _mm512_setzero_ps();
     for (int t = 0; t < tapCount; t++)
     {
         const float* p = source + size_t(taps[t].row) * sourceStep + (taps[t].col + x);
         const __m512 w = _mm512_set1_ps(taps[t].weight[0]), u = _mm512_set1_ps(taps[t].weight[1]);
+#pragma GCC unroll 16
         for (int k = 0; k < Vectors; k++)
         {
             const __m512 l = _mm512_maskz_loadu_ps(mask[k], p + 16 * k);
@@ -345,6 +348,7 @@ gatherPairBlockAvx512(float* __restrict out0, float* __restrict out1, const floa
             b[k] = _mm512_fmadd_ps(u, l, b[k]);
         }
     }
+#pragma GCC unroll 16
     for (int k = 0; k < Vectors; k++)
     {
         _mm512_mask_storeu_ps(out0 + x + 16 * k, mask[k], a[k]);
@@ -524,7 +528,10 @@ typedef void (*PackedPairKernel)(float* __restrict, float* __restrict, const uin
 
 /* Up to Vectors × 16 columns of both output rows from x (the last vector cut by `end`): one sum per
    vector and row in a zmm register while all taps stream past. Masked loads read nothing past
-   `end`, so a support whose width is not a multiple of 16 needs no scalar tail. */
+   `end`, so a support whose width is not a multiple of 16 needs no scalar tail. The loops over the
+   vectors are unrolled by pragma: GCC otherwise unrolled them after giving the sums a place on the
+   stack, and a row's last, masked block stored every sum there at every tap (the tile-wise frame
+   took 4–10 % longer, alternating frame by frame). */
 template <int Vectors>
 DYNBLUR_BF16_TARGET __attribute__((always_inline)) inline void
 gatherPackedBlockBf16(float* __restrict out0, float* __restrict out1, const uint32_t* source, size_t sourceStep,
@@ -533,6 +540,7 @@ gatherPackedBlockBf16(float* __restrict out0, float* __restrict out1, const uint
     __mmask16 mask[Vectors];
     columnMasks(x, end, mask);
     __m512 a[Vectors], b[Vectors];
+#pragma GCC unroll 16
     for (int k = 0; k < Vectors; k++)
         a[k] = b[k] = _mm512_setzero_ps();
     for (int t = 0; t < tapCount; t++)
@@ -540,6 +548,7 @@ gatherPackedBlockBf16(float* __restrict out0, float* __restrict out1, const uint
         const uint32_t* p = source + size_t(taps[t].pair) * sourceStep + (taps[t].col + x);
         const __m512bh w = (__m512bh)_mm512_set1_epi32(int(taps[t].weight[0]));
         const __m512bh u = (__m512bh)_mm512_set1_epi32(int(taps[t].weight[1]));
+#pragma GCC unroll 16
         for (int k = 0; k < Vectors; k++)
         {
             const __m512bh l = (__m512bh)_mm512_maskz_loadu_epi32(mask[k], p + 16 * k);
@@ -547,6 +556,7 @@ gatherPackedBlockBf16(float* __restrict out0, float* __restrict out1, const uint
             b[k] = _mm512_dpbf16_ps(b[k], l, u);
         }
     }
+#pragma GCC unroll 16
     for (int k = 0; k < Vectors; k++)
     {
         _mm512_mask_storeu_ps(out0 + x + 16 * k, mask[k], a[k]);

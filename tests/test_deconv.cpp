@@ -1153,7 +1153,8 @@ TEST(DeconvMemory, RowWiseRestorationStaysWithinFourFramePlanesPerChannel)
                       << (setting.second == RL_BLUR_BFLOAT16 ? ", bfloat16" : ", float32") << ": peak extra memory "
                       << extra << " frame planes per channel (Mats " << extra - taps << ", operator's taps " << taps
                       << ")" << std::endl;
-            EXPECT_LE(extra, model == PSF_ROWS ? 4.0 : 9.5);  // tiles: 9.07 / 8.89 measured on 2026-11-22
+            // tiles: 7.46 / 8.05 / 4.86 measured on 2026-11-23
+            EXPECT_LE(extra, model == PSF_ROWS ? 4.0 : 8.5);
         }
     }
 }

@@ -389,15 +389,15 @@ TEST(DeconvOperator, DisplacementAdjointEqualsTheOperatorsAdjoint)
             const PsfBank moved = displacementBank(bank);
             const std::unique_ptr<BlurOperator> blur = createBankOperator(bank, pad),
                                                 move = createBankOperator(moved, pad);
-            std::vector<Mat> frames(2, Mat(bank.imageSize, CV_32F));
-            RNG(11).fill(frames[0], RNG::UNIFORM, 0, 1);
-            frames[1] = Mat(bank.imageSize, CV_32F);
-            RNG(12).fill(frames[1], RNG::UNIFORM, 0, 1);
+            std::vector<Mat> frames, adjoints;
+            for (int seed : {11, 12})
+            {
+                frames.emplace_back(bank.imageSize, CV_32F);
+                RNG(uint64(seed)).fill(frames.back(), RNG::UNIFORM, 0, 1);
+                adjoints.emplace_back(blur->latentSize(), CV_32F, Scalar(-1));
+            }
             // The rows handed over, put together.
             Mat weight(blur->latentSize(), CV_32F, Scalar(-1));
-            std::vector<Mat> adjoints(frames.size(), Mat());
-            for (Mat& a : adjoints)
-                a = Mat(blur->latentSize(), CV_32F, Scalar(-1));
             displacementAdjoint(moved, blur->latentSize(), blur->origin(), frames,
                                 [&](int row, const float* w, const float* const* a) {
                                     std::copy(w, w + weight.cols, weight.ptr<float>(row));
@@ -474,8 +474,8 @@ void expectPackedAgrees(cv::dynblur::detail::BlurOperator& packed, cv::dynblur::
 }
 
 /* The 512-bit gathers do 128 columns per block and end a row with one masked block of 1 to 8
-   vectors: frame widths whose last block takes each of those, float and packed, against the general
-   operator and the kernels of a CPU without AVX-512. */
+   vectors: frame widths whose last block takes each of those; float against the general operator,
+   packed against float and against the widened kernels of a CPU without AVX512-BF16. */
 TEST(DeconvOperator, GathersAgreeForEveryWidthOfTheLastBlock)
 {
     for (int width : {135, 150, 170, 185, 200, 215, 235, 250, 256})

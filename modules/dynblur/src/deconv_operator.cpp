@@ -778,14 +778,17 @@ void scalePackedRow(const uint32_t* __restrict src, const float* __restrict weig
                  (roundToBfloat16(highBfloat16(src[x]) * weight[x]) << 16);
 }
 
-// The inner loops: contiguous, restrict-qualified so the compiler vectorises them.
-inline void accumulateScaled(float* __restrict dst, const float* __restrict src, float w, int begin, int end)
+/* The inner loops: contiguous, restrict-qualified so the compiler vectorises them, and cloned for
+   the CPU's widest vectors (this file is built for the baseline's SSE). */
+DYNBLUR_SIMD_CLONES
+void accumulateScaled(float* __restrict dst, const float* __restrict src, float w, int begin, int end)
 {
     for (int x = begin; x < end; x++)
         dst[x] += w * src[x];
 }
 
-inline void multiplyInto(float* __restrict dst, const float* __restrict a, const float* __restrict b, int n)
+DYNBLUR_SIMD_CLONES
+void multiplyInto(float* __restrict dst, const float* __restrict a, const float* __restrict b, int n)
 {
     for (int x = 0; x < n; x++)
         dst[x] = a[x] * b[x];
@@ -851,15 +854,8 @@ PsfBank displacementBank(const PsfBank& bank)
 
 namespace {
 
-//! sum[x] += scale · tent[x]: a node column's share of one frame row, as displacementAdjoint adds it.
-DYNBLUR_SIMD_CLONES
-void addTentRow(const float* __restrict tent, float scale, int n, float* __restrict sum)
-{
-    for (int x = 0; x < n; x++)
-        sum[x] += scale * tent[x];
-}
-
-//! sum[x] += scale · tent[x] · source[x].
+/* sum[x] += scale · tent[x] · source[x]: a node column's share of one frame row, as
+   displacementAdjoint adds it. */
 DYNBLUR_SIMD_CLONES
 void addTentWeightedRow(const float* __restrict tent, const float* __restrict source, float scale, int n,
                         float* __restrict sum)
@@ -934,7 +930,7 @@ void displacementAdjoint(const PsfBank& moved, Size latentSize, Point origin, co
                 if (begin >= end)
                     continue;
                 const float* tent = colWeight[size_t(c)].data() + (begin - support.start);
-                addTentRow(tent, s.weight, end - begin, sums.data() + begin + offset);
+                accumulateScaled(sums.data() + begin + offset, tent, s.weight, 0, end - begin);
                 for (int p = 0; p < planes; p++)
                     addTentWeightedRow(tent, frames[size_t(p)].ptr<float>(s.frameRow) + begin, s.weight, end - begin,
                                        adjoints[size_t(p)] + begin + offset);
@@ -1475,10 +1471,10 @@ struct UnionColumn
    (2k, 2k + 1; the last alone when outRows is odd), source rows in groups of `group` (1, or 2 for
    packed pairs). For each pair k, each source group g in order and each column in order,
    term(k, g, col, weight) gets weight[o][h], the weight of source row group·g + h in output row
-   2k + o (0 where none; term is called only where one of them is not), then pairEnd(k). The kernel and its blend are the
-   frame row's: the output row's in the forward direction (source row = r + dy + originY, column
-   colBase + dx), the source row's in the adjoint (source row = r − originY − dy, column
-   colBase − dx, read from the weighted copy). */
+   2k + o (0 where none; term is called only where one of them is not), then pairEnd(k). The
+   kernel and its blend are the frame row's: the output row's in the forward direction (source
+   row = r + dy + originY, column colBase + dx), the source row's in the adjoint (source row =
+   r − originY − dy, column colBase − dx, read from the weighted copy). */
 template <typename Term, typename PairEnd>
 void walkColumn(const UnionColumn& column, const std::vector<BankBlurOperator::AxisWeight>& rowWeights, bool adjoint,
                 int outRows, int sourceRows, int originY, int colBase, int group, const Term& term,

@@ -117,35 +117,41 @@ void unitGradientRow(const float* __restrict p, const float* __restrict below, i
     ny[x] = gy * inverseSqrt(gy * gy + eps2);
 }
 
-/* div(∇u/|∇u|) row by row down a band: forward differences for the gradient, backward ones for
-   the divergence (the pair that makes −div the adjoint of ∇), zero flux across the edges. The row
-   above's unit gradient is carried, so each row's is computed once, and a row of u is not read
-   after its own curvature: u may be updated in place right behind the walk. The rows just outside
-   the band come from copies taken before any band was updated. */
-class CurvatureWalk
+/* The unit gradients ∇u/|∇u| of one row and of the row above, from which the update takes the
+   curvature div(∇u/|∇u|) = nx[x] − nx[x−1] + ny[x] − nyAbove[x]: forward differences for the
+   gradient, backward ones for the divergence (the pair that makes −div the adjoint of ∇), zero
+   flux across the edges (nx[−1] is 0, and so is nyAbove on the first row). */
+struct UnitGradient
+{
+    const float *nx, *ny, *nyAbove;
+};
+
+/* The unit gradients row by row down a band. The row above's is carried, so each row's is
+   computed once, and a row of u is not read after its own: u may be updated in place right behind
+   the walk. The rows just outside the band come from copies taken before any band was updated. */
+class UnitGradientWalk
 {
 public:
-    CurvatureWalk(const Mat& u, const Range& rows, float scale, float epsilon, const float* rowAbove,
-                  const float* rowBelow)
+    UnitGradientWalk(const Mat& u, const Range& rows, float scale, float epsilon, const float* rowAbove,
+                     const float* rowBelow)
         : u_(u), end_(rows.end), scale_(scale), eps2_(epsilon * epsilon), rowBelow_(rowBelow),
-          buffer_(size_t(u.cols) * 3, 0.f)
+          buffer_(size_t(u.cols) * 3 + 1, 0.f)
     {
-        nx_ = buffer_.data();
+        nx_ = buffer_.data() + 1;  // nx_[−1] stays 0
         ny_ = nx_ + u.cols;
         nyAbove_ = ny_ + u.cols;
         if (rows.start > 0 && rowAbove)
             unitGradientRow(rowAbove, u.ptr<float>(rows.start), u.cols, scale_, eps2_, nx_, nyAbove_);
     }
 
-    //! The curvature of row y; call for each row of the band in order.
-    void next(int y, float* curvature)
+    //! Row y's unit gradient, valid until the next call; call for each row of the band in order.
+    UnitGradient next(int y)
     {
         const float* below = y + 1 >= u_.rows ? nullptr : y + 1 == end_ ? rowBelow_ : u_.ptr<float>(y + 1);
         unitGradientRow(u_.ptr<float>(y), below, u_.cols, scale_, eps2_, nx_, ny_);
-        curvature[0] = nx_[0] + ny_[0] - nyAbove_[0];
-        for (int x = 1; x < u_.cols; x++)
-            curvature[x] = nx_[x] - nx_[x - 1] + ny_[x] - nyAbove_[x];
+        const UnitGradient g{nx_, ny_, nyAbove_};
         std::swap(ny_, nyAbove_);
+        return g;
     }
 
 private:
@@ -157,28 +163,100 @@ private:
     float *nx_, *ny_, *nyAbove_;
 };
 
-/* x_{k+1} = y ⊙ correction / (norm − λ curvature) over one row, kept within [0, upper], and the
-   data term's step y ⊙ (correction / norm − 1); with `correctionExcess`, `correction` holds
-   correction − norm. Pixels whose normaliser is ≤ kUnobserved keep y.
-   `norm` and `curvature` may be null (1 and 0); `out` may be `y` (each element is read before it
-   is written). Branch-free, so it vectorises. */
+//! Sums an update accumulates over a band of rows, added up afterwards in band order.
+struct UpdateSums
+{
+    double stepDot = 0, stepBeforeSq = 0, changeSq = 0, sizeSq = 0;
+};
+
+/* x_{k+1} = y ⊙ correction / (norm − λ curvature) over one row, kept within [0, upper]; with
+   `correctionExcess`, `correction` holds correction − norm. Pixels whose normaliser is
+   ≤ kUnobserved keep y. `tv` may be null (no curvature); `out` may be `y` (each element is read
+   before it is written).
+   With `step`, the data term's step g = y ⊙ (correction / norm − 1) meets the last one, stored
+   there as bfloat16 (a float's upper half, truncated: it only feeds the extrapolation's two dot
+   products, whose ratio a 2^-8 relative error per element hardly moves, and half the bytes is half
+   that plane's traffic): Σ g·g_old and Σ g_old² (times scale², which keeps the products from
+   under- or overflowing) go to `sums`, and g replaces g_old. The extrapolation follows the data
+   term's step only: TV's curvature term flips sign from one iteration to the next on noise, which
+   would make successive steps look uncorrelated and switch acceleration off.
+   One pass with every term in registers, sixteen lanes in vector types (GCC would vectorise
+   neither the float sums nor the bfloat16 conversions well), the tail through padded copies. */
 DYNBLUR_SIMD_CLONES
 void updateRow(const float* y, const float* __restrict correction, bool correctionExcess, const float* __restrict norm,
-               const float* __restrict curvature, float tvWeight, float upper, int n, float* out,
-               float* __restrict step)
+               const UnitGradient* tv, float tvWeight, float upper, int n, float* out, uint16_t* __restrict step,
+               float scale, UpdateSums& sums)
 {
-    for (int x = 0; x < n; x++)
+    constexpr int kLanes = 16;
+    typedef float v16 __attribute__((vector_size(64), aligned(4)));  // aligned(4): unaligned loads allowed
+    typedef int32_t v16i __attribute__((vector_size(64)));
+    typedef uint32_t v16u __attribute__((vector_size(64), aligned(4)));
+    typedef uint16_t v16h __attribute__((vector_size(32), aligned(2)));
+    const v16 zero = {}, ceiling = zero + upper;
+    v16 stepDot = {}, stepBeforeSq = {};
+    // Lanes x … x + 15 of every input, read from the row or (the tail) from padded copies.
+    const auto lanes = [&](const float* yAt, const float* correctionAt, const float* normAt, const float* nxAt,
+                           const float* nxLeftAt, const float* nyAt, const float* nyAboveAt, float* outAt,
+                           uint16_t* stepAt) {
+        const v16 yv = *(const v16*)yAt, nv = *(const v16*)normAt;
+        v16 cv = *(const v16*)correctionAt;
+        if (correctionExcess)
+            cv += nv;
+        v16 den = nv;
+        if (tv)
+            den -= tvWeight * (*(const v16*)nxAt - *(const v16*)nxLeftAt + *(const v16*)nyAt - *(const v16*)nyAboveAt);
+        const v16 floor = 0.1f * nv;  // keeps a large λ from flipping the sign
+        den = den > floor ? den : floor;
+        const v16i seen = nv > kUnobserved;
+        v16 x = yv * cv / den;
+        x = x > zero ? x : zero;
+        x = x < ceiling ? x : ceiling;
+        *(v16*)outAt = seen ? x : yv;
+        if (stepAt)
+        {
+            const v16 g = seen ? yv * (cv / nv - 1.f) : zero;
+            const v16 before = (v16)(__builtin_convertvector(*(const v16h*)stepAt, v16u) << 16) * scale;
+            const v16 now = g * scale;
+            stepDot += now * before;
+            stepBeforeSq += before * before;
+            *(v16h*)stepAt = __builtin_convertvector((v16u)g >> 16, v16h);
+        }
+    };
+    int x = 0;
+    for (; x + kLanes <= n; x += kLanes)
+        lanes(y + x, correction + x, norm + x, tv ? tv->nx + x : nullptr,
+              tv ? tv->nx + x - 1 : nullptr, tv ? tv->ny + x : nullptr, tv ? tv->nyAbove + x : nullptr, out + x,
+              step ? step + x : nullptr);
+    if (x < n)
     {
-        const float nv = norm ? norm[x] : 1.f;
-        const float yv = y[x], cv = correctionExcess ? correction[x] + nv : correction[x];
-        float den = curvature ? nv - tvWeight * curvature[x] : nv;
-        den = std::max(den, 0.1f * nv);  // keeps a large λ from flipping the sign
-        const bool seen = nv > kUnobserved;
-        out[x] = seen ? std::min(std::max(yv * cv / den, 0.f), upper) : yv;
-        /* The extrapolation follows the data term's step only: TV's curvature term flips sign
-           from one iteration to the next on noise, which would make successive steps look
-           uncorrelated and switch acceleration off. */
-        step[x] = seen ? yv * (cv / nv - 1.f) : 0.f;
+        // Padding: y = 0 and a last step of 0 leave the sums alone, a normaliser of 1 the division finite.
+        const int rest = n - x;
+        float padded[8][kLanes] = {};
+        uint16_t stepTail[kLanes] = {};
+        const auto copy = [&](const float* from, float* to) { std::copy(from, from + rest, to); };
+        std::fill(padded[2], padded[2] + kLanes, 1.f);
+        copy(y + x, padded[0]);
+        copy(correction + x, padded[1]);
+        copy(norm + x, padded[2]);
+        if (tv)
+        {
+            copy(tv->nx + x, padded[3]);
+            copy(tv->nx + x - 1, padded[4]);
+            copy(tv->ny + x, padded[5]);
+            copy(tv->nyAbove + x, padded[6]);
+        }
+        if (step)
+            std::copy(step + x, step + n, stepTail);
+        lanes(padded[0], padded[1], padded[2], padded[3], padded[4], padded[5], padded[6], padded[7],
+              step ? stepTail : nullptr);
+        std::copy(padded[7], padded[7] + rest, out + x);
+        if (step)
+            std::copy(stepTail, stepTail + rest, step + x);
+    }
+    for (int k = 0; k < kLanes; k++)
+    {
+        sums.stepDot += stepDot[k];
+        sums.stepBeforeSq += stepBeforeSq[k];
     }
 }
 
@@ -189,60 +267,6 @@ void extrapolateRow(const float* __restrict x, float a, int n, float* __restrict
     for (int i = 0; i < n; i++)
         y[i] = std::max(x[i] + a * (x[i] - y[i]), 0.f);
 }
-
-/* The last step is kept as bfloat16 (a float's upper half): it only feeds the extrapolation's
-   two dot products, whose ratio a 2^-8 relative error per element hardly moves, and half the bytes
-   is half of that plane's memory traffic. Truncation, so no finite value becomes infinite. */
-inline uint16_t toBfloat16(float v)
-{
-    return uint16_t(__builtin_bit_cast(uint32_t, v) >> 16);
-}
-
-inline float fromBfloat16(uint16_t h)
-{
-    return __builtin_bit_cast(float, uint32_t(h) << 16);
-}
-
-/* Σ a·b and Σ b·b over a row times scale², in eight-lane float sums (a row is short enough for
-   float; the scale keeps the products from under- or overflowing), b being the stored last step;
-   then b = a, in the same pass. */
-DYNBLUR_SIMD_CLONES
-void dotAndReplace(const float* __restrict a, uint16_t* __restrict b, int n, float scale, double& ab, double& bb)
-{
-    // Vector types spelled out: the lane loop the compiler would find mixes 16- and 32-bit lanes badly.
-    typedef float v8 __attribute__((vector_size(32), aligned(4)));
-    typedef uint32_t v8u __attribute__((vector_size(32), aligned(4)));
-    typedef uint16_t v8h __attribute__((vector_size(16), aligned(2)));
-    v8 sab = {}, sbb = {};
-    int x = 0;
-    for (; x + 8 <= n; x += 8)
-    {
-        const v8 raw = *(const v8*)(a + x);
-        const v8 before = (v8)(__builtin_convertvector(*(const v8h*)(b + x), v8u) << 16) * scale;
-        const v8 now = raw * scale;
-        sab += now * before;
-        sbb += before * before;
-        *(v8h*)(b + x) = __builtin_convertvector((v8u)raw >> 16, v8h);
-    }
-    for (int k = 0; k < 8; k++)
-    {
-        ab += sab[k];
-        bb += sbb[k];
-    }
-    for (; x < n; x++)
-    {
-        const float before = fromBfloat16(b[x]) * scale;
-        ab += double(a[x] * scale) * before;
-        bb += double(before) * before;
-        b[x] = toBfloat16(a[x]);
-    }
-}
-
-//! Sums an update accumulates over a band of rows, added up afterwards in band order.
-struct UpdateSums
-{
-    double stepDot = 0, stepBeforeSq = 0, changeSq = 0, sizeSq = 0;
-};
 
 /* Band b of `bands` fixed bands of [0, rows). Inner bands start on even rows, as blocks of
    kBlockRows then do: a row-gathering operator computes rows 2k and 2k + 1 together. */
@@ -489,33 +513,35 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
             packedReady = packed && iteration + 1 < params.iterations && (!params.accelerate || iteration + 1 < 2);
             forBands(latentSize.height, bands, [&](int band, const Range& rows) {
                 UpdateSums& s = sums[size_t(band)];
-                std::vector<float> buffer(size_t(width) * (kBlockRows + 2));
-                float* correctionBlock = buffer.data();
-                float* stepRow = correctionBlock + size_t(width) * kBlockRows;
-                float* curvatureRow = tvWeight > 0 ? stepRow + width : nullptr;
+                std::vector<float> correctionBlock(size_t(width) * kBlockRows);
+                /* Unnormalised: Aᵀ1 taken as 1, from a row of ones rather than a null row, for which
+                   updateRow would need a ?: between vectors on a scalar condition: GCC evaluates that
+                   lane by lane (the update took 2× as long). */
+                const std::vector<float> ones(normalizer.empty() ? size_t(width) : 0, 1.f);
+                const bool tv = tvWeight > 0;
                 const float* above = halo.data() + size_t(2 * band) * size_t(width);
-                CurvatureWalk curvature(y, rows, scale, tvEpsilon, curvatureRow ? above : nullptr, above + width);
+                UnitGradientWalk unitGradient(y, rows, scale, tvEpsilon, tv ? above : nullptr, above + width);
                 for (int r = rows.start; r < rows.end; r++)
                 {
-                    if (curvatureRow)
-                        curvature.next(r, curvatureRow);
+                    UnitGradient g{};
+                    if (tv)
+                        g = unitGradient.next(r);
                     const int inBlock = (r - rows.start) % kBlockRows;
                     if (packed && inBlock == 0)
                         op.adjointPackedBlock(ws.packedRatio, Range(r, std::min(r + kBlockRows, rows.end)),
-                                              correctionBlock, size_t(width));
+                                              correctionBlock.data(), size_t(width));
                     else if (fused && inBlock == 0)
-                        op.adjointBlock(ratio, Range(r, std::min(r + kBlockRows, rows.end)), correctionBlock,
+                        op.adjointBlock(ratio, Range(r, std::min(r + kBlockRows, rows.end)), correctionBlock.data(),
                                         size_t(width));
-                    const float* cp = fused || packed ? correctionBlock + size_t(inBlock) * size_t(width)
+                    const float* cp = fused || packed ? correctionBlock.data() + size_t(inBlock) * size_t(width)
                                             : correction.ptr<float>(r);
                     // `next` may be y itself: the walk has read row r of y for the last time.
                     float* out = next.ptr<float>(r);
-                    updateRow(y.ptr<float>(r), cp, packed, normalizer.empty() ? nullptr : normalizer.ptr<float>(r),
-                              curvatureRow, tvWeight, upper, width, out, stepRow);
+                    updateRow(y.ptr<float>(r), cp, packed, normalizer.empty() ? ones.data() : normalizer.ptr<float>(r),
+                              tv ? &g : nullptr, tvWeight, upper, width, out,
+                              accelerate ? step.ptr<uint16_t>(r) : nullptr, scale, s);
                     if (packedReady && (r % 2 == 1 || r + 1 == rows.end))
                         packPair(next, r & ~1);
-                    if (accelerate)
-                        dotAndReplace(stepRow, step.ptr<uint16_t>(r), width, scale, s.stepDot, s.stepBeforeSq);
                     if (measure)
                     {
                         const float* xp = x.ptr<float>(r);

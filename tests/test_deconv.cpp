@@ -285,9 +285,10 @@ TEST(DeconvRichardsonLucy, FftMatchesDirectReference)
     EXPECT_LT(norm(channels[2], directRichardsonLucy(blurred * 0.25, kernel, start, 10), NORM_INF), 1e-4);
 }
 
-/* TV's curvature and the update are taken sixteen columns at a time, the row's last ones through a
-   padded block: every width of that block (0, 1, 7 and 15 columns) matches the pixel-by-pixel
-   reference, in a strong λ whose term moves the result. */
+/* TV's unit gradient, its curvature and the update are taken sixteen columns at a time: a row
+   that ends on a whole block (48 columns) takes its last column's right neighbour from within the
+   block, other rows end in a padded block (1, 7 and 15 columns). Each matches the pixel-by-pixel
+   reference, with a λ strong enough that its term moves the result. */
 TEST(DeconvRichardsonLucy, TotalVariationMatchesDirectReferenceForEveryRowTail)
 {
     const Mat kernel = pathKernel(Point2d(3.1, 1.7), 3, 9);

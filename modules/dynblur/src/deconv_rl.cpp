@@ -77,102 +77,29 @@ void ratioRow(const float* __restrict b, const float* __restrict ab, float* __re
     }
 }
 
-/* 1 / √q for a positive normal float, to 5e-6 relative (TV's unit gradient needs no more): the
-   exponent-halving first guess and two Newton steps, which vectorise to a few multiplies where a
-   square root and a division each take longer than the whole. */
-inline float inverseSqrt(float q)
-{
-    float y = __builtin_bit_cast(float, 0x5f375a86 - (__builtin_bit_cast(int32_t, q) >> 1));
-    const float half = 0.5f * q;
-    y *= 1.5f - half * y * y;
-    y *= 1.5f - half * y * y;
-    return y;
-}
-
-/* The unit gradient n = ∇u/|∇u| of one row (forward differences, zero across the last column and
-   below the last row, where `below` is null), from u · scale so the squares neither under- nor
-   overflow. */
-DYNBLUR_SIMD_CLONES
-void unitGradientRow(const float* __restrict p, const float* __restrict below, int cols, float scale, float eps2,
-                     float* __restrict nx, float* __restrict ny)
-{
-    if (below)
-        for (int x = 0; x + 1 < cols; x++)
-        {
-            const float gx = (p[x + 1] - p[x]) * scale, gy = (below[x] - p[x]) * scale;
-            const float inv = inverseSqrt(gx * gx + gy * gy + eps2);
-            nx[x] = gx * inv;
-            ny[x] = gy * inv;
-        }
-    else
-        for (int x = 0; x + 1 < cols; x++)
-        {
-            const float gx = (p[x + 1] - p[x]) * scale;
-            nx[x] = gx * inverseSqrt(gx * gx + eps2);
-            ny[x] = 0.f;
-        }
-    const int x = cols - 1;
-    const float gy = below ? (below[x] - p[x]) * scale : 0.f;
-    nx[x] = 0.f;
-    ny[x] = gy * inverseSqrt(gy * gy + eps2);
-}
-
-/* The unit gradients ∇u/|∇u| of one row and of the row above, from which the update takes the
-   curvature div(∇u/|∇u|) = nx[x] − nx[x−1] + ny[x] − nyAbove[x]: forward differences for the
-   gradient, backward ones for the divergence (the pair that makes −div the adjoint of ∇), zero
-   flux across the edges (nx[−1] is 0, and so is nyAbove on the first row). */
-struct UnitGradient
-{
-    const float *nx, *ny, *nyAbove;
-};
-
-/* The unit gradients row by row down a band. The row above's is carried, so each row's is
-   computed once, and a row of u is not read after its own: u may be updated in place right behind
-   the walk. The rows just outside the band come from copies taken before any band was updated. */
-class UnitGradientWalk
-{
-public:
-    UnitGradientWalk(const Mat& u, const Range& rows, float scale, float epsilon, const float* rowAbove,
-                     const float* rowBelow)
-        : u_(u), end_(rows.end), scale_(scale), eps2_(epsilon * epsilon), rowBelow_(rowBelow),
-          buffer_(size_t(u.cols) * 3 + 1, 0.f)
-    {
-        nx_ = buffer_.data() + 1;  // nx_[−1] stays 0
-        ny_ = nx_ + u.cols;
-        nyAbove_ = ny_ + u.cols;
-        if (rows.start > 0 && rowAbove)
-            unitGradientRow(rowAbove, u.ptr<float>(rows.start), u.cols, scale_, eps2_, nx_, nyAbove_);
-    }
-
-    //! Row y's unit gradient, valid until the next call; call for each row of the band in order.
-    UnitGradient next(int y)
-    {
-        const float* below = y + 1 >= u_.rows ? nullptr : y + 1 == end_ ? rowBelow_ : u_.ptr<float>(y + 1);
-        unitGradientRow(u_.ptr<float>(y), below, u_.cols, scale_, eps2_, nx_, ny_);
-        const UnitGradient g{nx_, ny_, nyAbove_};
-        std::swap(ny_, nyAbove_);
-        return g;
-    }
-
-private:
-    const Mat& u_;
-    int end_;
-    float scale_, eps2_;
-    const float* rowBelow_;
-    std::vector<float> buffer_;
-    float *nx_, *ny_, *nyAbove_;
-};
-
 //! Sums an update accumulates over a band of rows, added up afterwards in band order.
 struct UpdateSums
 {
     double stepDot = 0, stepBeforeSq = 0, changeSq = 0, sizeSq = 0;
 };
 
+/* TV's terms for the update of one row of y. The curvature div(∇y/|∇y|) is nx[x] − nx[x−1] +
+   ny[x] − nyAbove[x], with the unit gradient n = ∇y/|∇y| by forward differences (zero across the
+   last column and below the last row) and the divergence by backward ones (the pair that makes
+   −div the adjoint of ∇; nx[−1] and the first row's nyAbove are 0: zero flux across the edges).
+   |∇y| is taken on y · scale, so the squares neither under- nor overflow, and regularised by eps2. */
+struct RowTv
+{
+    const float* below;    //!< the next row of y; null on the last row
+    const float* nyAbove;  //!< the row above's ny
+    float* ny;             //!< where the row's own ny goes, for the row below
+    float scale, eps2;
+};
+
 /* x_{k+1} = y ⊙ correction / (norm − λ curvature) over one row, kept within [0, upper]; with
    `correctionExcess`, `correction` holds correction − norm. Pixels whose normaliser is
-   ≤ kUnobserved keep y. `tv` may be null (no curvature); `out` may be `y` (each element is read
-   before it is written).
+   ≤ kUnobserved keep y. `tv` may be null (no curvature). `out` may be `y` (each element is read
+   before it is written); with `out` null, only tv->ny is computed (the row just above a band).
    With `step`, the data term's step g = y ⊙ (correction / norm − 1) meets the last one, stored
    there as bfloat16 (a float's upper half, truncated: it only feeds the extrapolation's two dot
    products, whose ratio a 2^-8 relative error per element hardly moves, and half the bytes is half
@@ -181,10 +108,11 @@ struct UpdateSums
    term's step only: TV's curvature term flips sign from one iteration to the next on noise, which
    would make successive steps look uncorrelated and switch acceleration off.
    One pass with every term in registers, sixteen lanes in vector types (GCC would vectorise
-   neither the float sums nor the bfloat16 conversions well), the tail through padded copies. */
+   neither the float sums nor the bfloat16 conversions well; nx[x − 1] is the lanes' nx shifted by
+   one), the last columns through padded copies. */
 DYNBLUR_SIMD_CLONES
 void updateRow(const float* y, const float* __restrict correction, bool correctionExcess, const float* __restrict norm,
-               const UnitGradient* tv, float tvWeight, float upper, int n, float* out, uint16_t* __restrict step,
+               const RowTv* tv, float tvWeight, float upper, int n, float* out, uint16_t* __restrict step,
                float scale, UpdateSums& sums)
 {
     constexpr int kLanes = 16;
@@ -193,18 +121,48 @@ void updateRow(const float* y, const float* __restrict correction, bool correcti
     typedef uint32_t v16u __attribute__((vector_size(64), aligned(4)));
     typedef uint16_t v16h __attribute__((vector_size(32), aligned(2)));
     const v16 zero = {}, ceiling = zero + upper;
-    v16 stepDot = {}, stepBeforeSq = {};
-    // Lanes x … x + 15 of every input, read from the row or (the tail) from padded copies.
-    const auto lanes = [&](const float* yAt, const float* correctionAt, const float* normAt, const float* nxAt,
-                           const float* nxLeftAt, const float* nyAt, const float* nyAboveAt, float* outAt,
+    v16 stepDot = {}, stepBeforeSq = {}, nxLeft = {};
+    /* Lanes x … x + 15 of every row, from the row or (the last ones) from padded copies; yRight is
+       y one column on. Ifs, not ?: between vectors on a scalar condition, which GCC takes lane by
+       lane (it made the update twice as slow). */
+    const auto lanes = [&](const float* yAt, const float* yRightAt, const float* belowAt, const float* nyAboveAt,
+                           float* nyAt, const float* correctionAt, const float* normAt, float* outAt,
                            uint16_t* stepAt) {
-        const v16 yv = *(const v16*)yAt, nv = *(const v16*)normAt;
+        const v16 yv = *(const v16*)yAt;
+        v16 curvature = zero;
+        if (tv)
+        {
+            // Null yRightAt: the row's last sixteen columns, the last one with no gradient across the edge.
+            const v16 yRight = yRightAt ? *(const v16*)yRightAt
+                                        : __builtin_shufflevector(yv, yv, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13,
+                                                                  14, 15, 15);
+            const v16 gx = (yRight - yv) * tv->scale;
+            v16 gy = zero;
+            if (belowAt)
+                gy = (*(const v16*)belowAt - yv) * tv->scale;
+            /* 1 / |∇y| to 5e-6 relative (TV needs no more): the exponent-halving first guess and
+               two Newton steps, a few multiplies where a square root and a division each take
+               longer than the whole. */
+            const v16 q = gx * gx + gy * gy + tv->eps2, half = 0.5f * q;
+            v16 inv = (v16)(0x5f375a86 - ((v16i)q >> 1));
+            inv *= 1.5f - half * inv * inv;
+            inv *= 1.5f - half * inv * inv;
+            const v16 nx = gx * inv, ny = gy * inv;
+            *(v16*)nyAt = ny;
+            curvature = nx - __builtin_shufflevector(nxLeft, nx, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27,
+                                                     28, 29, 30) +
+                        ny - *(const v16*)nyAboveAt;
+            nxLeft = nx;
+        }
+        if (!outAt)
+            return;
+        const v16 nv = *(const v16*)normAt;
         v16 cv = *(const v16*)correctionAt;
         if (correctionExcess)
             cv += nv;
         v16 den = nv;
         if (tv)
-            den -= tvWeight * (*(const v16*)nxAt - *(const v16*)nxLeftAt + *(const v16*)nyAt - *(const v16*)nyAboveAt);
+            den -= tvWeight * curvature;
         const v16 floor = 0.1f * nv;  // keeps a large λ from flipping the sign
         den = den > floor ? den : floor;
         const v16i seen = nv > kUnobserved;
@@ -222,34 +180,45 @@ void updateRow(const float* y, const float* __restrict correction, bool correcti
             *(v16h*)stepAt = __builtin_convertvector((v16u)g >> 16, v16h);
         }
     };
+    const auto at = [](auto* row, int x) { return row ? row + x : nullptr; };
     int x = 0;
     for (; x + kLanes <= n; x += kLanes)
-        lanes(y + x, correction + x, norm + x, tv ? tv->nx + x : nullptr,
-              tv ? tv->nx + x - 1 : nullptr, tv ? tv->ny + x : nullptr, tv ? tv->nyAbove + x : nullptr, out + x,
-              step ? step + x : nullptr);
+        lanes(y + x, x + kLanes < n ? y + x + 1 : nullptr, tv ? at(tv->below, x) : nullptr,
+              tv ? tv->nyAbove + x : nullptr, tv ? tv->ny + x : nullptr, at(correction, x), at(norm, x), at(out, x),
+              at(step, x));
+
     if (x < n)
     {
-        // Padding: y = 0 and a last step of 0 leave the sums alone, a normaliser of 1 the division finite.
+        /* The last 1 to 15 columns. Padding: y = 0 and a last step of 0 leave the sums alone, a
+           normaliser of 1 the division finite; the last column's yRight is its y (no gradient
+           across the edge). */
         const int rest = n - x;
-        float padded[8][kLanes] = {};
+        enum { Y, YRight, Below, NyAbove, Ny, Correction, Norm, Out, Rows };
+        float padded[Rows][kLanes] = {};
         uint16_t stepTail[kLanes] = {};
-        const auto copy = [&](const float* from, float* to) { std::copy(from, from + rest, to); };
-        std::fill(padded[2], padded[2] + kLanes, 1.f);
-        copy(y + x, padded[0]);
-        copy(correction + x, padded[1]);
-        copy(norm + x, padded[2]);
+        const auto copy = [&](const float* from, int row) {
+            if (from)
+                std::copy(from + x, from + n, padded[row]);
+        };
+        std::fill(padded[Norm], padded[Norm] + kLanes, 1.f);
+        copy(y, Y);
+        std::copy(y + x + 1, y + n, padded[YRight]);
+        padded[YRight][rest - 1] = y[n - 1];
+        copy(correction, Correction);
+        copy(norm, Norm);
         if (tv)
         {
-            copy(tv->nx + x, padded[3]);
-            copy(tv->nx + x - 1, padded[4]);
-            copy(tv->ny + x, padded[5]);
-            copy(tv->nyAbove + x, padded[6]);
+            copy(tv->below, Below);
+            copy(tv->nyAbove, NyAbove);
         }
         if (step)
             std::copy(step + x, step + n, stepTail);
-        lanes(padded[0], padded[1], padded[2], padded[3], padded[4], padded[5], padded[6], padded[7],
-              step ? stepTail : nullptr);
-        std::copy(padded[7], padded[7] + rest, out + x);
+        lanes(padded[Y], padded[YRight], tv && tv->below ? padded[Below] : nullptr, padded[NyAbove], padded[Ny],
+              padded[Correction], padded[Norm], out ? padded[Out] : nullptr, step ? stepTail : nullptr);
+        if (tv)
+            std::copy(padded[Ny], padded[Ny] + rest, tv->ny + x);
+        if (out)
+            std::copy(padded[Out], padded[Out] + rest, out + x);
         if (step)
             std::copy(stepTail, stepTail + rest, step + x);
     }
@@ -259,6 +228,50 @@ void updateRow(const float* y, const float* __restrict correction, bool correcti
         sums.stepBeforeSq += stepBeforeSq[k];
     }
 }
+
+/* TV's terms row by row down a band. Each row's ny is computed by its own update and carried to
+   the row below, so a row of y is not read after its update: y may be updated in place. The rows
+   just outside the band come from copies taken before any band was updated; the row above's ny is
+   computed up front. */
+class TvWalk
+{
+public:
+    TvWalk(const Mat& y, const Range& rows, float scale, float epsilon, const float* rowAbove, const float* rowBelow)
+        : y_(y), end_(rows.end), rowBelow_(rowBelow), buffer_(size_t(y.cols) * 2, 0.f)
+    {
+        ny_ = buffer_.data();
+        nyAbove_ = ny_ + y.cols;
+        tv_.scale = scale;
+        tv_.eps2 = epsilon * epsilon;
+        if (rows.start > 0 && rowAbove)
+        {
+            RowTv above = tv_;
+            above.below = y.ptr<float>(rows.start);
+            above.nyAbove = ny_;  // zeros: the curvature it enters is not used
+            above.ny = nyAbove_;
+            UpdateSums unused;
+            updateRow(rowAbove, nullptr, false, nullptr, &above, 0.f, 0.f, y.cols, nullptr, nullptr, 1.f, unused);
+        }
+    }
+
+    //! Row r's terms, valid until the next call; call for each row of the band in order.
+    const RowTv* next(int r)
+    {
+        tv_.below = r + 1 >= y_.rows ? nullptr : r + 1 == end_ ? rowBelow_ : y_.ptr<float>(r + 1);
+        tv_.nyAbove = nyAbove_;
+        tv_.ny = ny_;
+        std::swap(ny_, nyAbove_);
+        return &tv_;
+    }
+
+private:
+    const Mat& y_;
+    int end_;
+    const float* rowBelow_;
+    std::vector<float> buffer_;
+    float *ny_, *nyAbove_;
+    RowTv tv_{};
+};
 
 //! y = max(x + a (x − y), 0) over one row: x_{k−1} in, the extrapolated y_k out (RL needs y ≥ 0).
 DYNBLUR_SIMD_CLONES
@@ -520,12 +533,10 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                 const std::vector<float> ones(normalizer.empty() ? size_t(width) : 0, 1.f);
                 const bool tv = tvWeight > 0;
                 const float* above = halo.data() + size_t(2 * band) * size_t(width);
-                UnitGradientWalk unitGradient(y, rows, scale, tvEpsilon, tv ? above : nullptr, above + width);
+                TvWalk tvWalk(y, rows, scale, tvEpsilon, tv ? above : nullptr, above + width);
                 for (int r = rows.start; r < rows.end; r++)
                 {
-                    UnitGradient g{};
-                    if (tv)
-                        g = unitGradient.next(r);
+                    const RowTv* rowTv = tv ? tvWalk.next(r) : nullptr;
                     const int inBlock = (r - rows.start) % kBlockRows;
                     if (packed && inBlock == 0)
                         op.adjointPackedBlock(ws.packedRatio, Range(r, std::min(r + kBlockRows, rows.end)),
@@ -538,7 +549,7 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                     // `next` may be y itself: the walk has read row r of y for the last time.
                     float* out = next.ptr<float>(r);
                     updateRow(y.ptr<float>(r), cp, packed, normalizer.empty() ? ones.data() : normalizer.ptr<float>(r),
-                              tv ? &g : nullptr, tvWeight, upper, width, out,
+                              rowTv, tvWeight, upper, width, out,
                               accelerate ? step.ptr<uint16_t>(r) : nullptr, scale, s);
                     if (packedReady && (r % 2 == 1 || r + 1 == rows.end))
                         packPair(next, r & ~1);

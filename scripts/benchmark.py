@@ -26,13 +26,14 @@ import numpy as np
 
 REPO = pathlib.Path(__file__).resolve().parents[1]
 
-# The restoration's minimal DRAM traffic per pixel, channel and iteration, bytes: the fused passes
-# read y, b, the ratio, the normaliser and the TV curvature and write the ratio, the curvature and
-# the new estimate (11 floats), and read and write the last step, kept as bfloat16 (2 × 2 bytes);
-# the taps' re-reads hit the caches. With bfloat16 blurs (the frame-rate setting) the ratio is
-# written and read packed (2 + 2 bytes instead of 4 + 4) and the forward blur reads a packed copy
-# of y, written and read (2 + 2), where it read y (4): 4 bytes less.
-BYTES_PER_PIXEL_ITERATION = 11 * 4 + 2 * 2 - 4
+# The restoration's DRAM traffic per pixel, channel and accelerated iteration, bytes, in the
+# frame-rate setting (bfloat16 blurs), if every pass streams its planes once and the taps' re-reads
+# hit the caches: the extrapolation reads x_k and x_k-1 and writes y and its packed copy
+# (4 + 4 + 4 + 2); the blur reads the packed y and b and writes the packed ratio - 1 (2 + 4 + 2);
+# the update reads the packed ratio, y and the normaliser, reads and writes the last
+# step (bfloat16) and writes x_k+1 (2 + 4 + 4 + 2 + 2 + 4). TV's gradient and the curvature stay
+# in registers. (With float blurs: 44.)
+BYTES_PER_PIXEL_ITERATION = (4 + 4 + 4 + 2) + (2 + 4 + 2) + (2 + 4 + 4 + 2 + 2 + 4)
 # Colour iterations of the frame-rate setting (RLParams::colorIterations; DeblurQuality checks its quality).
 COLOUR_ITERATIONS = 3
 

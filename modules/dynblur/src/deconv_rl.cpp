@@ -546,7 +546,7 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                                         size_t(width));
                     const float* cp = fused || packed ? correctionBlock.data() + size_t(inBlock) * size_t(width)
                                             : correction.ptr<float>(r);
-                    // `next` may be y itself: the walk has read row r of y for the last time.
+                    // `next` may be y itself: no later row reads row r of y (its ny is carried).
                     float* out = next.ptr<float>(r);
                     updateRow(y.ptr<float>(r), cp, packed, normalizer.empty() ? ones.data() : normalizer.ptr<float>(r),
                               rowTv, tvWeight, upper, width, out,

@@ -496,7 +496,7 @@ Mat bfloat16Exact(const Mat& m)
 
 /* A packed (bfloat16) operator agrees with the float one within bfloat16's rounding (weights and
    data each to 2^-9, so sums of positive terms to ~2^-8), is the exact transpose of itself on data
-   that packs exactly (tiles: to the re-rounding of the tent-weighted copies), and gives the same
+   that packs exactly (tiles: to the re-rounding of the column-weighted copies), and gives the same
    with and without the AVX512-BF16 instructions (setPortableGathers). */
 void expectPackedAgrees(cv::dynblur::detail::BlurOperator& packed, cv::dynblur::detail::BlurOperator& exact,
                         double adjointTolerance, const std::string& what)
@@ -581,6 +581,38 @@ TEST(DeconvApplyPsfBank, OneNodeEqualsFilter2D)
     const Rect in = out - shift;
     ASSERT_EQ(in & Rect(0, 0, 100, 80), in);
     EXPECT_LT(norm(blurred(out), filtered(in), NORM_INF), 1e-5);
+}
+
+/* Between two node columns the blend moves from one kernel to the other over the middle half of
+   their interval, linearly, and keeps the nearer one elsewhere: with one-tap kernels shifted by 0
+   and 10 px on a ramp L(x) = x, B(x) = x − 10 w₁(x) reads the second node's weight out. Node rows
+   blend by the tent: the same along y. */
+TEST(DeconvApplyPsfBank, NodeColumnsBlendOverTheMiddleHalfOfTheirIntervalNodeRowsByTheTent)
+{
+    const Mat delta(1, 1, CV_32F, Scalar(1));
+    for (bool alongRows : {false, true})
+    {
+        SCOPED_TRACE(alongRows ? "node rows" : "node columns");
+        PsfBank bank;
+        bank.model = PSF_TILES;
+        bank.imageSize = alongRows ? Size(20, 200) : Size(200, 20);
+        bank.nodeRows = alongRows ? std::vector<double>{50, 150} : std::vector<double>{9.5};
+        bank.nodeCols = alongRows ? std::vector<double>{9.5} : std::vector<double>{50, 150};
+        bank.kernels = {delta, delta};
+        bank.shifts = {Point(), alongRows ? Point(0, 10) : Point(10, 0)};
+        Mat ramp(bank.imageSize, CV_32F), blurred;
+        for (int y = 0; y < ramp.rows; y++)
+            for (int x = 0; x < ramp.cols; x++)
+                ramp.at<float>(y, x) = float(alongRows ? y : x);
+        applyPsfBank(ramp, bank, blurred);
+        for (int t = 20; t < 190; t++)
+        {
+            const double tent = std::min(std::max((t - 50) / 100.0, 0.0), 1.0);
+            const double second = alongRows ? tent : std::min(std::max((tent - 0.5) / 0.5 + 0.5, 0.0), 1.0);
+            const float b = alongRows ? blurred.at<float>(t, 10) : blurred.at<float>(10, t);
+            EXPECT_NEAR(b, t - 10 * second, 1e-4) << "at " << t;
+        }
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -436,7 +436,7 @@ void wienerDeconvolve(InputArray blurred, const PsfBank& bank, OutputArray laten
     Mat denominator = Mat::zeros(size, CV_32F);
 
     // Node `node`'s share of each coordinate along one axis: the blending weights of the forward
-    // operator (detail::tentWeights).
+    // operator (detail::nodeRowWeights, nodeColumnWeights).
     auto nodeWeights = [](const std::vector<detail::BankBlurOperator::AxisWeight>& axis, int node) {
         std::vector<float> w(axis.size(), 0.f);
         for (size_t t = 0; t < axis.size(); t++)
@@ -457,8 +457,8 @@ void wienerDeconvolve(InputArray blurred, const PsfBank& bank, OutputArray laten
     };
 
     const int nx = int(bank.nodeCols.size()), ny = int(bank.nodeRows.size());
-    const auto rowAxis = detail::tentWeights(bank.nodeRows, size.height);
-    const auto colAxis = detail::tentWeights(bank.nodeCols, size.width);
+    const auto rowAxis = detail::nodeRowWeights(bank, size.height);
+    const auto colAxis = detail::nodeColumnWeights(bank, size.width);
     for (int j = 0; j < ny; j++)
     {
         const std::vector<float> wy = nodeWeights(rowAxis, j);

@@ -65,9 +65,13 @@ void UniformBlurOperator::adjoint(const Mat& frame, Mat& latent)
 // ---------------------------------------------------------------------------------------------
 // Bank of kernels, spatial domain.
 
-/* Bilinear tent weights of every integer coordinate in [0, length) between nodes `z`
-   (increasing): constant beyond the outermost nodes, so the weights sum to 1 everywhere. */
-std::vector<BankBlurOperator::AxisWeight> tentWeights(const std::vector<double>& z, int length)
+namespace {
+
+/* Blending weights of every integer coordinate in [0, length) between nodes `z` (increasing):
+   between two nodes, linear over the middle `transition` of the interval and constant (the nearer
+   node) outside it, so transition 1 is the bilinear tent; constant beyond the outermost nodes.
+   They sum to 1 everywhere. */
+std::vector<BankBlurOperator::AxisWeight> axisWeights(const std::vector<double>& z, int length, double transition)
 {
     std::vector<BankBlurOperator::AxisWeight> weights(size_t(std::max(length, 0)));
     const int last = int(z.size()) - 1;
@@ -88,13 +92,27 @@ std::vector<BankBlurOperator::AxisWeight> tentWeights(const std::vector<double>&
         }
         while (k + 1 < last && t >= z[size_t(k + 1)])
             k++;
-        const double a = (z[size_t(k + 1)] - t) / (z[size_t(k + 1)] - z[size_t(k)]);
+        double a = (z[size_t(k + 1)] - t) / (z[size_t(k + 1)] - z[size_t(k)]);
+        if (transition < 1)
+            a = std::min(std::max((a - 0.5) / transition + 0.5, 0.0), 1.0);
         w.node[0] = k;
         w.node[1] = k + 1;
         w.weight[0] = float(a);
         w.weight[1] = float(1.0 - a);
     }
     return weights;
+}
+
+}  // namespace
+
+std::vector<BankBlurOperator::AxisWeight> nodeRowWeights(const PsfBank& bank, int height)
+{
+    return axisWeights(bank.nodeRows, height, 1.0);
+}
+
+std::vector<BankBlurOperator::AxisWeight> nodeColumnWeights(const PsfBank& bank, int width)
+{
+    return axisWeights(bank.nodeCols, width, kColumnBlendTransition);
 }
 
 namespace {
@@ -871,8 +889,8 @@ void displacementAdjoint(const PsfBank& moved, Size latentSize, Point origin, co
 {
     const Size frame = moved.imageSize;
     const int nodeCols = int(moved.nodeCols.size());
-    const std::vector<BankBlurOperator::AxisWeight> rowWeights = tentWeights(moved.nodeRows, frame.height);
-    const std::vector<BankBlurOperator::AxisWeight> colWeights = tentWeights(moved.nodeCols, frame.width);
+    const std::vector<BankBlurOperator::AxisWeight> rowWeights = nodeRowWeights(moved, frame.height);
+    const std::vector<BankBlurOperator::AxisWeight> colWeights = nodeColumnWeights(moved, frame.width);
     const std::vector<Range> colSupport = supports(colWeights, nodeCols);
     const std::vector<std::vector<float>> colWeight = supportWeights(colWeights, colSupport);
 
@@ -979,9 +997,9 @@ BankBlurOperator::BankBlurOperator(const PsfBank& bank, bool pad) : BlurOperator
     dyMin_ = dyMin;
     dyMax_ = dyMax;
 
-    rowWeights_ = tentWeights(bank.nodeRows, frame_.height);
+    rowWeights_ = nodeRowWeights(bank, frame_.height);
     nodeRowSupport_ = supports(rowWeights_, nodeRows_);
-    const std::vector<AxisWeight> colWeights = tentWeights(bank.nodeCols, frame_.width);
+    const std::vector<AxisWeight> colWeights = nodeColumnWeights(bank, frame_.width);
     nodeColSupport_ = supports(colWeights, nodeCols_);
     colWeight_ = supportWeights(colWeights, nodeColSupport_);
 }
@@ -1216,9 +1234,9 @@ RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad, bool packed)
     }
     domain(frame_, pad, dxMin, dxMax, dyMin, dyMax, latent_, origin_);
 
-    // Each frame row's kernel: its row nodes' taps, tent-weighted and merged; reads of latent rows
+    // Each frame row's kernel: its row nodes' taps, weighted and merged; reads of latent rows
     // outside the domain (possible without padding) read zero and are dropped.
-    const std::vector<BankBlurOperator::AxisWeight> rowWeights = tentWeights(bank.nodeRows, frame_.height);
+    const std::vector<BankBlurOperator::AxisWeight> rowWeights = nodeRowWeights(bank, frame_.height);
     forward_.rows.resize(size_t(frame_.height));
     std::vector<Tap> row;
     for (int y = 0; y < frame_.height; y++)
@@ -1679,8 +1697,8 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
     domain(frame_, pad, dxMin, dxMax, dyMin, dyMax, latent_, origin_);
     dxMin_ = dxMin;
     dxMax_ = dxMax;
-    const std::vector<BankBlurOperator::AxisWeight> rowWeights = tentWeights(bank.nodeRows, frame_.height);
-    const std::vector<BankBlurOperator::AxisWeight> colWeights = tentWeights(bank.nodeCols, frame_.width);
+    const std::vector<BankBlurOperator::AxisWeight> rowWeights = nodeRowWeights(bank, frame_.height);
+    const std::vector<BankBlurOperator::AxisWeight> colWeights = nodeColumnWeights(bank, frame_.width);
     colSupport_ = supports(colWeights, nodeCols_);
     colWeight_ = supportWeights(colWeights, colSupport_);
     margin_ = dxMax - dxMin;

@@ -130,7 +130,7 @@ public:
         int dyMin = 0, dyMax = 0;
         std::vector<int> rowOfDy;  // index into rows of each dy in [dyMin, dyMax], -1 where none
     };
-    //! Tent weight along one axis: up to two (node index, weight) pairs per coordinate.
+    //! Blending weight along one axis: up to two (node index, weight) pairs per coordinate.
     struct AxisWeight
     {
         int node[2] = {0, 0};
@@ -224,12 +224,13 @@ private:
 };
 
 /** @brief A bank with several node columns (PSF_TILES): a frame pixel blends the kernels of its
-two node rows and two node columns. Along a frame row the node-row blend is fixed, so for each node
-column the row's kernel is one tap list (the union of the two node rows' taps, mixed by the row's
-weights), gathered like RowBankOperator's over the columns that node column covers and added with
-the column tent weight. The adjoint gathers too, from the frame weighted by each node column's tent,
-kept per node column with zero margins as wide as the kernels reach, so every tap reads inside and
-no read strays into a neighbour column's share. Both directions' tap lists are built once per bank.
+two node rows and of one or two node columns (nodeColumnWeights). Along a frame row the node-row
+blend is fixed, so for each node column the row's kernel is one tap list (the union of the two node
+rows' taps, mixed by the row's weights), gathered like RowBankOperator's over the columns that node
+column covers and added with the column's weight. The adjoint gathers too, from the frame weighted
+by each node column's weight, kept per node column with zero margins as wide as the kernels reach,
+so every tap reads inside and no read strays into a neighbour column's share. Both directions' tap
+lists are built once per bank.
 Domains and padding as BankBlurOperator. The bank is trusted (validated by the caller). */
 class CV_EXPORTS TileBankOperator CV_FINAL : public BlurOperator
 {
@@ -316,10 +317,24 @@ fraction of its cost and without a plane of its own. */
 void displacementAdjoint(const PsfBank& moved, Size latentSize, Point origin, const std::vector<Mat>& frames,
                          const std::function<void(int, const float*, const float* const*)>& rowDone);
 
-/** @brief Bilinear tent weights of every integer coordinate in [0, length) between the nodes `z`
-(increasing), constant beyond the outermost nodes: the PsfBank blending weights along one axis,
-shared by the spatial operator and the Wiener path. */
-std::vector<BankBlurOperator::AxisWeight> tentWeights(const std::vector<double>& z, int length);
+/** @brief The PsfBank blending weights along its node rows of every row in [0, height): the bilinear
+tent between the two nodes around it, constant beyond the outermost nodes. Shared by the spatial
+operators and the Wiener path, like nodeColumnWeights. */
+std::vector<BankBlurOperator::AxisWeight> nodeRowWeights(const PsfBank& bank, int height);
+
+/** @brief The PsfBank blending weights along its node columns of every column in [0, width): 1 for
+the nearer node column except over the middle half of the interval between two, where they move
+linearly from one to the other (kColumnBlendTransition); constant beyond the outermost nodes. */
+std::vector<BankBlurOperator::AxisWeight> nodeColumnWeights(const PsfBank& bank, int width);
+
+/** The fraction of each interval between node columns over which the blend moves from one node's
+kernel to the next (1 would be the bilinear tent). A tile gather computes every pixel once per
+node column whose weight there is positive: two node columns for every pixel with the tent, 1.5 on
+average with a transition over half the interval, and the tile-wise frame-rate frame took 12 % less
+time. The node columns of an automatic bank are spaced so that their paths differ by a fraction of
+a pixel; DeblurQuality's tile-wise figures moved by at most 0.07 dB against the tent. Node rows
+(one to two pixels apart in an automatic bank) keep the tent. */
+constexpr double kColumnBlendTransition = 0.5;
 
 }  // namespace detail
 }  // namespace dynblur

@@ -22,7 +22,7 @@ enum PsfModel
 };
 
 /** @brief Spatially variant blur: kernels on a grid of nodes, blended with partition-of-unity
-(bilinear tent) weights.
+weights.
 
 Kernel n sits at node (nodeCols[n % nx], nodeRows[n / nx]) with nx = nodeCols.size(). Each kernel
 is a PSF in convolution form plus an integer displacement: a latent (θ_ref view) point q spreads
@@ -30,8 +30,13 @@ to the blurred pixels q + shifts[n] + (u − c) with weight kernels[n](u), c the
 element ((cols−1)/2, (rows−1)/2). Kernels are CV_32F, odd-sized, non-negative and sum to 1; a
 pixel that does not move has a one-tap kernel at c with shift (0,0). The blurred frame is
 \f[B(p) = \sum_n w_n(p) \sum_u k_n(u)\, L(p - s_n - (u - c))\f]
-with \f$w_n\f$ the bilinear interpolation weights of p between the nodes around it (constant
-beyond the outermost nodes), so \f$\sum_n w_n = 1\f$: no seams @cite Hirsch2010Efficient.
+with \f$w_n(p) = w^y_j(p_y)\, w^x_i(p_x)\f$ for node n = (row j, column i), so \f$\sum_n w_n = 1\f$
+and the weights are continuous: no seams @cite Hirsch2010Efficient. Along y, \f$w^y\f$ is the
+linear (tent) interpolation between the two node rows around p. Along x, \f$w^x\f$ is 1 for the
+nearer node column except over the middle half of the interval between two node columns, where it
+moves linearly from one to the other: a pixel then takes a single column's kernels over half of
+each interval, which halves the work of those pixels in the tile-wise operators. Both are constant
+beyond the outermost nodes.
 */
 struct CV_EXPORTS_W_SIMPLE PsfBank
 {

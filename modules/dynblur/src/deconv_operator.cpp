@@ -872,14 +872,14 @@ PsfBank displacementBank(const PsfBank& bank)
 
 namespace {
 
-/* sum[x] += scale · tent[x] · source[x]: a node column's share of one frame row, as
+/* sum[x] += scale · columnWeight[x] · source[x]: a node column's share of one frame row, as
    displacementAdjoint adds it. */
 DYNBLUR_SIMD_CLONES
-void addTentWeightedRow(const float* __restrict tent, const float* __restrict source, float scale, int n,
-                        float* __restrict sum)
+void addColumnWeightedRow(const float* __restrict columnWeight, const float* __restrict source, float scale, int n,
+                          float* __restrict sum)
 {
     for (int x = 0; x < n; x++)
-        sum[x] += scale * tent[x] * source[x];
+        sum[x] += scale * columnWeight[x] * source[x];
 }
 
 }  // namespace
@@ -947,11 +947,11 @@ void displacementAdjoint(const PsfBank& moved, Size latentSize, Point origin, co
                 const int end = std::min(support.end, width - offset);
                 if (begin >= end)
                     continue;
-                const float* tent = colWeight[size_t(c)].data() + (begin - support.start);
-                accumulateScaled(sums.data() + begin + offset, tent, s.weight, 0, end - begin);
+                const float* columnWeight = colWeight[size_t(c)].data() + (begin - support.start);
+                accumulateScaled(sums.data() + begin + offset, columnWeight, s.weight, 0, end - begin);
                 for (int p = 0; p < planes; p++)
-                    addTentWeightedRow(tent, frames[size_t(p)].ptr<float>(s.frameRow) + begin, s.weight, end - begin,
-                                       adjoints[size_t(p)] + begin + offset);
+                    addColumnWeightedRow(columnWeight, frames[size_t(p)].ptr<float>(s.frameRow) + begin, s.weight,
+                                         end - begin, adjoints[size_t(p)] + begin + offset);
             }
             rowDone(row, sums.data(), adjoints.data());
         }
@@ -1023,7 +1023,7 @@ void BankBlurOperator::adjoint(const Mat& frame, Mat& latent)
     latent.create(latent_, CV_32FC1);
     if (nodeCols_ > 1)
     {
-        /* The frame weighted by each node column's tent, once per call rather than once per tap
+        /* The frame weighted by each node column's weight, once per call rather than once per tap
            row: columns of one parity have disjoint supports, so two planes hold them all. */
         for (Mat& w : weighted_)
             w.create(frame_, CV_32FC1);

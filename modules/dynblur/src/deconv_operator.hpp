@@ -259,7 +259,7 @@ private:
        writes node column i's gathered rows, float or packed. */
     template <typename GatherColumn>
     void blocks(bool adjoint, const Range& outRows, float* out, size_t outStep, const GatherColumn& gather) const;
-    /* weighted_: per node column, `source` (frame rows, float or packed) times the column's tent,
+    /* weighted_: per node column, `source` (frame rows, float or packed) times the column's weight,
        with zero margins; weightRow(src, weight, n, dst) weights one row's support. */
     template <typename T, typename WeightRow>
     void weightColumns(const Mat& source, int type, const WeightRow& weightRow);
@@ -274,7 +274,7 @@ private:
     std::vector<Range> colSupport_;                // frame columns each node column covers
     std::vector<std::vector<float>> colWeight_;    // per node column, over its support
     int margin_ = 0;                               // zero columns around each weighted part
-    std::vector<Mat> weighted_;                    // per node column: frame × tent, with margins (packed: packed)
+    std::vector<Mat> weighted_;                    // per node column: frame × its weight, with margins (packed: packed)
 };
 
 /** @brief packRowPair over every row pair of `plane` (CV_32FC1) into `packed` (CV_32SC1,

@@ -91,7 +91,7 @@ struct UpdateSums
 struct RowTv
 {
     const float* below;    //!< the next row of y; null on the last row
-    const float* nyAbove;  //!< the row above's ny
+    const float* nyAbove;  //!< the row above's ny; null when only ny is computed (see updateRow)
     float* ny;             //!< where the row's own ny goes, for the row below
     float scale, eps2;
 };
@@ -149,13 +149,13 @@ void updateRow(const float* y, const float* __restrict correction, bool correcti
             inv *= 1.5f - half * inv * inv;
             const v16 nx = gx * inv, ny = gy * inv;
             *(v16*)nyAt = ny;
+            if (!outAt)
+                return;  // the row above a band: its ny is all the walk needs
             curvature = nx - __builtin_shufflevector(nxLeft, nx, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27,
                                                      28, 29, 30) +
                         ny - *(const v16*)nyAboveAt;
             nxLeft = nx;
         }
-        if (!outAt)
-            return;
         const v16 nv = *(const v16*)normAt;
         v16 cv = *(const v16*)correctionAt;
         if (correctionExcess)
@@ -184,7 +184,7 @@ void updateRow(const float* y, const float* __restrict correction, bool correcti
     int x = 0;
     for (; x + kLanes <= n; x += kLanes)
         lanes(y + x, x + kLanes < n ? y + x + 1 : nullptr, tv ? at(tv->below, x) : nullptr,
-              tv ? tv->nyAbove + x : nullptr, tv ? tv->ny + x : nullptr, at(correction, x), at(norm, x), at(out, x),
+              tv ? at(tv->nyAbove, x) : nullptr, tv ? tv->ny + x : nullptr, at(correction, x), at(norm, x), at(out, x),
               at(step, x));
 
     if (x < n)
@@ -247,7 +247,7 @@ public:
         {
             RowTv above = tv_;
             above.below = y.ptr<float>(rows.start);
-            above.nyAbove = ny_;  // zeros: the curvature it enters is not used
+            above.nyAbove = nullptr;  // only ny is computed
             above.ny = nyAbove_;
             UpdateSums unused;
             updateRow(rowAbove, nullptr, false, nullptr, &above, 0.f, 0.f, y.cols, nullptr, nullptr, 1.f, unused);

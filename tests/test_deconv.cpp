@@ -4,6 +4,7 @@
 #include "test_common.hpp"
 
 #include "../modules/dynblur/src/deconv_operator.hpp"
+#include "../modules/dynblur/src/deconv_rl.hpp"
 
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -1109,6 +1110,48 @@ TEST(DeconvRegularisation, AutomaticDampingFollowsTheFramesNoise)
                 stdAuto[0]);
     EXPECT_LT(stdAuto[0], 0.6 * stdPlain[0]);
     EXPECT_NEAR(meanAuto[0], 0.4, 0.01);
+}
+
+// The restoration splits a colour frame and takes its means, level and noise in one pass
+// (detail::observeFrame): each must equal what OpenCV computes separately, Immerkær's estimate must
+// find the noise added to a smooth frame, and a one-channel frame is used in place.
+TEST(DeconvRegularisation, ObservedFrameSplitsAndMeasuresInOnePass)
+{
+    for (int channels : {1, 3, 4})
+    {
+        SCOPED_TRACE(channels);
+        // Smooth content (a ramp per channel) plus Gaussian noise of 0.02: the mask cancels the ramp.
+        cv::Mat frame(131, 97, CV_32FC(channels)), noise(frame.size(), frame.type());
+        for (int y = 0; y < frame.rows; y++)
+            for (int x = 0; x < frame.cols; x++)
+                for (int c = 0; c < channels; c++)
+                    frame.ptr<float>(y)[x * channels + c] = 0.3f + 0.002f * float(x + 2 * y) + 0.05f * float(c);
+        cv::RNG(11).fill(noise, cv::RNG::NORMAL, 0.0, 0.02);
+        frame += noise;
+        frame.at<float>(60, 40 * channels) = 1.75f;  // the peak, in the first channel
+
+        std::vector<cv::Mat> pool, expected;
+        const cv::dynblur::detail::ObservedFrame observed = cv::dynblur::detail::observeFrame(frame, pool, true);
+        cv::split(frame, expected);
+        ASSERT_EQ(observed.planes.size(), size_t(channels));
+        const cv::Scalar means = cv::mean(frame);
+        double overall = 0;
+        for (int c = 0; c < channels; c++)
+        {
+            EXPECT_EQ(cv::norm(observed.planes[size_t(c)], expected[size_t(c)], cv::NORM_INF), 0.0);
+            EXPECT_NEAR(observed.channelMean[c], means[c], 1e-6 * means[c]);
+            overall += means[c] / channels;
+        }
+        if (channels == 1)
+        {
+            EXPECT_EQ(observed.planes[0].data, frame.data);  // no copy
+        }
+        EXPECT_NEAR(observed.level.mean, overall, 1e-6 * overall);
+        EXPECT_EQ(observed.level.peak, 1.75);
+        std::printf("[ measured ] %d channel(s), noise 0.02: Immerkaer estimate %.5f\n", channels, observed.noiseSigma);
+        EXPECT_NEAR(observed.noiseSigma, 0.02, 0.02 * 0.05);
+        EXPECT_EQ(cv::dynblur::detail::observeFrame(frame, pool, false).noiseSigma, 0.0);
+    }
 }
 
 // −0 is a valid black pixel (≥ 0 holds): the damped ratio's bit-level log must take it as 0 does,

@@ -56,56 +56,12 @@ void checkImage(InputArray image, const char* name, const char* function, bool n
                         function, name, low));
 }
 
-/* Σ |mask * image| over one row of Immerkær's 3×3 mask, `channels` interleaved: eight float
-   lanes, in the form GCC vectorises (a single float sum is a reduction it must keep in order). */
-DYNBLUR_SIMD_CLONES
-float noiseMaskSumRow(const float* __restrict a, const float* __restrict m, const float* __restrict b, int width,
-                      int channels)
-{
-    const int c = channels, r = 2 * channels;  // centre and right of a pixel, from its left
-    auto term = [&](int i) {
-        return std::abs(a[i] - 2 * a[i + c] + a[i + r] - 2 * (m[i] - 2 * m[i + c] + m[i + r]) + b[i] - 2 * b[i + c] +
-                        b[i + r]);
-    };
-    float lanes[8] = {};
-    int i = 0;
-    for (; i + 8 <= width; i += 8)
-        for (int k = 0; k < 8; k++)
-            lanes[k] += term(i + k);
-    for (; i < width; i++)
-        lanes[0] += term(i);
-    float sum = 0.f;
-    for (int k = 0; k < 8; k++)
-        sum += lanes[k];
-    return sum;
-}
-
-/* Noise standard deviation by Immerkær's method, averaged over the channels: the response to a
-   mask that cancels every polynomial up to degree 2 is (nearly) pure noise, and blur makes that
-   truer. Summed row by row in parallel, without a response image. */
-double estimateNoiseSigma(const Mat& image)
-{
-    if (image.rows < 3 || image.cols < 3)
-        return 0;
-    const int channels = image.channels(), width = (image.cols - 2) * channels;
-    std::vector<double> rowSums(size_t(image.rows - 2), 0.0);
-    parallel_for_(Range(1, image.rows - 1), [&](const Range& rows) {
-        for (int y = rows.start; y < rows.end; y++)
-            rowSums[size_t(y - 1)] =
-                noiseMaskSumRow(image.ptr<float>(y - 1), image.ptr<float>(y), image.ptr<float>(y + 1), width, channels);
-    });
-    double total = 0;
-    for (double v : rowSums)
-        total += v;
-    return std::sqrt(CV_PI / 2) * total / (6.0 * (image.rows - 2) * double(width));
-}
-
 //! The parameters with an automatic damping (NaN) replaced by the multiple of the frame's noise.
-RLParams resolveDamping(const RLParams& params, const Mat& image)
+RLParams resolveDamping(const RLParams& params, const detail::ObservedFrame& observed)
 {
     RLParams resolved = params;
     if (std::isnan(resolved.damping))
-        resolved.damping = kAutoDampingSigmas * estimateNoiseSigma(image);
+        resolved.damping = kAutoDampingSigmas * observed.noiseSigma;
     return resolved;
 }
 
@@ -317,10 +273,13 @@ void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, cons
         split(observed, start);
     else
         split(initial.getMat() * unit, start);
+    detail::RLWorkspace workspace;
+    const detail::ObservedFrame observedFrame =
+        detail::observeFrame(observed, workspace.observed, std::isnan(params.damping));
     RLParams scaled = params;
     if (!std::isnan(params.damping))
         scaled.damping *= unit;  // intensity units
-    scaled = resolveDamping(scaled, observed);  // an automatic damping is taken on the scaled frame
+    scaled = resolveDamping(scaled, observedFrame);  // an automatic damping is taken on the scaled frame
 
     const bool pad = params.boundary == RL_BOUNDARY_PAD;
     UniformBlurOperator op(blurred.size(), kernel, pad);
@@ -330,9 +289,7 @@ void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, cons
     Mat normalizer;  // ZERO: scikit-image's unnormalised update (Aᵀ1 taken as 1)
     if (pad)
         op.adjoint(Mat::ones(blurred.size(), CV_32F), normalizer);
-    detail::RLWorkspace workspace;
-    detail::iterateRichardsonLucy(op, observed, detail::planesOf(observed, workspace.observed), normalizer, scaled,
-                                  estimate, workspace);
+    detail::iterateRichardsonLucy(op, observed, observedFrame, normalizer, scaled, estimate, workspace);
 
     const Rect frame(op.origin(), op.frameSize());
     for (Mat& e : estimate)
@@ -358,8 +315,9 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
     /* Start: the frame moved back by each node's displacement (the normalised adjoint of the
        displacement-only blur), so content begins where the view at θ_ref has it and RL only has to
        sharpen; latent pixels that displacement does not reach start at the channel's mean. */
-    const std::vector<Mat> observedPlanes = planesOf(observed, ws.observed);
-    const Scalar channelMean = mean(observed);
+    const ObservedFrame observedFrame = observeFrame(observed, ws.observed, std::isnan(params.damping));
+    const std::vector<Mat>& observedPlanes = observedFrame.planes;
+    const Scalar& channelMean = observedFrame.channelMean;
     std::vector<Mat>& estimate = ws.estimate;
     estimate.resize(observedPlanes.size());
     for (Mat& e : estimate)
@@ -371,7 +329,8 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
                                               latentSize.width, estimate[c].ptr<float>(y));
                         });
 
-    iterateRichardsonLucy(op, observed, observedPlanes, ws.normalizer, resolveDamping(params, observed), estimate, ws);
+    iterateRichardsonLucy(op, observed, observedFrame, ws.normalizer, resolveDamping(params, observedFrame), estimate,
+                          ws);
 
     if (!ws.persistent)
     {

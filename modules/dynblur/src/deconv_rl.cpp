@@ -328,30 +328,41 @@ double rowSumAndPeak(const float* p, int n, double& peak)
     return total;
 }
 
-//! An image's mean over every channel and its largest value.
-struct ImageLevel
+/* Σ |mask * image| over one row of Immerkær's 3×3 mask, `channels` interleaved: eight float
+   lanes, in the form GCC vectorises (a single float sum is a reduction it must keep in order). */
+DYNBLUR_SIMD_CLONES
+float noiseMaskSumRow(const float* __restrict a, const float* __restrict m, const float* __restrict b, int width,
+                      int channels)
 {
-    double mean = 0, peak = 0;
-};
+    const int c = channels, r = 2 * channels;  // centre and right of a pixel, from its left
+    auto term = [&](int i) {
+        return std::abs(a[i] - 2 * a[i + c] + a[i + r] - 2 * (m[i] - 2 * m[i + c] + m[i + r]) + b[i] - 2 * b[i + c] +
+                        b[i + r]);
+    };
+    float lanes[8] = {};
+    int i = 0;
+    for (; i + 8 <= width; i += 8)
+        for (int k = 0; k < 8; k++)
+            lanes[k] += term(i + k);
+    for (; i < width; i++)
+        lanes[0] += term(i);
+    float sum = 0.f;
+    for (int k = 0; k < 8; k++)
+        sum += lanes[k];
+    return sum;
+}
 
-/* The level of `image` (CV_32F), rows in parallel with per-row partial sums added in order, so
-   the result is the same on every run. */
-ImageLevel levelOf(const Mat& image)
+//! The level of an image from per-row (or per-row-and-channel) sums and peaks, added in order over `count` values.
+ImageLevel foldLevel(const std::vector<double>& sums, const std::vector<double>& peaks, double count)
 {
-    const int n = image.cols * image.channels();
-    std::vector<double> rowSum(size_t(image.rows), 0.0), rowPeak(size_t(image.rows), -DBL_MAX);
-    parallel_for_(Range(0, image.rows), [&](const Range& rows) {
-        for (int y = rows.start; y < rows.end; y++)
-            rowSum[size_t(y)] = rowSumAndPeak(image.ptr<float>(y), n, rowPeak[size_t(y)]);
-    });
     ImageLevel level;
     level.peak = -DBL_MAX;
-    for (int y = 0; y < image.rows; y++)
+    for (size_t k = 0; k < sums.size(); k++)
     {
-        level.mean += rowSum[size_t(y)];
-        level.peak = std::max(level.peak, rowPeak[size_t(y)]);
+        level.mean += sums[k];
+        level.peak = std::max(level.peak, peaks[k]);
     }
-    level.mean /= double(image.rows) * n;
+    level.mean /= count;
     return level;
 }
 
@@ -365,7 +376,7 @@ float projectionBound(const BlurOperator& op, const ImageLevel& level)
 }
 
 /* RL over every plane for params.iterations (colorIterations ignored): `observed` holds the frame's
-   planes, `level` is the frame's levelOf. Returns the most iterations a plane ran. */
+   planes, `level` is the frame's (ObservedFrame::level). Returns the most iterations a plane ran. */
 int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const ImageLevel& level, const Mat& normalizer,
                   const RLParams& params, std::vector<Mat>& estimate, RLWorkspace& ws)
 {
@@ -693,24 +704,61 @@ void clampRowToUnit(float* __restrict p, int n)
         p[x] = std::min(std::max(p[x], 0.f), 1.f);
 }
 
-std::vector<Mat> planesOf(const Mat& frame, std::vector<Mat>& pool)
+ObservedFrame observeFrame(const Mat& frame, std::vector<Mat>& pool, bool estimateNoise)
 {
-    const int channels = frame.channels();
+    const int channels = frame.channels(), width = frame.cols;
+    ObservedFrame observed;
     if (channels == 1)
-        return {frame};
-    pool.resize(std::max(pool.size(), size_t(channels)));
-    std::vector<Mat> planes(static_cast<size_t>(channels));
-    for (int c = 0; c < channels; c++)
+        observed.planes = {frame};
+    else
     {
-        pool[size_t(c)].create(frame.size(), CV_32FC1);
-        planes[size_t(c)] = pool[size_t(c)];
+        pool.resize(std::max(pool.size(), size_t(channels)));
+        for (int c = 0; c < channels; c++)
+        {
+            pool[size_t(c)].create(frame.size(), CV_32FC1);
+            observed.planes.push_back(pool[size_t(c)]);
+        }
     }
+    /* Each row's statistics are taken from its planes' rows while they are in L1, and Immerkær's
+       mask reads the frame's rows around it, which the pass has just brought into the caches. */
+    const bool noise = estimateNoise && frame.rows >= 3 && width >= 3;
+    const size_t cells = size_t(frame.rows) * size_t(channels);
+    std::vector<double> rowSum(cells), rowPeak(cells), rowNoise(size_t(frame.rows), 0.0);
     parallel_for_(Range(0, frame.rows), [&](const Range& rows) {
         for (int y = rows.start; y < rows.end; y++)
+        {
+            const float* row = frame.ptr<float>(y);
             for (int c = 0; c < channels; c++)
-                channelRow(frame.ptr<float>(y), channels, c, frame.cols, planes[size_t(c)].ptr<float>(y));
+            {
+                const size_t cell = size_t(y) * size_t(channels) + size_t(c);
+                const float* plane = row;
+                if (channels > 1)
+                {
+                    float* out = observed.planes[size_t(c)].ptr<float>(y);
+                    channelRow(row, channels, c, width, out);
+                    plane = out;
+                }
+                rowSum[cell] = rowSumAndPeak(plane, width, rowPeak[cell]);
+            }
+            if (noise && y > 0 && y + 1 < frame.rows)
+                rowNoise[size_t(y)] =
+                    noiseMaskSumRow(frame.ptr<float>(y - 1), row, frame.ptr<float>(y + 1), (width - 2) * channels,
+                                    channels);
+        }
     });
-    return planes;
+    const double pixels = double(frame.rows) * width;
+    for (size_t cell = 0; cell < cells; cell++)
+        observed.channelMean[int(cell % size_t(channels))] += rowSum[cell] / pixels;
+    observed.level = foldLevel(rowSum, rowPeak, pixels * channels);
+    if (noise)
+    {
+        double noiseTotal = 0;
+        for (double v : rowNoise)
+            noiseTotal += v;
+        // A Gaussian's mean absolute value is σ √(2/π); the mask's norm is √36 = 6.
+        observed.noiseSigma = std::sqrt(CV_PI / 2) * noiseTotal / (6.0 * (frame.rows - 2) * double((width - 2) * channels));
+    }
+    return observed;
 }
 
 namespace {
@@ -769,20 +817,20 @@ bool finiteRange(const Mat& image, float& low, float& high)
     return true;
 }
 
-int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const std::vector<Mat>& planes, const Mat& normalizer,
+int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const ObservedFrame& observed, const Mat& normalizer,
                           const RLParams& params, std::vector<Mat>& estimate, RLWorkspace& ws)
 {
     const int colour = params.colorIterations;
+    const ImageLevel& colourLevel = observed.level;
     if (blurred.channels() < 3 || colour < 0 || colour >= params.iterations)
-        return iteratePlanes(op, planes, levelOf(blurred), normalizer, params, estimate, ws);
+        return iteratePlanes(op, observed.planes, colourLevel, normalizer, params, estimate, ws);
 
-    const ImageLevel colourLevel = levelOf(blurred);
     int done = 0;
     if (colour > 0)
     {
         RLParams first = params;
         first.iterations = colour;
-        done = iteratePlanes(op, planes, colourLevel, normalizer, first, estimate, ws);
+        done = iteratePlanes(op, observed.planes, colourLevel, normalizer, first, estimate, ws);
         if (params.tolerance > 0 && done < colour)
             return done;  // converged in colour already
     }
@@ -801,11 +849,15 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const std::vecto
     // Blur is linear and the same for every plane, so the planes' mean is blurred by it too.
     const int channels = blurred.channels();
     const float perChannel = 1.f / float(channels);
+    std::vector<double> rowSum(size_t(luminance.rows)), rowPeak(size_t(luminance.rows));
     parallel_for_(Range(0, std::max(latentSize.height, luminance.rows)), [&](const Range& rows) {
         for (int y = rows.start; y < rows.end; y++)
         {
             if (y < luminance.rows)
+            {
                 channelMeanRow(blurred.ptr<float>(y), channels, luminance.cols, luminance.ptr<float>(y));
+                rowSum[size_t(y)] = rowSumAndPeak(luminance.ptr<float>(y), luminance.cols, rowPeak[size_t(y)]);
+            }
             if (y < latentSize.height)
             {
                 float* m = start.ptr<float>(y);
@@ -818,7 +870,8 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const std::vecto
     });
     RLParams rest = params;
     rest.iterations = params.iterations - colour;
-    done += iteratePlanes(op, {luminance}, levelOf(luminance), normalizer, rest, latent, ws);
+    done += iteratePlanes(op, {luminance}, foldLevel(rowSum, rowPeak, double(luminance.total())), normalizer, rest,
+                          latent, ws);
     /* The luminance's change goes to every plane as a ratio, which keeps each pixel's chromaticity
        (an added difference shifts dark and saturated colours: in DeblurQuality's fruits it cost
        3.5 dB with no colour iteration, 0.5 dB with one). Where the start is (nearly) black the difference is added instead.

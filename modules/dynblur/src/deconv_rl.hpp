@@ -25,6 +25,29 @@ struct RLWorkspace
     bool persistent = false;
 };
 
+//! An image's mean over every channel and its largest value.
+struct ImageLevel
+{
+    double mean = 0, peak = 0;
+};
+
+//! A frame as the restoration reads it: see observeFrame.
+struct ObservedFrame
+{
+    std::vector<Mat> planes;  //!< a one-channel frame itself; a colour frame's planes, split into a pool
+    Scalar channelMean;       //!< each channel's mean
+    ImageLevel level;         //!< over every channel
+    double noiseSigma = 0;    //!< Immerkær's noise standard deviation averaged over the channels; 0 when not asked
+};
+
+/** @brief Splits `frame` (CV_32F, 1–4 channels) into its planes and takes its statistics in the
+same pass. RL reads each plane every iteration, and reading one from the interleaved frame would
+pull in every channel; the means, the level and the noise would each read the frame once more.
+Rows in parallel, per-row partial sums added in row order (the same result on every run). A colour
+frame's planes go to `pool`, reused when the sizes fit.
+@param estimateNoise take noiseSigma @cite Immerkaer1996Noise (what an automatic damping needs). */
+CV_EXPORTS ObservedFrame observeFrame(const Mat& frame, std::vector<Mat>& pool, bool estimateNoise);
+
 /** @brief Runs RL on every channel plane with one operator.
 
 x ← x ⊙ Aᵀ(damped(b / A x)) / (Aᵀ1 − λ div(∇x/|∇x|)), with Biggs–Andrews extrapolation of x when
@@ -33,19 +56,14 @@ and stopping per plane). With 3–4 planes and params.colorIterations
 in [0, iterations), the iterations after the first colorIterations run on the planes' mean alone,
 whose change then scales every plane.
 @param op the blur. @param blurred the frame, CV_32F with one channel per estimate plane.
-@param planes planesOf(blurred); the luminance phase may overwrite them.
+@param observed observeFrame(blurred); the luminance phase may overwrite its planes.
 @param normalizer Aᵀ1 (latent size); empty: 1 everywhere, the unnormalised update of scikit-image's
 richardson_lucy. Latent pixels whose normaliser is ≤ kUnobserved are not updated.
 @param estimate in: the start (latent-sized planes, ≥ 0); out: the result.
 @param workspace buffers, reused when their sizes fit.
 @return the iterations run (the most any plane ran). */
-int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const std::vector<Mat>& planes, const Mat& normalizer,
+int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const ObservedFrame& observed, const Mat& normalizer,
                           const RLParams& params, std::vector<Mat>& estimate, RLWorkspace& workspace);
-
-/** @brief The planes of `frame` (CV_32F): a one-channel frame itself, a colour frame's split once into
-`pool` (reused when the sizes fit). RL reads each plane every iteration, and reading one from the
-interleaved frame would pull in every channel. Rows in parallel. */
-std::vector<Mat> planesOf(const Mat& frame, std::vector<Mat>& pool);
 
 /** @brief richardsonLucyVariant in a workspace, without its argument checks (the caller has made
 them): the frame-rate path of DynamicDeblurrer.

@@ -136,9 +136,11 @@ std::vector<Mat> embedPlanes(const std::vector<Mat>& frame, const BlurOperator& 
    content reads as a smooth continuation instead of a hole. Invalid pixels come in runs of rows
    (the frame's edges across the motion), and each run is filled from the distance transform of its
    own rows plus one row and column around their invalid pixels: that margin is valid, and
-   clamping any valid pixel into it brings it no farther, so the nearest one lies inside. */
-void fillFromNearest(std::vector<Mat>& planes, const Mat& valid)
+   clamping any valid pixel into it brings it no farther, so the nearest one lies inside. `image`
+   is CV_32F with any number of channels, `valid` its size. */
+void fillFromNearest(Mat& image, const Mat& valid)
 {
+    const size_t channels = size_t(image.channels());
     std::vector<int> invalidRows;
     for (int y = 0; y < valid.rows; y++)
         if (countNonZero(valid.row(y)) < valid.cols)
@@ -174,27 +176,40 @@ void fillFromNearest(std::vector<Mat>& planes, const Mat& valid)
                 const Point source = where[size_t(labels.at<int>(y, x))];
                 if (source.x < 0)
                     continue;
-                for (Mat& p : planes)
-                    p.at<float>(y + roi.y, x + roi.x) = p.at<float>(source);
+                const float* from = image.ptr<float>(source.y) + size_t(source.x) * channels;
+                std::copy(from, from + channels, image.ptr<float>(y + roi.y) + size_t(x + roi.x) * channels);
             }
     }
 }
 
-//! out = the planes (CV_32F, one size) interleaved, rows in parallel; clamped to [0, 1] with `clampToUnit`.
-void writeOutput(const std::vector<Mat>& planes, OutputArray out, bool clampToUnit = false)
+/* out = the planes' `roi` (CV_32F, one size; an empty roi: all of them) interleaved, rows in
+   parallel. With a luminance change, the planes take it as they are read; with `clampToUnit` the
+   output is clamped to [0, 1]. */
+void writeOutput(const std::vector<Mat>& planes, OutputArray out, bool clampToUnit = false,
+                 const detail::LuminanceChange& change = detail::LuminanceChange(), Rect roi = Rect())
 {
+    if (roi.empty())
+        roi = Rect(Point(), planes[0].size());
     const int channels = int(planes.size());
-    out.create(planes[0].size(), CV_32FC(channels));
+    out.create(roi.size(), CV_32FC(channels));
     Mat image = out.getMat();
     parallel_for_(Range(0, image.rows), [&](const Range& rows) {
+        const int n = roi.width;
         std::vector<const float*> sources(planes.size());
+        std::vector<float> changed(change.restored.empty() ? 0 : size_t(n) * (planes.size() + 1));
+        std::vector<float*> changedRows(planes.size());
+        for (size_t c = 0; c < planes.size() && !changed.empty(); c++)
+            sources[c] = changedRows[c] = changed.data() + (c + 1) * size_t(n);
         for (int y = rows.start; y < rows.end; y++)
         {
-            for (size_t c = 0; c < planes.size(); c++)
-                sources[c] = planes[c].ptr<float>(y);
-            detail::interleaveRow(sources.data(), channels, image.cols, image.ptr<float>(y));
+            if (changed.empty())
+                for (size_t c = 0; c < planes.size(); c++)
+                    sources[c] = planes[c].ptr<float>(y + roi.y) + roi.x;
+            else
+                change.applyRow(planes, y + roi.y, roi.x, n, changed.data(), changedRows.data());
+            detail::interleaveRow(sources.data(), channels, n, image.ptr<float>(y));
             if (clampToUnit)
-                detail::clampRowToUnit(image.ptr<float>(y), image.cols * channels);
+                detail::clampRowToUnit(image.ptr<float>(y), n * channels);
         }
     });
 }
@@ -289,12 +304,15 @@ void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, cons
     Mat normalizer;  // ZERO: scikit-image's unnormalised update (Aᵀ1 taken as 1)
     if (pad)
         op.adjoint(Mat::ones(blurred.size(), CV_32F), normalizer);
-    detail::iterateRichardsonLucy(op, observed, observedFrame, normalizer, scaled, estimate, workspace);
+    detail::LuminanceChange change;
+    detail::iterateRichardsonLucy(op, observed, observedFrame, normalizer, scaled, estimate, workspace, change);
 
-    const Rect frame(op.origin(), op.frameSize());
-    for (Mat& e : estimate)
-        e = e(frame) * (1.0 / unit);
-    writeOutput(estimate, latent);
+    writeOutput(estimate, latent, false, change, Rect(op.origin(), op.frameSize()));
+    if (unit != 1.0)
+    {
+        Mat out = latent.getMat();
+        out *= 1.0 / unit;
+    }
 }
 
 namespace detail {
@@ -329,8 +347,9 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
                                               latentSize.width, estimate[c].ptr<float>(y));
                         });
 
+    LuminanceChange change;
     iterateRichardsonLucy(op, observed, observedFrame, ws.normalizer, resolveDamping(params, observedFrame), estimate,
-                          ws);
+                          ws, change);
 
     if (!ws.persistent)
     {
@@ -341,11 +360,13 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
     }
     const Rect frame(op.origin(), frameSize);
     compare(ws.normalizer(frame), kObservedFraction, ws.valid, CMP_GT);
-    std::vector<Mat> planes(estimate.size());
-    for (size_t c = 0; c < estimate.size(); c++)
-        planes[c] = estimate[c](frame);
-    fillFromNearest(planes, ws.valid);
-    writeOutput(planes, latent, clampToUnit);
+    writeOutput(estimate, latent, clampToUnit, change, frame);
+    // The fill's distance transform allocates: the planes it no longer needs go first.
+    change.restored.release();
+    if (!ws.persistent)
+        ws.estimate.clear();
+    Mat output = latent.getMat();
+    fillFromNearest(output, ws.valid);
     if (validMask.needed())
         ws.valid.copyTo(validMask);
 }
@@ -491,8 +512,9 @@ void wienerDeconvolve(InputArray blurred, const PsfBank& bank, OutputArray laten
     std::vector<Mat> out(planes.size());
     for (size_t c = 0; c < planes.size(); c++)
         out[c] = numerator[c] / max(denominator, 1e-3f);
-    fillFromNearest(out, valid);
     writeOutput(out, latent);
+    Mat output = latent.getMat();
+    fillFromNearest(output, valid);
 }
 
 }  // namespace dynblur

@@ -623,12 +623,12 @@ void channelMeanRow(const float* __restrict interleaved, int channels, int n, fl
     }
 }
 
-//! p[x] = copy[x] = p[x] · factor.
+//! p[x] = p[x] · factor.
 DYNBLUR_SIMD_CLONES
-void scaleRow(float* __restrict p, float factor, int n, float* __restrict copy)
+void scaleRow(float* __restrict p, float factor, int n)
 {
     for (int x = 0; x < n; x++)
-        p[x] = copy[x] = p[x] * factor;
+        p[x] *= factor;
 }
 
 /* One plane's row takes the luminance's change from `before` to `restored`: as a ratio where
@@ -636,15 +636,25 @@ void scaleRow(float* __restrict p, float factor, int n, float* __restrict copy)
    and one selected (the divisor made safe), so the loop vectorises. */
 DYNBLUR_SIMD_CLONES
 void applyLuminanceRow(const float* __restrict restored, const float* __restrict before, float black, float upper,
-                       int n, float* __restrict plane)
+                       int n, const float* __restrict plane, float* __restrict out)
 {
     for (int x = 0; x < n; x++)
     {
         const bool lit = before[x] > black;
         const float gain = restored[x] / (lit ? before[x] : 1.f);
         const float v = lit ? plane[x] * gain : plane[x] + restored[x] - before[x];
-        plane[x] = std::min(std::max(v, 0.f), upper);
+        out[x] = std::min(std::max(v, 0.f), upper);
     }
+}
+
+/* out[x] = the mean of the planes' rows (the sum in plane order, then times 1 / planes): the
+   luminance phase's start, and the same value again when the planes take its change. */
+void meanRow(const std::vector<Mat>& planes, int y, int x0, int n, float* out)
+{
+    std::fill(out, out + n, 0.f);
+    for (const Mat& p : planes)
+        addRow(p.ptr<float>(y) + x0, n, out);
+    scaleRow(out, 1.f / float(planes.size()), n);
 }
 
 }  // namespace
@@ -818,8 +828,9 @@ bool finiteRange(const Mat& image, float& low, float& high)
 }
 
 int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const ObservedFrame& observed, const Mat& normalizer,
-                          const RLParams& params, std::vector<Mat>& estimate, RLWorkspace& ws)
+                          const RLParams& params, std::vector<Mat>& estimate, RLWorkspace& ws, LuminanceChange& change)
 {
+    change = LuminanceChange();
     const int colour = params.colorIterations;
     const ImageLevel& colourLevel = observed.level;
     if (blurred.channels() < 3 || colour < 0 || colour >= params.iterations)
@@ -835,20 +846,18 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const ObservedFr
             return done;  // converged in colour already
     }
     /* The luminance phase works in the colour phase's buffers (`observed`, whose planes that phase
-       no longer reads, `other` and `step`), `other` grown to three latent planes: the running
-       plane's, the luminance estimate and its start. */
+       no longer reads, `other` and `step`), `other` grown to two latent planes: the running
+       plane's and the luminance estimate. */
     const Size latentSize = op.latentSize();
-    ws.other.resize(std::max<size_t>(ws.other.size(), 3));
+    ws.other.resize(std::max<size_t>(ws.other.size(), 2));
     for (Mat& m : ws.other)
         m.create(latentSize, CV_32FC1);
     ws.observed.resize(std::max<size_t>(ws.observed.size(), 1));
     ws.observed[0].create(op.frameSize(), CV_32FC1);
     Mat luminance = ws.observed[0];
-    Mat& start = ws.other[2];
     std::vector<Mat> latent{ws.other[1]};
     // Blur is linear and the same for every plane, so the planes' mean is blurred by it too.
     const int channels = blurred.channels();
-    const float perChannel = 1.f / float(channels);
     std::vector<double> rowSum(size_t(luminance.rows)), rowPeak(size_t(luminance.rows));
     parallel_for_(Range(0, std::max(latentSize.height, luminance.rows)), [&](const Range& rows) {
         for (int y = rows.start; y < rows.end; y++)
@@ -859,33 +868,30 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const ObservedFr
                 rowSum[size_t(y)] = rowSumAndPeak(luminance.ptr<float>(y), luminance.cols, rowPeak[size_t(y)]);
             }
             if (y < latentSize.height)
-            {
-                float* m = start.ptr<float>(y);
-                std::fill(m, m + latentSize.width, 0.f);
-                for (const Mat& e : estimate)
-                    addRow(e.ptr<float>(y), latentSize.width, m);
-                scaleRow(m, perChannel, latentSize.width, latent[0].ptr<float>(y));
-            }
+                meanRow(estimate, y, 0, latentSize.width, latent[0].ptr<float>(y));
         }
     });
     RLParams rest = params;
     rest.iterations = params.iterations - colour;
     done += iteratePlanes(op, {luminance}, foldLevel(rowSum, rowPeak, double(luminance.total())), normalizer, rest,
                           latent, ws);
+    ws.other[1] = latent[0];  // the two buffers may have swapped: keep the pool's set intact
     /* The luminance's change goes to every plane as a ratio, which keeps each pixel's chromaticity
        (an added difference shifts dark and saturated colours: in DeblurQuality's fruits it cost
        3.5 dB with no colour iteration, 0.5 dB with one). Where the start is (nearly) black the difference is added instead.
        The planes stay within the bound the colour phase kept them in (see iteratePlanes). */
-    const float black = float(1e-6 * std::max(colourLevel.mean, 0.0));
-    const float upper = projectionBound(op, colourLevel);
-    parallel_for_(Range(0, latentSize.height), [&](const Range& rows) {
-        for (int y = rows.start; y < rows.end; y++)
-            for (Mat& e : estimate)
-                applyLuminanceRow(latent[0].ptr<float>(y), start.ptr<float>(y), black, upper, latentSize.width,
-                                  e.ptr<float>(y));
-    });
-    ws.other[1] = latent[0];  // the two buffers may have swapped: keep the pool's set intact
+    change.restored = latent[0];
+    change.black = float(1e-6 * std::max(colourLevel.mean, 0.0));
+    change.upper = projectionBound(op, colourLevel);
     return done;
+}
+
+void LuminanceChange::applyRow(const std::vector<Mat>& planes, int y, int x0, int n, float* before,
+                               float* const* out) const
+{
+    meanRow(planes, y, x0, n, before);
+    for (size_t c = 0; c < planes.size(); c++)
+        applyLuminanceRow(restored.ptr<float>(y) + x0, before, black, upper, n, planes[c].ptr<float>(y) + x0, out[c]);
 }
 
 }  // namespace detail

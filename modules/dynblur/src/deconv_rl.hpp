@@ -48,22 +48,39 @@ frame's planes go to `pool`, reused when the sizes fit.
 @param estimateNoise take noiseSigma @cite Immerkaer1996Noise (what an automatic damping needs). */
 CV_EXPORTS ObservedFrame observeFrame(const Mat& frame, std::vector<Mat>& pool, bool estimateNoise);
 
+/** @brief The luminance phase's result, which the colour planes take as they are read out
+(applyRow), not in a pass of their own: that would read and write every plane once more. */
+struct CV_EXPORTS LuminanceChange
+{
+    Mat restored;     //!< the restored luminance (latent size); empty when no luminance phase ran
+    float black = 0;  //!< where the planes' mean is at or below it, the change is added instead of scaled
+    float upper = 0;  //!< the bound the results are kept within (the colour phase's projection bound)
+
+    /** @brief Columns [x0, x0 + n) of latent row y of every plane after the change, plane c into
+    out[c]. The luminance before the change is the planes' mean, taken from the planes themselves
+    into `before` (n floats of scratch). */
+    void applyRow(const std::vector<Mat>& planes, int y, int x0, int n, float* before, float* const* out) const;
+};
+
 /** @brief Runs RL on every channel plane with one operator.
 
 x ← x ⊙ Aᵀ(damped(b / A x)) / (Aᵀ1 − λ div(∇x/|∇x|)), with Biggs–Andrews extrapolation of x when
 params.accelerate, stopping early at params.tolerance; each plane is its own problem (extrapolation
 and stopping per plane). With 3–4 planes and params.colorIterations
 in [0, iterations), the iterations after the first colorIterations run on the planes' mean alone,
-whose change then scales every plane.
+whose change then scales every plane (left to the caller: see `change`).
 @param op the blur. @param blurred the frame, CV_32F with one channel per estimate plane.
 @param observed observeFrame(blurred); the luminance phase may overwrite its planes.
 @param normalizer Aᵀ1 (latent size); empty: 1 everywhere, the unnormalised update of scikit-image's
 richardson_lucy. Latent pixels whose normaliser is ≤ kUnobserved are not updated.
 @param estimate in: the start (latent-sized planes, ≥ 0); out: the result.
 @param workspace buffers, reused when their sizes fit.
+@param change out: the luminance phase's change, which `estimate` has not taken yet (its
+`restored` is empty when no luminance phase ran).
 @return the iterations run (the most any plane ran). */
 int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const ObservedFrame& observed, const Mat& normalizer,
-                          const RLParams& params, std::vector<Mat>& estimate, RLWorkspace& workspace);
+                          const RLParams& params, std::vector<Mat>& estimate, RLWorkspace& workspace,
+                          LuminanceChange& change);
 
 /** @brief richardsonLucyVariant in a workspace, without its argument checks (the caller has made
 them): the frame-rate path of DynamicDeblurrer.

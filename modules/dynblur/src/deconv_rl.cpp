@@ -109,13 +109,18 @@ struct RowTv
    would make successive steps look uncorrelated and switch acceleration off.
    One pass with every term in registers, sixteen lanes in vector types (GCC would vectorise
    neither the float sums nor the bfloat16 conversions well; nx[x − 1] is the lanes' nx shifted by
-   one), the last columns through padded copies. */
-DYNBLUR_SIMD_CLONES
-void updateRow(const float* y, const float* __restrict correction, bool correctionExcess, const float* __restrict norm,
-               const RowTv* tv, float tvWeight, float upper, int n, float* out, uint16_t* __restrict step,
-               float scale, UpdateSums& sums)
+   one), the last columns through padded copies. kWhole: `tv`, `out` and `step` are all given (the
+   accelerated, regularised case), which lets the loop drop its tests of null rows: GCC leaves them
+   in, one per block, and they cost 2–3 % of a frame. */
+template <bool kWhole>
+__attribute__((always_inline)) inline void updateRowTerms(const float* y, const float* __restrict correction,
+                                                          bool correctionExcess, const float* __restrict norm,
+                                                          const RowTv* tv, float tvWeight, float upper, int n,
+                                                          float* out, uint16_t* __restrict step, float scale,
+                                                          UpdateSums& sums)
 {
     constexpr int kLanes = 16;
+    const bool hasTv = kWhole || tv;
     typedef float v16 __attribute__((vector_size(64), aligned(4)));  // aligned(4): unaligned loads allowed
     typedef int32_t v16i __attribute__((vector_size(64)));
     typedef uint32_t v16u __attribute__((vector_size(64), aligned(4)));
@@ -130,7 +135,7 @@ void updateRow(const float* y, const float* __restrict correction, bool correcti
                            uint16_t* stepAt) {
         const v16 yv = *(const v16*)yAt;
         v16 curvature = zero;
-        if (tv)
+        if (hasTv)
         {
             // Null yRightAt: the row's last sixteen columns, the last one with no gradient across the edge.
             const v16 yRight = yRightAt ? *(const v16*)yRightAt
@@ -149,7 +154,7 @@ void updateRow(const float* y, const float* __restrict correction, bool correcti
             inv *= 1.5f - half * inv * inv;
             const v16 nx = gx * inv, ny = gy * inv;
             *(v16*)nyAt = ny;
-            if (!outAt)
+            if (!kWhole && !outAt)
                 return;  // the row above a band: its ny is all the walk needs
             curvature = nx - __builtin_shufflevector(nxLeft, nx, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27,
                                                      28, 29, 30) +
@@ -161,7 +166,7 @@ void updateRow(const float* y, const float* __restrict correction, bool correcti
         if (correctionExcess)
             cv += nv;
         v16 den = nv;
-        if (tv)
+        if (hasTv)
             den -= tvWeight * curvature;
         const v16 floor = 0.1f * nv;  // keeps a large λ from flipping the sign
         den = den > floor ? den : floor;
@@ -170,7 +175,7 @@ void updateRow(const float* y, const float* __restrict correction, bool correcti
         x = x > zero ? x : zero;
         x = x < ceiling ? x : ceiling;
         *(v16*)outAt = seen ? x : yv;
-        if (stepAt)
+        if (kWhole || stepAt)
         {
             const v16 g = seen ? yv * (cv / nv - 1.f) : zero;
             const v16 before = (v16)(__builtin_convertvector(*(const v16h*)stepAt, v16u) << 16) * scale;
@@ -181,11 +186,12 @@ void updateRow(const float* y, const float* __restrict correction, bool correcti
         }
     };
     const auto at = [](auto* row, int x) { return row ? row + x : nullptr; };
+    const auto given = [&](auto* row, int x) { return kWhole ? row + x : at(row, x); };  // non-null when kWhole
     int x = 0;
     for (; x + kLanes <= n; x += kLanes)
-        lanes(y + x, x + kLanes < n ? y + x + 1 : nullptr, tv ? at(tv->below, x) : nullptr,
-              tv ? at(tv->nyAbove, x) : nullptr, tv ? tv->ny + x : nullptr, at(correction, x), at(norm, x), at(out, x),
-              at(step, x));
+        lanes(y + x, x + kLanes < n ? y + x + 1 : nullptr, hasTv ? at(tv->below, x) : nullptr,
+              hasTv ? given(tv->nyAbove, x) : nullptr, hasTv ? tv->ny + x : nullptr, at(correction, x), at(norm, x),
+              given(out, x), given(step, x));
 
     if (x < n)
     {
@@ -227,6 +233,18 @@ void updateRow(const float* y, const float* __restrict correction, bool correcti
         sums.stepDot += stepDot[k];
         sums.stepBeforeSq += stepBeforeSq[k];
     }
+}
+
+//! updateRowTerms, its loop built for the whole case when every term is given.
+DYNBLUR_SIMD_CLONES
+void updateRow(const float* y, const float* __restrict correction, bool correctionExcess, const float* __restrict norm,
+               const RowTv* tv, float tvWeight, float upper, int n, float* out, uint16_t* __restrict step,
+               float scale, UpdateSums& sums)
+{
+    if (tv && out && step)
+        updateRowTerms<true>(y, correction, correctionExcess, norm, tv, tvWeight, upper, n, out, step, scale, sums);
+    else
+        updateRowTerms<false>(y, correction, correctionExcess, norm, tv, tvWeight, upper, n, out, step, scale, sums);
 }
 
 /* TV's terms row by row down a band. Each row's ny is computed by its own update and carried to

@@ -1284,8 +1284,8 @@ TEST(DeconvMemory, RowWiseRestorationStaysWithinFourFramePlanesPerChannel)
                       << (setting.second == RL_BLUR_BFLOAT16 ? ", bfloat16" : ", float32") << ": peak extra memory "
                       << extra << " frame planes per channel (Mats " << extra - taps << ", operator's taps " << taps
                       << ")" << std::endl;
-            // tiles: 7.46 / 8.05 / 4.86 measured on 2026-11-23
-            EXPECT_LE(extra, model == PSF_ROWS ? 4.0 : 8.5);
+            // tiles: 7.31 / 7.68 / 4.58 measured on 2026-11-23 (rows: 2.73 / 3.09 / 3.34)
+            EXPECT_LE(extra, model == PSF_ROWS ? 4.0 : 8.0);
         }
     }
 }

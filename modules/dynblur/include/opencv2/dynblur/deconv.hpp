@@ -28,7 +28,7 @@ enum RLBlurPrecision
         float ones; the restorations differ by a few hundredths of a dB (10 iterations), by up to
         0.13 dB after 20 tile-wise ones. What it gains depends on the CPU: a row-wise frame took
         1.12–1.2× as long in float on an AMD Zen 4, 1.01–1.03× on an Intel Xeon, whose bfloat16
-        instruction barely outpaces its float FMA; tile-wise it holds 4.8 instead of 7.9 frame
+        instruction barely outpaces its float FMA; tile-wise it holds 4.6 instead of 7.7 frame
         planes per channel and builds its operator faster (README, "Speed"). */
     RL_BLUR_BFLOAT16 = 1
 };

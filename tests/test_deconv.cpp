@@ -1042,6 +1042,32 @@ TEST(DeconvArguments, BadInputThrows)
               std::string::npos);
 }
 
+// The single-kernel path takes the luminance phase's change as it writes its output, after which
+// it undoes the frame's power-of-two scaling (a frame near 1e-3 is run near 1); its default start
+// is the frame itself, which an explicit initial estimate equal to the frame must reproduce.
+TEST(DeconvColorIterations, UniformPathTakesTheLuminanceChangeAndItsStart)
+{
+    Mat grey(64, 80, CV_32F), blurredGrey;
+    RNG(23).fill(grey, RNG::UNIFORM, 0.1, 0.9);
+    GaussianBlur(grey, grey, Size(0, 0), 1.0);
+    const Mat kernel = Mat::ones(9, 1, CV_32F) / 9.0f;
+    filter2D(grey, blurredGrey, -1, kernel, Point(-1, -1), 0, BORDER_REPLICATE);
+    Mat equalPlanes;
+    merge(std::vector<Mat>{blurredGrey, blurredGrey, blurredGrey}, equalPlanes);
+    equalPlanes *= 1e-3;
+    RLParams params;
+    params.iterations = 8;
+    params.accelerate = false;  // restarts with the luminance phase
+    Mat full, reduced, started;
+    richardsonLucy(equalPlanes, kernel, full, params);
+    params.colorIterations = 3;
+    richardsonLucy(equalPlanes, kernel, reduced, params);
+    EXPECT_LT(norm(full, reduced, NORM_INF), 1e-4 * 1e-3);
+    EXPECT_GT(norm(reduced, equalPlanes, NORM_INF), 1e-2 * 1e-3);  // it did restore
+    richardsonLucy(equalPlanes, kernel, started, params, equalPlanes);
+    EXPECT_EQ(norm(started, reduced, NORM_INF), 0.0);
+}
+
 // Luminance iterations: exact where they must be, and close to full colour on a colourful frame.
 TEST(DeconvColorIterations, LuminancePhaseAgreesWithFullColour)
 {

@@ -196,10 +196,12 @@ void writeOutput(const std::vector<Mat>& planes, OutputArray out, bool clampToUn
     parallel_for_(Range(0, image.rows), [&](const Range& rows) {
         const int n = roi.width;
         std::vector<const float*> sources(planes.size());
+        // With a change: the planes' mean, then each plane's changed row (the sources).
         std::vector<float> changed(change.restored.empty() ? 0 : size_t(n) * (planes.size() + 1));
         std::vector<float*> changedRows(planes.size());
-        for (size_t c = 0; c < planes.size() && !changed.empty(); c++)
-            sources[c] = changedRows[c] = changed.data() + (c + 1) * size_t(n);
+        if (!changed.empty())
+            for (size_t c = 0; c < planes.size(); c++)
+                sources[c] = changedRows[c] = changed.data() + (c + 1) * size_t(n);
         for (int y = rows.start; y < rows.end; y++)
         {
             if (changed.empty())
@@ -283,14 +285,14 @@ void richardsonLucy(InputArray blurred, InputArray psf, OutputArray latent, cons
     // Within 2^±100, so that the factor and its inverse are normal floats too.
     const double unit = level > 0 ? std::ldexp(1.0, -std::min(std::max(std::ilogb(level), -100), 100)) : 1.0;
     const Mat observed = unit == 1.0 ? blurred.getMat() : Mat(blurred.getMat() * unit);
-    std::vector<Mat> start;
-    if (initial.empty())
-        split(observed, start);
-    else
-        split(initial.getMat() * unit, start);
     detail::RLWorkspace workspace;
     const detail::ObservedFrame observedFrame =
         detail::observeFrame(observed, workspace.observed, std::isnan(params.damping));
+    std::vector<Mat> start;
+    if (initial.empty())
+        start = observedFrame.planes;  // embedPlanes copies them
+    else
+        split(initial.getMat() * unit, start);
     RLParams scaled = params;
     if (!std::isnan(params.damping))
         scaled.damping *= unit;  // intensity units

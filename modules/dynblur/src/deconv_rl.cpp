@@ -784,7 +784,8 @@ ObservedFrame observeFrame(const Mat& frame, std::vector<Mat>& pool, bool estima
         for (double v : rowNoise)
             noiseTotal += v;
         // A Gaussian's mean absolute value is σ √(2/π); the mask's norm is √36 = 6.
-        observed.noiseSigma = std::sqrt(CV_PI / 2) * noiseTotal / (6.0 * (frame.rows - 2) * double((width - 2) * channels));
+        observed.noiseSigma =
+            std::sqrt(CV_PI / 2) * noiseTotal / (6.0 * (frame.rows - 2) * double((width - 2) * channels));
     }
     return observed;
 }

@@ -73,7 +73,8 @@ whose change then scales every plane (left to the caller: see `change`).
 @param observed observeFrame(blurred); the luminance phase may overwrite its planes.
 @param normalizer Aᵀ1 (latent size); empty: 1 everywhere, the unnormalised update of scikit-image's
 richardson_lucy. Latent pixels whose normaliser is ≤ kUnobserved are not updated.
-@param estimate in: the start (latent-sized planes, ≥ 0); out: the result.
+@param estimate in: the start (latent-sized planes, ≥ 0); out: the result, with a luminance phase
+before its change.
 @param workspace buffers, reused when their sizes fit.
 @param change out: the luminance phase's change, which `estimate` has not taken yet (its
 `restored` is empty when no luminance phase ran).

@@ -310,6 +310,64 @@ TEST(DeconvRichardsonLucy, TotalVariationMatchesDirectReferenceForEveryRowTail)
     }
 }
 
+/* RL_BOUNDARY_PAD, written out: the latent is the frame grown by the kernel's half-size on each
+   side, A its "same" convolution cropped to the frame, Aᵀ the zero-embedded ratio correlated with
+   the kernel, and x ← x ⊙ Aᵀ(b / A x) / Aᵀ1 from `start` (latent-sized). */
+Mat directRichardsonLucyPad(const Mat& blurred, const Mat& k, const Mat& start, int iterations)
+{
+    const Rect frame((k.cols - 1) / 2, (k.rows - 1) / 2, blurred.cols, blurred.rows);
+    const auto adjoint = [&](const Mat& r) {
+        Mat embedded = Mat::zeros(start.size(), CV_32F);
+        r.copyTo(embedded(frame));
+        return directConvolve(embedded, k, true);
+    };
+    const Mat normalizer = adjoint(Mat::ones(blurred.size(), CV_32F));
+    Mat x = start.clone();
+    for (int i = 0; i < iterations; i++)
+    {
+        const Mat reblurred = directConvolve(x, k, false)(frame);
+        x = x.mul(adjoint(blurred / (reblurred + 1e-12f))) / normalizer;
+    }
+    return x(frame).clone();
+}
+
+/* The update divides by Aᵀ1 read from its plane or, along a row where Aᵀ1 is one value, by that
+   value without reading the plane. Both match the written-out RL: the single kernel's Aᵀ1 comes
+   from FFTs and varies along every row; a row bank's vertical kernel gives rows of one value each
+   (their sums are taken alike in every column), below 1 on the rows the latent adds. */
+TEST(DeconvRichardsonLucy, NormalisedUpdateMatchesDirectReferenceWithConstantAndVaryingRows)
+{
+    Mat truth(24, 37, CV_32F);
+    RNG(9).fill(truth, RNG::UNIFORM, 0.05, 1.0);
+    const RLParams params = plainParams(RL_BOUNDARY_PAD, 6);
+
+    Mat slanted = pathKernel(Point2d(1.6, 3.4), 5, 5);
+    slanted.at<float>(0, 4) = 0.03f;  // asymmetric: a flip error cannot hide
+    slanted /= sum(slanted)[0];
+    Mat blurred = directConvolve(truth, slanted, false), start, fast;
+    copyMakeBorder(blurred, start, 2, 2, 2, 2, BORDER_REPLICATE);  // the single-kernel path's start
+    richardsonLucy(blurred, slanted, fast, params);
+    Mat reference = directRichardsonLucyPad(blurred, slanted, start, 6);
+    EXPECT_LT(norm(fast, reference, NORM_INF), 1e-4);
+    EXPECT_GT(norm(reference, blurred, NORM_INF), 0.05);  // the iterations did move the estimate
+
+    // Asymmetric, its centroid on the centre: the bank's start is the frame, the added rows its mean.
+    const Mat vertical = (Mat_<float>(5, 1) << 0.2f, 0.1f, 0.3f, 0.3f, 0.1f);
+    PsfBank bank;
+    bank.model = PSF_ROWS;
+    bank.imageSize = truth.size();
+    bank.nodeRows = {truth.rows / 2.0};
+    bank.nodeCols = {truth.cols / 2.0};
+    bank.kernels = {vertical};
+    bank.shifts = {Point(0, 0)};
+    blurred = directConvolve(truth, vertical, false);
+    copyMakeBorder(blurred, start, 2, 2, 0, 0, BORDER_CONSTANT, Scalar::all(mean(blurred)[0]));
+    richardsonLucyVariant(blurred, bank, fast, params);
+    reference = directRichardsonLucyPad(blurred, vertical, start, 6);
+    EXPECT_LT(norm(fast, reference, NORM_INF), 1e-4);
+    EXPECT_GT(norm(reference, blurred, NORM_INF), 0.05);
+}
+
 TEST(DeconvRichardsonLucy, ToleranceStopsEarly)
 {
     Mat truth(32, 32, CV_32F);

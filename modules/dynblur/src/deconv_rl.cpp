@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
 namespace cv {
 namespace dynblur {
@@ -97,7 +98,9 @@ struct RowTv
 };
 
 /* x_{k+1} = y ⊙ correction / (norm − λ curvature) over one row, kept within [0, upper]; with
-   `correctionExcess`, `correction` holds correction − norm. Pixels whose normaliser is
+   `correctionExcess`, `correction` holds correction − norm. With `norm` null the normaliser is
+   `rowNorm` all along the row (kRowNorm): a row-wise bank's Aᵀ1 usually is, and not streaming it
+   leaves the update's loads in the caches (3 % of a frame). Pixels whose normaliser is
    ≤ kUnobserved keep y. `tv` may be null (no curvature). `out` may be `y` (each element is read
    before it is written); with `out` null, only tv->ny is computed (the row just above a band).
    With `step`, the data term's step g = y ⊙ (correction / norm − 1) meets the last one, stored
@@ -112,10 +115,11 @@ struct RowTv
    one), the last columns through padded copies. kWhole: `tv`, `out` and `step` are all given (the
    accelerated, regularised case), which lets the loop drop its tests of null rows: GCC leaves them
    in, one per block, and they cost 2–3 % of a frame. */
-template <bool kWhole>
+template <bool kWhole, bool kRowNorm>
 __attribute__((always_inline)) inline void updateRowTerms(const float* y, const float* __restrict correction,
                                                           bool correctionExcess, const float* __restrict norm,
-                                                          const RowTv* tv, float tvWeight, float upper, int n,
+                                                          float rowNorm, const RowTv* tv, float tvWeight, float upper,
+                                                          int n,
                                                           float* out, uint16_t* __restrict step, float scale,
                                                           UpdateSums& sums)
 {
@@ -125,7 +129,7 @@ __attribute__((always_inline)) inline void updateRowTerms(const float* y, const 
     typedef int32_t v16i __attribute__((vector_size(64)));
     typedef uint32_t v16u __attribute__((vector_size(64), aligned(4)));
     typedef uint16_t v16h __attribute__((vector_size(32), aligned(2)));
-    const v16 zero = {}, ceiling = zero + upper;
+    const v16 zero = {}, ceiling = zero + upper, constantNorm = zero + rowNorm;
     v16 stepDot = {}, stepBeforeSq = {}, nxLeft = {};
     /* Lanes x … x + 15 of every row, from the row or (the last ones) from padded copies; yRight is
        y one column on. Ifs, not ?: between vectors on a scalar condition, which GCC takes lane by
@@ -161,7 +165,7 @@ __attribute__((always_inline)) inline void updateRowTerms(const float* y, const 
                         ny - *(const v16*)nyAboveAt;
             nxLeft = nx;
         }
-        const v16 nv = *(const v16*)normAt;
+        const v16 nv = kRowNorm ? constantNorm : *(const v16*)normAt;
         v16 cv = *(const v16*)correctionAt;
         if (correctionExcess)
             cv += nv;
@@ -235,16 +239,43 @@ __attribute__((always_inline)) inline void updateRowTerms(const float* y, const 
     }
 }
 
-//! updateRowTerms, its loop built for the whole case when every term is given.
+//! updateRowTerms, its loop built for the whole case when every term is given, and for each kind of normaliser.
 DYNBLUR_SIMD_CLONES
 void updateRow(const float* y, const float* __restrict correction, bool correctionExcess, const float* __restrict norm,
-               const RowTv* tv, float tvWeight, float upper, int n, float* out, uint16_t* __restrict step,
-               float scale, UpdateSums& sums)
+               float rowNorm, const RowTv* tv, float tvWeight, float upper, int n, float* out,
+               uint16_t* __restrict step, float scale, UpdateSums& sums)
 {
-    if (tv && out && step)
-        updateRowTerms<true>(y, correction, correctionExcess, norm, tv, tvWeight, upper, n, out, step, scale, sums);
+    const bool whole = tv && out && step;
+    if (whole && !norm)
+        updateRowTerms<true, true>(y, correction, correctionExcess, norm, rowNorm, tv, tvWeight, upper, n, out, step,
+                                   scale, sums);
+    else if (whole)
+        updateRowTerms<true, false>(y, correction, correctionExcess, norm, rowNorm, tv, tvWeight, upper, n, out, step,
+                                    scale, sums);
+    else if (!norm)
+        updateRowTerms<false, true>(y, correction, correctionExcess, norm, rowNorm, tv, tvWeight, upper, n, out, step,
+                                    scale, sums);
     else
-        updateRowTerms<false>(y, correction, correctionExcess, norm, tv, tvWeight, upper, n, out, step, scale, sums);
+        updateRowTerms<false, false>(y, correction, correctionExcess, norm, rowNorm, tv, tvWeight, upper, n, out, step,
+                                     scale, sums);
+}
+
+/* The value of a row whose elements are all equal, NaN otherwise. Blocks of 64 columns compared
+   whole (that loop vectorises), so a row that varies early is left early. */
+DYNBLUR_SIMD_CLONES
+float constantValue(const float* p, int n)
+{
+    constexpr int kBlock = 64;
+    const float first = p[0];
+    for (int x0 = 0; x0 < n; x0 += kBlock)
+    {
+        int differs = 0;
+        for (int x = x0; x < std::min(x0 + kBlock, n); x++)
+            differs |= p[x] != first;
+        if (differs)
+            return std::numeric_limits<float>::quiet_NaN();
+    }
+    return first;
 }
 
 /* TV's terms row by row down a band. Each row's ny is computed by its own update and carried to
@@ -268,7 +299,7 @@ public:
             above.nyAbove = nullptr;  // only ny is computed
             above.ny = nyAbove_;
             UpdateSums unused;
-            updateRow(rowAbove, nullptr, false, nullptr, &above, 0.f, 0.f, y.cols, nullptr, nullptr, 1.f, unused);
+            updateRow(rowAbove, nullptr, false, nullptr, 0.f, &above, 0.f, 0.f, y.cols, nullptr, nullptr, 1.f, unused);
         }
     }
 
@@ -438,6 +469,13 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
     if (!packed)
         ratio.create(frameSize, CV_32FC1);
     std::vector<float> halo(size_t(2 * bands) * size_t(latentSize.width));
+    // Each row's normaliser when it is one value along the row (NaN where not); unnormalised: 1.
+    std::vector<float> rowNorm(size_t(latentSize.height), 1.f);
+    if (!normalizer.empty())
+        parallel_for_(Range(0, latentSize.height), [&](const Range& rows) {
+            for (int r = rows.start; r < rows.end; r++)
+                rowNorm[size_t(r)] = constantValue(normalizer.ptr<float>(r), latentSize.width);
+        });
     int most = 0;
     for (size_t c = 0; c < channels; c++)
     {
@@ -556,10 +594,6 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
             forBands(latentSize.height, bands, [&](int band, const Range& rows) {
                 UpdateSums& s = sums[size_t(band)];
                 std::vector<float> correctionBlock(size_t(width) * kBlockRows);
-                /* Unnormalised: Aᵀ1 taken as 1, from a row of ones rather than a null row, for which
-                   updateRow would need a ?: between vectors on a scalar condition: GCC evaluates that
-                   lane by lane (the update took 2× as long). */
-                const std::vector<float> ones(normalizer.empty() ? size_t(width) : 0, 1.f);
                 const bool tv = tvWeight > 0;
                 const float* above = halo.data() + size_t(2 * band) * size_t(width);
                 TvWalk tvWalk(y, rows, scale, tvEpsilon, tv ? above : nullptr, above + width);
@@ -577,8 +611,9 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                                             : correction.ptr<float>(r);
                     // `next` may be y itself: no later row reads row r of y (its ny is carried).
                     float* out = next.ptr<float>(r);
-                    updateRow(y.ptr<float>(r), cp, packed, normalizer.empty() ? ones.data() : normalizer.ptr<float>(r),
-                              rowTv, tvWeight, upper, width, out,
+                    const float constant = rowNorm[size_t(r)];
+                    updateRow(y.ptr<float>(r), cp, packed, std::isnan(constant) ? normalizer.ptr<float>(r) : nullptr,
+                              constant, rowTv, tvWeight, upper, width, out,
                               accelerate ? step.ptr<uint16_t>(r) : nullptr, scale, s);
                     if (packedReady && (r % 2 == 1 || r + 1 == rows.end))
                         packPair(next, r & ~1);

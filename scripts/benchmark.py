@@ -30,10 +30,10 @@ REPO = pathlib.Path(__file__).resolve().parents[1]
 # frame-rate setting (bfloat16 blurs), if every pass streams its planes once and the taps' re-reads
 # hit the caches: the extrapolation reads x_k and x_k-1 and writes y and its packed copy
 # (4 + 4 + 4 + 2); the blur reads the packed y and b and writes the packed ratio - 1 (2 + 4 + 2);
-# the update reads the packed ratio, y and the normaliser, reads and writes the last
-# step (bfloat16) and writes x_k+1 (2 + 4 + 4 + 2 + 2 + 4). TV's gradient and the curvature stay
-# in registers. (With float blurs: 44.)
-BYTES_PER_PIXEL_ITERATION = (4 + 4 + 4 + 2) + (2 + 4 + 2) + (2 + 4 + 4 + 2 + 2 + 4)
+# the update reads the packed ratio and y, reads and writes the last step (bfloat16) and writes
+# x_k+1 (2 + 4 + 2 + 2 + 4). TV's gradient and the curvature stay in registers, and a row-wise
+# bank's normaliser, one value along each row, is not read from its plane. (With float blurs: 40.)
+BYTES_PER_PIXEL_ITERATION = (4 + 4 + 4 + 2) + (2 + 4 + 2) + (2 + 4 + 2 + 2 + 4)
 # Colour iterations of the frame-rate setting (RLParams::colorIterations; DeblurQuality checks its quality).
 COLOUR_ITERATIONS = 3
 

@@ -119,8 +119,7 @@ template <bool kWhole, bool kRowNorm>
 __attribute__((always_inline)) inline void updateRowTerms(const float* y, const float* __restrict correction,
                                                           bool correctionExcess, const float* __restrict norm,
                                                           float rowNorm, const RowTv* tv, float tvWeight, float upper,
-                                                          int n,
-                                                          float* out, uint16_t* __restrict step, float scale,
+                                                          int n, float* out, uint16_t* __restrict step, float scale,
                                                           UpdateSums& sums)
 {
     constexpr int kLanes = 16;

@@ -423,11 +423,29 @@ float projectionBound(const BlurOperator& op, const ImageLevel& level)
     return float(std::min(op.spotGain() * std::max(level.peak, 0.0), double(FLT_MAX)));
 }
 
+/* Aᵀ1 as the update reads it: its plane (empty: 1 everywhere) and, for each latent row that holds
+   one value, that value (NaN where the row varies), found once for both phases of a restoration. */
+struct RowNormalizer
+{
+    RowNormalizer(const Mat& normalizer, int rows) : plane(normalizer), constant(size_t(rows), 1.f)
+    {
+        if (!plane.empty())
+            parallel_for_(Range(0, rows), [&](const Range& range) {
+                for (int r = range.start; r < range.end; r++)
+                    constant[size_t(r)] = constantValue(plane.ptr<float>(r), plane.cols);
+            });
+    }
+    const Mat& plane;
+    std::vector<float> constant;
+};
+
 /* RL over every plane for params.iterations (colorIterations ignored): `observed` holds the frame's
    planes, `level` is the frame's (ObservedFrame::level). Returns the most iterations a plane ran. */
-int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const ImageLevel& level, const Mat& normalizer,
-                  const RLParams& params, std::vector<Mat>& estimate, RLWorkspace& ws)
+int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const ImageLevel& level,
+                  const RowNormalizer& rowNormalizer, const RLParams& params, std::vector<Mat>& estimate,
+                  RLWorkspace& ws)
 {
+    const Mat& normalizer = rowNormalizer.plane;
     const size_t channels = observed.size();
     CV_Assert(estimate.size() == channels);
     const Size latentSize = op.latentSize(), frameSize = op.frameSize();
@@ -468,13 +486,6 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
     if (!packed)
         ratio.create(frameSize, CV_32FC1);
     std::vector<float> halo(size_t(2 * bands) * size_t(latentSize.width));
-    // Each row's normaliser when it is one value along the row (NaN where not); unnormalised: 1.
-    std::vector<float> rowNorm(size_t(latentSize.height), 1.f);
-    if (!normalizer.empty())
-        parallel_for_(Range(0, latentSize.height), [&](const Range& rows) {
-            for (int r = rows.start; r < rows.end; r++)
-                rowNorm[size_t(r)] = constantValue(normalizer.ptr<float>(r), latentSize.width);
-        });
     int most = 0;
     for (size_t c = 0; c < channels; c++)
     {
@@ -610,7 +621,7 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                                             : correction.ptr<float>(r);
                     // `next` may be y itself: no later row reads row r of y (its ny is carried).
                     float* out = next.ptr<float>(r);
-                    const float constant = rowNorm[size_t(r)];
+                    const float constant = rowNormalizer.constant[size_t(r)];
                     updateRow(y.ptr<float>(r), cp, packed, std::isnan(constant) ? normalizer.ptr<float>(r) : nullptr,
                               constant, rowTv, tvWeight, upper, width, out,
                               accelerate ? step.ptr<uint16_t>(r) : nullptr, scale, s);
@@ -884,17 +895,18 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const ObservedFr
                           const RLParams& params, std::vector<Mat>& estimate, RLWorkspace& ws, LuminanceChange& change)
 {
     change = LuminanceChange();
+    const RowNormalizer rowNormalizer(normalizer, op.latentSize().height);
     const int colour = params.colorIterations;
     const ImageLevel& colourLevel = observed.level;
     if (blurred.channels() < 3 || colour < 0 || colour >= params.iterations)
-        return iteratePlanes(op, observed.planes, colourLevel, normalizer, params, estimate, ws);
+        return iteratePlanes(op, observed.planes, colourLevel, rowNormalizer, params, estimate, ws);
 
     int done = 0;
     if (colour > 0)
     {
         RLParams first = params;
         first.iterations = colour;
-        done = iteratePlanes(op, observed.planes, colourLevel, normalizer, first, estimate, ws);
+        done = iteratePlanes(op, observed.planes, colourLevel, rowNormalizer, first, estimate, ws);
         if (params.tolerance > 0 && done < colour)
             return done;  // converged in colour already
     }
@@ -926,8 +938,8 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const ObservedFr
     });
     RLParams rest = params;
     rest.iterations = params.iterations - colour;
-    done += iteratePlanes(op, {luminance}, foldLevel(rowSum, rowPeak, double(luminance.total())), normalizer, rest,
-                          latent, ws);
+    done += iteratePlanes(op, {luminance}, foldLevel(rowSum, rowPeak, double(luminance.total())), rowNormalizer,
+                          rest, latent, ws);
     ws.other[1] = latent[0];  // the two buffers may have swapped: keep the pool's set intact
     /* The luminance's change goes to every plane as a ratio, which keeps each pixel's chromaticity
        (an added difference shifts dark and saturated colours: in DeblurQuality's fruits it cost

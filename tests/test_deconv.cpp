@@ -831,6 +831,91 @@ TEST(DeconvVariant, Bfloat16BlursRestoreAsFloatDoes)
     }
 }
 
+TEST(DeconvVariant, UnobservedPixelsTakeTheNearestObservedOne)
+{
+    /* Every pixel holds its own index, so a filled pixel names the pixel it copied. Masks: a
+       restoration's (a band of rows and slivers down both sides, tall enough for several strips of
+       the fill), a band over a long run, blobs, bars and lines, a band with holes under it, and a
+       single valid pixel. The
+       source must be valid and as near as the exact Euclidean distance allows the 5×5 mask (0.95 px
+       worse at most in these cases); every valid pixel keeps its value. */
+    std::vector<cv::Mat> masks;
+    cv::Mat edges(600, 320, CV_8U, cv::Scalar(255));
+    edges.rowRange(0, 70).setTo(0);
+    for (int y = 70; y < 520; y++)
+    {
+        edges.row(y).colRange(0, 1 + (520 - y) / 45).setTo(0);
+        edges.row(y).colRange(320 - 1 - (520 - y) / 50, 320).setTo(0);
+    }
+    masks.push_back(edges);
+    // A band of 128 rows over a row mostly unobserved: the band's bottom row is nearest the row below that.
+    cv::Mat overhang(300, 200, CV_8U, cv::Scalar(255));
+    overhang.rowRange(0, 128).setTo(0);
+    overhang.row(128).colRange(0, 100).setTo(0);
+    masks.push_back(overhang);
+    cv::RNG rng(5);
+    for (int t = 0; t < 6; t++)
+    {
+        cv::Mat m(300 + 40 * t, 400 - 30 * t, CV_8U, cv::Scalar(255));
+        for (int k = 0; k < 3 + t; k++)
+        {
+            const cv::Point c(rng.uniform(0, m.cols), rng.uniform(0, m.rows));
+            if (k % 3 == 0)
+                cv::circle(m, c, rng.uniform(2, 60), cv::Scalar(0), -1);
+            else if (k % 3 == 1)
+                cv::rectangle(m, cv::Rect(c, cv::Size(rng.uniform(1, 200), rng.uniform(1, 40))), cv::Scalar(0), -1);
+            else
+                cv::line(m, c, cv::Point(rng.uniform(0, m.cols), rng.uniform(0, m.rows)), cv::Scalar(0),
+                         rng.uniform(1, 9));
+        }
+        if (t == 5)
+            m.rowRange(0, 150).setTo(0);
+        masks.push_back(m);
+    }
+    cv::Mat single(50, 60, CV_8U, cv::Scalar(0));
+    single.at<uchar>(49, 0) = 255;
+    masks.push_back(single);
+
+    for (size_t i = 0; i < masks.size(); i++)
+    {
+        SCOPED_TRACE(i);
+        const cv::Mat& valid = masks[i];
+        cv::Mat index(valid.size(), CV_32FC2);
+        for (int y = 0; y < index.rows; y++)
+            for (int x = 0; x < index.cols; x++)
+                index.at<cv::Vec2f>(y, x) = cv::Vec2f(float(x), float(y));
+        cv::Mat filled = index.clone();
+        cv::dynblur::detail::fillFromNearest(filled, valid);
+        cv::Mat exact;
+        cv::distanceTransform(valid == 0, exact, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+        double worst = 0;
+        int wrong = 0;
+        for (int y = 0; y < valid.rows; y++)
+            for (int x = 0; x < valid.cols; x++)
+            {
+                const cv::Vec2f source = filled.at<cv::Vec2f>(y, x);
+                const cv::Point from{int(source[0]), int(source[1])};
+                if (valid.at<uchar>(y, x))
+                {
+                    wrong += from != cv::Point(x, y);
+                    continue;
+                }
+                if (!valid.at<uchar>(from))
+                {
+                    wrong++;
+                    continue;
+                }
+                worst = std::max(worst, cv::norm(from - cv::Point(x, y)) - exact.at<float>(y, x));
+            }
+        EXPECT_EQ(wrong, 0);
+        EXPECT_LE(worst, 0.95);
+    }
+    // No valid pixel: nothing to copy from, nothing changes.
+    cv::Mat image(20, 30, CV_32FC3, cv::Scalar(0.25, 0.5, 0.75)), before = image.clone();
+    cv::dynblur::detail::fillFromNearest(image, cv::Mat::zeros(image.size(), CV_8U));
+    EXPECT_EQ(cv::norm(image, before, cv::NORM_INF), 0.0);
+}
+
 TEST(DeconvBoundary, PadDoesNotRingAtEdges)
 {
     DYNBLUR_REQUIRE_DATA(path, "baboon.jpg");

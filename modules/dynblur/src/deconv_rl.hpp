@@ -90,6 +90,12 @@ them): the frame-rate path of DynamicDeblurrer.
 void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& params, RLWorkspace& workspace,
                     OutputArray latent, OutputArray validMask, bool clampToUnit = false);
 
+/** @brief Pixels where `valid` is 0 take the value of the nearest valid pixel (Euclidean, as
+OpenCV's labelled distance transform with its 5×5 mask measures it), so unobserved content reads
+as a smooth continuation instead of a hole. Nothing changes when no pixel is valid.
+@param image CV_32F, any number of channels. @param valid CV_8U, image's size, nonzero where valid. */
+CV_EXPORTS void fillFromNearest(Mat& image, const Mat& valid);
+
 //! p[x] = min(max(p[x], 0), 1) for x in [0, n): an image in [0, 1] from a restoration that overshoots.
 void clampRowToUnit(float* p, int n);
 

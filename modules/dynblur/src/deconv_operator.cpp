@@ -193,6 +193,35 @@ std::vector<KernelTap> kernelTaps(const Mat& kernel32f, Point shift)
     return taps;
 }
 
+/* Every node's kernel as taps (kernelTaps), nodes in parallel, and the offsets' reach (each range
+   includes 0). */
+std::vector<std::vector<KernelTap>> nodeTaps(const PsfBank& bank, int& dxMin, int& dxMax, int& dyMin, int& dyMax)
+{
+    std::vector<std::vector<KernelTap>> nodes(bank.kernels.size());
+    std::mutex mutex;
+    dxMin = dxMax = dyMin = dyMax = 0;
+    parallel_for_(Range(0, int(nodes.size())), [&](const Range& r) {
+        int reach[4] = {0, 0, 0, 0};  // dxMin, dxMax, dyMin, dyMax of these nodes
+        for (int n = r.start; n < r.end; n++)
+        {
+            nodes[size_t(n)] = kernelTaps(bank.kernels[size_t(n)], bank.shifts[size_t(n)]);
+            for (const KernelTap& t : nodes[size_t(n)])
+            {
+                reach[0] = std::min(reach[0], t.dx);
+                reach[1] = std::max(reach[1], t.dx);
+                reach[2] = std::min(reach[2], t.dy);
+                reach[3] = std::max(reach[3], t.dy);
+            }
+        }
+        std::lock_guard<std::mutex> lock(mutex);
+        dxMin = std::min(dxMin, reach[0]);
+        dxMax = std::max(dxMax, reach[1]);
+        dyMin = std::min(dyMin, reach[2]);
+        dyMax = std::max(dyMax, reach[3]);
+    });
+    return nodes;
+}
+
 /* The latent domain: with padding, the bounding box of every pixel a tap reads (offsets in
    [dxMin, dxMax] × [dyMin, dyMax], which include 0); otherwise the frame. */
 void domain(Size frame, bool pad, int dxMin, int dxMax, int dyMin, int dyMax, Size& latent, Point& origin)
@@ -1155,23 +1184,6 @@ void BankBlurOperator::adjointRows(const Mat& frame, Mat& latent, const Range& r
 
 namespace {
 
-//! Sorts taps by (row, col) and adds up the weights of equal ones.
-void mergeTaps(std::vector<RowBankOperator::Tap>& taps)
-{
-    std::sort(taps.begin(), taps.end(), [](const RowBankOperator::Tap& a, const RowBankOperator::Tap& b) {
-        return a.row != b.row ? a.row < b.row : a.col < b.col;
-    });
-    size_t kept = 0;
-    for (size_t i = 0; i < taps.size(); i++)
-    {
-        if (kept > 0 && taps[kept - 1].row == taps[i].row && taps[kept - 1].col == taps[i].col)
-            taps[kept - 1].weight += taps[i].weight;
-        else
-            taps[kept++] = taps[i];
-    }
-    taps.resize(kept);
-}
-
 //! Output columns [begin, end) of a row of `width` where every tap reads inside [0, sourceWidth).
 void safeColumns(const RowBankOperator::Tap* taps, int count, int width, int sourceWidth, int& begin, int& end)
 {
@@ -1219,19 +1231,8 @@ RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad, bool packed)
 {
     spotGain_ = bankSpotGain(bank);
     CV_Assert(bank.nodeCols.size() == 1 && bank.kernels.size() == bank.nodeRows.size());
-    std::vector<std::vector<KernelTap>> nodes(bank.kernels.size());
-    int dxMin = 0, dxMax = 0, dyMin = 0, dyMax = 0;
-    for (size_t n = 0; n < nodes.size(); n++)
-    {
-        nodes[n] = kernelTaps(bank.kernels[n], bank.shifts[n]);
-        for (const KernelTap& t : nodes[n])
-        {
-            dxMin = std::min(dxMin, t.dx);
-            dxMax = std::max(dxMax, t.dx);
-            dyMin = std::min(dyMin, t.dy);
-            dyMax = std::max(dyMax, t.dy);
-        }
-    }
+    int dxMin, dxMax, dyMin, dyMax;
+    const std::vector<std::vector<KernelTap>> nodes = nodeTaps(bank, dxMin, dxMax, dyMin, dyMax);
     domain(frame_, pad, dxMin, dxMax, dyMin, dyMax, latent_, origin_);
 
     // Each frame row's kernel: its row nodes' taps, weighted and merged; reads of latent rows
@@ -1243,18 +1244,16 @@ RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad, bool packed)
     {
         row.clear();
         const BankBlurOperator::AxisWeight& w = rowWeights[size_t(y)];
-        for (int k = 0; k < 2; k++)
-        {
-            if (w.weight[k] <= 0.f)
-                continue;
-            for (const KernelTap& t : nodes[size_t(w.node[k])])
-            {
-                const int ly = y + t.dy + origin_.y;
-                if (ly >= 0 && ly < latent_.height)
-                    row.push_back({ly, t.dx + origin_.x, w.weight[k] * t.weight});
-            }
-        }
-        mergeTaps(row);
+        // Both node kernels are in (dy, dx) order, so their union is a merge, not a sort.
+        const std::vector<KernelTap>& a = nodes[size_t(w.node[0])];
+        const std::vector<KernelTap>& b = nodes[size_t(w.node[1])];
+        forUnion(a.data(), w.weight[0] > 0.f ? a.size() : 0, b.data(), w.weight[1] > 0.f ? b.size() : 0,
+                 [](const KernelTap& t) { return std::make_pair(t.dy, t.dx); },
+                 [&](const KernelTap& t, float wa, float wb) {
+                     const int ly = y + t.dy + origin_.y;
+                     if (ly >= 0 && ly < latent_.height)
+                         row.push_back({ly, t.dx + origin_.x, w.weight[0] * wa + w.weight[1] * wb});
+                 });
         GatherRow& g = forward_.rows[size_t(y)];
         g.begin = int(forward_.taps.size());
         forward_.taps.insert(forward_.taps.end(), row.begin(), row.end());
@@ -1281,27 +1280,36 @@ RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad, bool packed)
             adjoint_.taps[size_t(fill[size_t(t.row)]++)] = {y, -t.col, t.weight};
         }
     }
-    for (int l = 0; l < latent_.height; l++)
-    {
-        GatherRow& g = adjoint_.rows[size_t(l)];
-        g.begin = count[size_t(l)];
-        g.end = count[size_t(l) + 1];
-        std::sort(adjoint_.taps.begin() + g.begin, adjoint_.taps.begin() + g.end, [](const Tap& a, const Tap& b) {
-            return a.row != b.row ? a.row < b.row : a.col < b.col;
-        });
-        safeColumns(adjoint_.taps.data() + g.begin, g.end - g.begin, latent_.width, frame_.width, g.safeBegin,
-                    g.safeEnd);
-    }
+    parallel_for_(Range(0, latent_.height), [&](const Range& rows) {
+        for (int l = rows.start; l < rows.end; l++)
+        {
+            GatherRow& g = adjoint_.rows[size_t(l)];
+            g.begin = count[size_t(l)];
+            g.end = count[size_t(l) + 1];
+            std::sort(adjoint_.taps.begin() + g.begin, adjoint_.taps.begin() + g.end,
+                      [](const Tap& a, const Tap& b) { return a.row != b.row ? a.row < b.row : a.col < b.col; });
+            safeColumns(adjoint_.taps.data() + g.begin, g.end - g.begin, latent_.width, frame_.width, g.safeBegin,
+                        g.safeEnd);
+        }
+    });
+    // The two directions are built side by side.
+    parallel_for_(Range(0, 2), [&](const Range& directions) {
+        for (int d = directions.start; d < directions.end; d++)
+        {
+            const bool forward = d == 0;
+            Gather& gather = forward ? forward_ : adjoint_;
+            if (packed_)
+                buildPacked(gather, forward ? frame_.width : latent_.width, forward ? latent_.width : frame_.width,
+                            forward ? packedForward_ : packedAdjoint_);
+            else
+                buildPairs(gather);
+        }
+    });
     if (packed_)
     {
-        buildPacked(forward_, frame_.width, latent_.width, packedForward_);
-        buildPacked(adjoint_, latent_.width, frame_.width, packedAdjoint_);
         forward_ = Gather();
         adjoint_ = Gather();
-        return;
     }
-    buildPairs(forward_);
-    buildPairs(adjoint_);
 }
 
 void RowBankOperator::forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const
@@ -1672,28 +1680,8 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
     spotGain_ = bankSpotGain(bank);
     nodeCols_ = int(bank.nodeCols.size());
     const int nodeRows = int(bank.nodeRows.size());
-    std::vector<std::vector<KernelTap>> nodes(bank.kernels.size());
-    std::mutex mutex;
-    int dxMin = 0, dxMax = 0, dyMin = 0, dyMax = 0;
-    parallel_for_(Range(0, int(nodes.size())), [&](const Range& r) {
-        int reach[4] = {0, 0, 0, 0};  // dxMin, dxMax, dyMin, dyMax of these nodes
-        for (int n = r.start; n < r.end; n++)
-        {
-            nodes[size_t(n)] = kernelTaps(bank.kernels[size_t(n)], bank.shifts[size_t(n)]);
-            for (const KernelTap& t : nodes[size_t(n)])
-            {
-                reach[0] = std::min(reach[0], t.dx);
-                reach[1] = std::max(reach[1], t.dx);
-                reach[2] = std::min(reach[2], t.dy);
-                reach[3] = std::max(reach[3], t.dy);
-            }
-        }
-        std::lock_guard<std::mutex> lock(mutex);
-        dxMin = std::min(dxMin, reach[0]);
-        dxMax = std::max(dxMax, reach[1]);
-        dyMin = std::min(dyMin, reach[2]);
-        dyMax = std::max(dyMax, reach[3]);
-    });
+    int dxMin, dxMax, dyMin, dyMax;
+    const std::vector<std::vector<KernelTap>> nodes = nodeTaps(bank, dxMin, dxMax, dyMin, dyMax);
     domain(frame_, pad, dxMin, dxMax, dyMin, dyMax, latent_, origin_);
     dxMin_ = dxMin;
     dxMax_ = dxMax;

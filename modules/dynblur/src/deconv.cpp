@@ -412,11 +412,8 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
     std::unique_ptr<BlurOperator> blur = createBankOperator(bank, pad, params.blurPrecision == RL_BLUR_BFLOAT16);
     BlurOperator& op = *blur;
     const Size frameSize = observed.size(), latentSize = op.latentSize();
-    // The plane of ones lives in the ratio plane, which the iterations fill later: no memory of its own.
-    Mat& plane = ws.ratio;
-    plane.create(frameSize, CV_32F);
-    plane.setTo(1);  // Aᵀ1 reads a frame of ones
-    op.adjoint(plane, ws.normalizer);
+    // The frame of ones lives in the (packed) ratio plane, which the iterations fill later: no memory of its own.
+    op.adjointOfOnes(ws.normalizer, op.gathersPackedRows() ? ws.packedRatio : ws.ratio);
 
     /* Start: the frame moved back by each node's displacement (the normalised adjoint of the
        displacement-only blur), so content begins where the view at θ_ref has it and RL only has to

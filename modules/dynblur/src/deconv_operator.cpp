@@ -1407,15 +1407,41 @@ void BlurOperator::adjointByBlocks(const Mat& frame, Mat& latent)
     {
         Mat packed;
         packPlane(frame, packed);
-        prepareAdjointPacked(packed);
-        forRowPairs(latent_.height, [&](const Range& rows) {
-            adjointPackedBlock(packed, rows, latent.ptr<float>(rows.start), latent.step1());
-        });
+        adjointOfPacked(packed, latent);
         return;
     }
     prepareAdjoint(frame);
     parallel_for_(Range(0, latent_.height),
                   [&](const Range& rows) { adjointBlock(frame, rows, latent.ptr<float>(rows.start), latent.step1()); });
+}
+
+void BlurOperator::adjointOfPacked(const Mat& packedFrame, Mat& latent)
+{
+    latent.create(latent_, CV_32FC1);
+    prepareAdjointPacked(packedFrame);
+    forRowPairs(latent_.height, [&](const Range& rows) {
+        adjointPackedBlock(packedFrame, rows, latent.ptr<float>(rows.start), latent.step1());
+    });
+}
+
+void BlurOperator::adjointOfOnes(Mat& latent, Mat& ones)
+{
+    if (!packed_)
+    {
+        ones.create(frame_, CV_32FC1);
+        ones.setTo(1);
+        adjoint(ones, latent);
+        return;
+    }
+    const float one = 1.f;
+    uint32_t pair = 0, single = 0;  // a pair of rows of ones; an odd last row alone
+    packRowPair(&one, &one, 0.f, 1, &pair);
+    packRowPair(&one, nullptr, 0.f, 1, &single);
+    ones.create((frame_.height + 1) / 2, frame_.width, CV_32SC1);
+    ones.setTo(Scalar::all(int(pair)));
+    if (frame_.height % 2 == 1)
+        ones.row(ones.rows - 1).setTo(Scalar::all(int(single)));
+    adjointOfPacked(ones, latent);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -72,6 +72,11 @@ public:
     //! Whatever adjointPackedBlock needs of the whole packed frame first.
     virtual void prepareAdjointPacked(const Mat& /*packedFrame*/) {}
 
+    /** latent = Aᵀ1, the adjoint of a frame of ones (RL's normaliser). A packed operator reads the
+    ones packed as packPlane would pack them, written straight into `ones` without a float frame.
+    @param ones scratch: the frame of ones (packed when gathersPackedRows()), reused when it fits. */
+    void adjointOfOnes(Mat& latent, Mat& ones);
+
 protected:
     //! The latent domain starts as the frame; operators with padding grow it.
     explicit BlurOperator(Size frameSize, bool packed = false)
@@ -83,6 +88,8 @@ protected:
     void forwardByBlocks(const Mat& latent, Mat& frame) const;
     //! adjoint() of an operator that gathers rows: prepareAdjoint, then its blocks in parallel (packed: likewise).
     void adjointByBlocks(const Mat& frame, Mat& latent);
+    //! adjointByBlocks from the packed frame (gathersPackedRows()).
+    void adjointOfPacked(const Mat& packedFrame, Mat& latent);
     Size frame_, latent_;
     bool packed_;
     Point origin_;

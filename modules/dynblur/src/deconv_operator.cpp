@@ -1781,9 +1781,15 @@ void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, si
     for (int start = outRows.start; start < outRows.end; start += kTileBlockRows)
     {
         const Range rows(start, std::min(start + kTileBlockRows, outRows.end));
-        for (int y = rows.start; y < rows.end; y++)
-            std::fill(out + size_t(y - outRows.start) * outStep, out + size_t(y - outRows.start) * outStep + width,
-                      0.f);
+        /* A column's first contribution is written, later ones added, so no pass zeroes the block
+           first: the node columns' ranges rise (the forward's supports tile the row, the adjoint's
+           only widen them), and output columns [0, covered) hold one. */
+        int covered = 0;
+        const auto zero = [&](int from, int to) {
+            for (int y = rows.start; y < rows.end && from < to; y++)
+                std::fill(out + size_t(y - outRows.start) * outStep + from,
+                          out + size_t(y - outRows.start) * outStep + to, 0.f);
+        };
         for (int i = 0; i < nodeCols_; i++)
         {
             const Range support = colSupport_[size_t(i)];
@@ -1791,18 +1797,30 @@ void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, si
             const Range cols = adjoint ? Range(std::max(0, support.start + dxMin_ + origin_.x),
                                                std::min(width, support.end + dxMax_ + origin_.x))
                                        : support;
+            if (cols.empty())
+                continue;
             gather(i, rows, cols, part.data());
+            zero(covered, cols.start);  // none in the banks the generator makes
+            const int added = std::max(cols.start, std::min(covered, cols.end)), written = std::max(added, covered);
             const float* cw = colWeight_[size_t(i)].data() - support.start;
             for (int y = rows.start; y < rows.end; y++)
             {
                 float* o = out + size_t(y - outRows.start) * outStep;
                 const float* p = part.data() + size_t(y - rows.start) * size_t(width);
                 if (adjoint)
-                    addRow(p + cols.start, cols.size(), o + cols.start);
+                {
+                    addRow(p + cols.start, added - cols.start, o + cols.start);
+                    std::copy(p + written, p + cols.end, o + written);
+                }
                 else
-                    addProductRow(cw + cols.start, p + cols.start, cols.size(), o + cols.start);
+                {
+                    addProductRow(cw + cols.start, p + cols.start, added - cols.start, o + cols.start);
+                    multiplyInto(o + written, cw + written, p + written, cols.end - written);
+                }
             }
+            covered = std::max(covered, cols.end);
         }
+        zero(covered, width);
     }
 }
 

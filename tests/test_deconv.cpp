@@ -457,16 +457,22 @@ void expectSameAsGeneral(cv::dynblur::detail::BlurOperator& gather, const PsfBan
    (narrow node column supports: the 512-bit kernel's masked partial blocks). */
 TEST(DeconvOperator, TileGatherAgreesWithTheGeneralOperator)
 {
-    const PsfBank bank = withSlantedKernel(unevenTaps(tileBank(Size(150, 110), 5, 4, 40), 6), 7, Point(-6, 3));
-    for (bool portable : {false, true})
-        for (bool pad : {true, false})
-        {
-            SCOPED_TRACE(portable ? "portable gathers" : "this CPU's gathers");
-            cv::dynblur::detail::setPortableGathers(portable);
-            cv::dynblur::detail::TileBankOperator tiles(bank, pad);
-            expectAdjoint(tiles, pad);
-            expectSameAsGeneral(tiles, bank, pad);
-        }
+    // The second bank is three columns wide, and its second node column lies far beside it: no support.
+    PsfBank thin = tileBank(Size(3, 300), 2, 3, 6);
+    thin.nodeCols = {0.0, 20.0};
+    const PsfBank banks[] = {withSlantedKernel(unevenTaps(tileBank(Size(150, 110), 5, 4, 40), 6), 7, Point(-6, 3)),
+                             thin};
+    for (const PsfBank& bank : banks)
+        for (bool portable : {false, true})
+            for (bool pad : {true, false})
+            {
+                SCOPED_TRACE(cv::format("%dx%d bank, %s, %s", bank.imageSize.width, bank.imageSize.height,
+                                        portable ? "portable gathers" : "this CPU's gathers", pad ? "pad" : "zero"));
+                cv::dynblur::detail::setPortableGathers(portable);
+                cv::dynblur::detail::TileBankOperator tiles(bank, pad);
+                expectAdjoint(tiles, pad);
+                expectSameAsGeneral(tiles, bank, pad);
+            }
     cv::dynblur::detail::setPortableGathers(false);
 }
 

@@ -1782,8 +1782,8 @@ void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, si
     {
         const Range rows(start, std::min(start + kTileBlockRows, outRows.end));
         /* A column's first contribution is written, later ones added, so no pass zeroes the block
-           first: the node columns' ranges rise (the forward's supports tile the row, the adjoint's
-           only widen them), and output columns [0, covered) hold one. */
+           first: the node columns' ranges start in increasing order (the forward's supports tile
+           the row, the adjoint's widen them), and output columns [0, covered) hold one. */
         int covered = 0;
         const auto zero = [&](int from, int to) {
             for (int y = rows.start; y < rows.end && from < to; y++)
@@ -1797,11 +1797,11 @@ void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, si
             const Range cols = adjoint ? Range(std::max(0, support.start + dxMin_ + origin_.x),
                                                std::min(width, support.end + dxMax_ + origin_.x))
                                        : support;
-            if (cols.empty())
-                continue;
+            if (support.empty())
+                continue;  // a node column beside the frame weights nothing (its adjoint range is not empty)
             gather(i, rows, cols, part.data());
-            zero(covered, cols.start);  // none in the banks the generator makes
-            const int added = std::max(cols.start, std::min(covered, cols.end)), written = std::max(added, covered);
+            zero(covered, cols.start);  // a gap between ranges; none in the banks the generator makes
+            const int added = std::min(std::max(covered, cols.start), cols.end);  // [cols.start, added) added
             const float* cw = colWeight_[size_t(i)].data() - support.start;
             for (int y = rows.start; y < rows.end; y++)
             {
@@ -1810,12 +1810,12 @@ void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, si
                 if (adjoint)
                 {
                     addRow(p + cols.start, added - cols.start, o + cols.start);
-                    std::copy(p + written, p + cols.end, o + written);
+                    std::copy(p + added, p + cols.end, o + added);
                 }
                 else
                 {
                     addProductRow(cw + cols.start, p + cols.start, added - cols.start, o + cols.start);
-                    multiplyInto(o + written, cw + written, p + written, cols.end - written);
+                    multiplyInto(o + added, cw + added, p + added, cols.end - added);
                 }
             }
             covered = std::max(covered, cols.end);

@@ -842,9 +842,8 @@ TEST(DeconvVariant, UnobservedPixelsTakeTheNearestObservedOne)
     /* Every pixel holds its own index, so a filled pixel names the pixel it copied. Masks: a
        restoration's (a band of rows and slivers down both sides, tall enough for several strips of
        the fill), a band over a long run, blobs, bars and lines, a band with holes under it, and a
-       single valid pixel. The
-       source must be valid and as near as the exact Euclidean distance allows the 5×5 mask (0.95 px
-       worse at most in these cases); every valid pixel keeps its value. */
+       single valid pixel. The source must be valid and as near as the exact Euclidean distance
+       allows the 5×5 mask (0.95 px worse at most in these cases); every valid pixel keeps its value. */
     std::vector<cv::Mat> masks;
     cv::Mat edges(600, 320, CV_8U, cv::Scalar(255));
     edges.rowRange(0, 70).setTo(0);

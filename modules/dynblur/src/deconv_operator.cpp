@@ -1782,14 +1782,10 @@ void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, si
     {
         const Range rows(start, std::min(start + kTileBlockRows, outRows.end));
         /* A column's first contribution is written, later ones added, so no pass zeroes the block
-           first: the node columns' ranges start in increasing order (the forward's supports tile
-           the row, the adjoint's widen them), and output columns [0, covered) hold one. */
+           first. The non-empty supports of the node columns' weights, a partition of unity, tile the
+           row in order, and the adjoint's ranges widen them alike: each range starts inside the
+           columns [0, covered) that already hold a contribution and ends past them. */
         int covered = 0;
-        const auto zero = [&](int from, int to) {
-            for (int y = rows.start; y < rows.end && from < to; y++)
-                std::fill(out + size_t(y - outRows.start) * outStep + from,
-                          out + size_t(y - outRows.start) * outStep + to, 0.f);
-        };
         for (int i = 0; i < nodeCols_; i++)
         {
             const Range support = colSupport_[size_t(i)];
@@ -1799,9 +1795,8 @@ void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, si
                                        : support;
             if (support.empty())
                 continue;  // a node column beside the frame weights nothing (its adjoint range is not empty)
+            CV_DbgAssert(cols.start <= covered && covered <= cols.end);
             gather(i, rows, cols, part.data());
-            zero(covered, cols.start);  // a gap between ranges; none in the banks the generator makes
-            const int added = std::min(std::max(covered, cols.start), cols.end);  // [cols.start, added) added
             const float* cw = colWeight_[size_t(i)].data() - support.start;
             for (int y = rows.start; y < rows.end; y++)
             {
@@ -1809,18 +1804,18 @@ void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, si
                 const float* p = part.data() + size_t(y - rows.start) * size_t(width);
                 if (adjoint)
                 {
-                    addRow(p + cols.start, added - cols.start, o + cols.start);
-                    std::copy(p + added, p + cols.end, o + added);
+                    addRow(p + cols.start, covered - cols.start, o + cols.start);
+                    std::copy(p + covered, p + cols.end, o + covered);
                 }
                 else
                 {
-                    addProductRow(cw + cols.start, p + cols.start, added - cols.start, o + cols.start);
-                    multiplyInto(o + added, cw + added, p + added, cols.end - added);
+                    addProductRow(cw + cols.start, p + cols.start, covered - cols.start, o + cols.start);
+                    multiplyInto(o + covered, cw + covered, p + covered, cols.end - covered);
                 }
             }
-            covered = std::max(covered, cols.end);
+            covered = cols.end;
         }
-        zero(covered, width);
+        CV_DbgAssert(covered == width);
     }
 }
 

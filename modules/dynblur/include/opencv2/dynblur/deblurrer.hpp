@@ -17,6 +17,21 @@ enum DeblurMethod
     DEBLUR_WIENER = 1            //!< Wiener: fast, non-iterative
 };
 
+/** @brief Resolution of DynamicDeblurrer's colour phase: the RLParams::colorIterations that run on
+every colour plane of a 3- or 4-channel frame. */
+enum DeblurColorResolution
+{
+    /** the colour iterations run on the frame's planes, then the luminance (the planes' mean) takes
+        the remaining ones and its change scales every plane (RLParams::colorIterations) */
+    DEBLUR_COLOR_FULL_RESOLUTION = 0,
+    /** the colour iterations run on the frame halved (cv::INTER_AREA), with the kernels of a half-size
+        camera and shutter, as video codecs subsample chroma; the luminance takes every iteration at
+        full resolution from the start, and each pixel's upsampled colour is scaled to it. Colour
+        costs a quarter; fine detail, which is mostly luminance, is kept. The camera's image size
+        must be even. */
+    DEBLUR_COLOR_HALF_RESOLUTION = 1
+};
+
 /** @brief Restores frames taken while the positioner moves: the blur of every pixel is predicted
 from the plant and the commands, then undone @cite DynblurSeed.
 
@@ -48,9 +63,16 @@ public:
     CV_WRAP virtual void setPsfModel(int model) = 0;
     CV_WRAP virtual int getMethod() const = 0;              //!< DeblurMethod
     CV_WRAP virtual void setMethod(int method) = 0;
+    /** @brief DeblurColorResolution (default DEBLUR_COLOR_FULL_RESOLUTION). It applies to
+    Richardson–Lucy on 3- and 4-channel frames when RLParams::colorIterations is in [0, iterations);
+    otherwise every iteration runs at full resolution. */
+    CV_WRAP virtual int getColorResolution() const = 0;
+    /** @param resolution DeblurColorResolution; DEBLUR_COLOR_HALF_RESOLUTION needs an even image size. */
+    CV_WRAP virtual void setColorResolution(int resolution) = 0;
     /** @brief Restoration options; default RLParams() with automatic damping (damping = NaN: 3σ of
-    the frame's estimated noise). For frame rate with colour frames use PSF_ROWS, 10 iterations and
-    colorIterations = 3 (the quality test DeblurQuality.RollingShutterWindowIII* checks that setting). */
+    the frame's estimated noise). For frame rate with colour frames use PSF_ROWS, 10 iterations,
+    colorIterations = 3, DEBLUR_COLOR_HALF_RESOLUTION and RL_BLUR_BFLOAT16 (the quality test
+    DeblurQuality.RollingShutterWindowIII* checks that setting). */
     CV_WRAP virtual RLParams getRLParams() const = 0;
     CV_WRAP virtual void setRLParams(const RLParams& params) = 0;
     /** @brief Exposure window of the last frame passed to deblur() (0 before the first). */

@@ -1,0 +1,91 @@
+#include "precomp.hpp"
+
+#include "deconv_rl.hpp"
+#include "half_colour.hpp"
+
+namespace cv {
+namespace dynblur {
+namespace detail {
+
+Ptr<CameraModel> halfResolutionCamera(const CameraModel& camera)
+{
+    const Size size = camera.getImageSize();
+    CV_Assert(size.width % 2 == 0 && size.height % 2 == 0);
+    Ptr<CameraModel> half = CameraModel::create(camera.getFx() / 2, camera.getFy() / 2, (camera.getCx() - 0.5) / 2,
+                                                (camera.getCy() - 0.5) / 2, size.width / 2, size.height / 2,
+                                                camera.getKud(), camera.getKdu());
+    half->setMountAxis(camera.getMountAxis());
+    return half;
+}
+
+RollingShutter halfResolutionShutter(const RollingShutter& shutter)
+{
+    CV_Assert(shutter.rows % 2 == 0);
+    return RollingShutter(shutter.frameStart + shutter.lineDelay / 2, shutter.exposure, 2 * shutter.lineDelay,
+                          shutter.rows / 2);
+}
+
+namespace {
+
+/* Row y of a factor-2 linear upsampling reads rows y/2 and y/2 ∓ 1 (cv::resize's source
+   coordinate is (y + 0.5) / 2 − 0.5): out = 3/4 · near + 1/4 · far, `far` clamped to the image. */
+DYNBLUR_SIMD_CLONES
+void blendRows(const float* __restrict near, const float* __restrict far, int n, float* __restrict out)
+{
+    for (int x = 0; x < n; x++)
+        out[x] = 0.75f * near[x] + 0.25f * far[x];
+}
+
+/* The same along a row of 3-channel pixels, written as three planes' rows of 2·halfWidth pixels:
+   output pixel 2j reads pixels j and j − 1, pixel 2j + 1 reads j and j + 1. */
+DYNBLUR_SIMD_CLONES
+void upsampleRow(const float* __restrict interleaved, int halfWidth, float* __restrict* planes)
+{
+    for (int c = 0; c < 3; c++)
+    {
+        const float* p = interleaved + c;
+        float* out = planes[c];
+        out[0] = p[0];
+        for (int j = 1; j < halfWidth; j++)
+        {
+            const float left = p[3 * (j - 1)], right = p[3 * j];
+            out[2 * j - 1] = 0.75f * left + 0.25f * right;
+            out[2 * j] = 0.25f * left + 0.75f * right;
+        }
+        out[2 * halfWidth - 1] = p[3 * (halfWidth - 1)];
+    }
+}
+
+}  // namespace
+
+void combineLuminanceAndHalfColour(const Mat& luminance, const Mat& halfColour, float black, Mat& restored)
+{
+    CV_Assert(luminance.type() == CV_32FC1 && halfColour.type() == CV_32FC3 &&
+              luminance.size() == Size(2 * halfColour.cols, 2 * halfColour.rows));
+    const int width = luminance.cols, halfWidth = halfColour.cols, halfHeight = halfColour.rows;
+    restored.create(luminance.size(), CV_32FC3);
+    parallel_for_(Range(0, luminance.rows), [&](const Range& rows) {
+        // Scratch: the blended half row, the upsampled planes, their mean, the changed planes.
+        std::vector<float> scratch(size_t(3 * halfWidth) + size_t(7 * width));
+        float* blended = scratch.data();
+        float* upsampled[3] = {blended + 3 * halfWidth, blended + 3 * halfWidth + width,
+                               blended + 3 * halfWidth + 2 * width};
+        float* mean = upsampled[2] + width;
+        float* changed[3] = {mean + width, mean + 2 * width, mean + 3 * width};
+        for (int y = rows.start; y < rows.end; y++)
+        {
+            const int near = y / 2, far = std::min(std::max(y % 2 ? near + 1 : near - 1, 0), halfHeight - 1);
+            blendRows(halfColour.ptr<float>(near), halfColour.ptr<float>(far), 3 * halfWidth, blended);
+            upsampleRow(blended, halfWidth, upsampled);
+            for (int x = 0; x < width; x++)
+                mean[x] = (upsampled[0][x] + upsampled[1][x] + upsampled[2][x]) * (1.f / 3.f);
+            for (int c = 0; c < 3; c++)
+                applyLuminanceRow(luminance.ptr<float>(y), mean, black, 1.f, width, upsampled[c], changed[c]);
+            interleaveRow(changed, 3, width, restored.ptr<float>(y));
+        }
+    });
+}
+
+}  // namespace detail
+}  // namespace dynblur
+}  // namespace cv

@@ -1,0 +1,43 @@
+// Private: DynamicDeblurrer's colour phase at half resolution (DEBLUR_COLOR_HALF_RESOLUTION).
+#ifndef OPENCV_DYNBLUR_HALF_COLOUR_HPP
+#define OPENCV_DYNBLUR_HALF_COLOUR_HPP
+
+#include <opencv2/dynblur/camera.hpp>
+#include <opencv2/dynblur/shutter.hpp>
+
+namespace cv {
+namespace dynblur {
+namespace detail {
+
+/** @brief The camera that records `camera`'s frames halved by cv::resize with INTER_AREA: pixel
+(u', v') averages pixels 2u'..2u'+1 × 2v'..2v'+1, so its centre is at (2u' + 0.5, 2v' + 0.5) and
+u' = (u − 0.5) / 2. Focal lengths halve; the radial coefficients act on normalised coordinates
+and stay; the mount axis is copied. @param camera a camera whose image size is even. */
+CV_EXPORTS Ptr<CameraModel> halfResolutionCamera(const CameraModel& camera);
+
+/** @brief The timing of a frame halved as halfResolutionCamera's: half-size row r averages sensor
+rows 2r and 2r + 1, whose exposures start a line delay apart, so it starts half a line delay after
+row 2r, and the next half-size row two line delays later. The pair's average exposure has the
+same length (its support is a line delay longer; at a C270's 35 µs against milliseconds of
+exposure the difference is not resolved by the kernels). @param shutter the frame's timing, an
+even number of rows. */
+CV_EXPORTS RollingShutter halfResolutionShutter(const RollingShutter& shutter);
+
+/** @brief The restored frame from its restored luminance and its colour restored at half
+resolution: the colour is upsampled as cv::resize with INTER_LINEAR does (weights 3/4 and 1/4 at
+a factor of 2, edges replicated), and each pixel's channels are scaled by the luminance over their
+mean, which keeps the colour's chromaticity and gives the pixel the luminance's detail. Where the
+mean is at or below `black` the difference is added instead. The result is clamped to [0, 1]. One
+pass over rows in parallel: the upsampled colour is never stored.
+@param luminance CV_32FC1, size W×H (both even), linear intensity.
+@param halfColour CV_32FC3, size (W/2)×(H/2).
+@param black mean below which a pixel takes the luminance's change as a difference, ≥ 0.
+@param restored output, CV_32FC3, W×H. */
+CV_EXPORTS void combineLuminanceAndHalfColour(const Mat& luminance, const Mat& halfColour, float black,
+                                              Mat& restored);
+
+}  // namespace detail
+}  // namespace dynblur
+}  // namespace cv
+
+#endif

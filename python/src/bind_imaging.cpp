@@ -345,6 +345,8 @@ and the results blended with the bank's weights. noiseToSignal: noise-to-signal 
     // ---------------------------------------------------------------- deblurrer.hpp
     m.attr("DEBLUR_RICHARDSON_LUCY") = int(DEBLUR_RICHARDSON_LUCY);
     m.attr("DEBLUR_WIENER") = int(DEBLUR_WIENER);
+    m.attr("DEBLUR_COLOR_FULL_RESOLUTION") = int(DEBLUR_COLOR_FULL_RESOLUTION);
+    m.attr("DEBLUR_COLOR_HALF_RESOLUTION") = int(DEBLUR_COLOR_HALF_RESOLUTION);
     py::class_<DynamicDeblurrer, std::shared_ptr<DynamicDeblurrer>>(m, "DynamicDeblurrer", R"doc(Restores frames taken while the positioner moves: the blur of every pixel is predicted from the
 plant and the commands, then undone. The result is the global-shutter, motion-free view at θ_ref.
 One instance is not meant to be shared by threads running deblur() at the same time.)doc")
@@ -383,6 +385,11 @@ dtype; a window-IV frame comes back unchanged), or (restored, validMask) with re
         .def("setPsfModel", &DynamicDeblurrer::setPsfModel, py::arg("model"))
         .def("getMethod", &DynamicDeblurrer::getMethod, "DeblurMethod (DEBLUR_RICHARDSON_LUCY or DEBLUR_WIENER)")
         .def("setMethod", &DynamicDeblurrer::setMethod, py::arg("method"))
+        .def("getColorResolution", &DynamicDeblurrer::getColorResolution,
+             "DeblurColorResolution of the colour iterations (RLParams.colorIterations in [0, iterations), 3-4 "
+             "channels): DEBLUR_COLOR_FULL_RESOLUTION (default) or DEBLUR_COLOR_HALF_RESOLUTION (the frame halved, "
+             "the luminance at full resolution with every iteration; needs an even image size)")
+        .def("setColorResolution", &DynamicDeblurrer::setColorResolution, py::arg("resolution"))
         .def("getRLParams", &DynamicDeblurrer::getRLParams,
              "Restoration options; default RLParams() with automatic damping (NaN: 3σ of the frame's noise).")
         .def("setRLParams", &DynamicDeblurrer::setRLParams, py::arg("params"))

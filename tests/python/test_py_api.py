@@ -279,6 +279,35 @@ def test_deblurrer(db, small_setup):
     assert not np.shares_memory(out, blurred)
 
 
+def test_deblurrer_colour_at_half_resolution(db, small_setup):
+    plant, sched, cam, shutter = small_setup
+    # Detail in the luminance, colour that varies smoothly (as in natural images)
+    y, x = np.mgrid[0:120, 0:160].astype(np.float32)
+    tint = np.dstack([0.6 + 0.4 * x / 160, 0.6 + 0.4 * y / 120, 1.0 - 0.4 * x / 160])
+    sharp = (make_scene(120, 160, channels=1, seed=1)[..., None] * tint).astype(np.float32)
+    blurred = db.renderBlurred(sharp, plant, sched, cam, shutter)
+    deb = db.DynamicDeblurrer.create(plant, cam)
+    assert deb.getColorResolution() == db.DEBLUR_COLOR_FULL_RESOLUTION
+    deb.setRLParams(db.RLParams(iterations=6, damping=float("nan"), colorIterations=2))
+    full = deb.deblur(blurred, sched, shutter)
+    deb.setColorResolution(db.DEBLUR_COLOR_HALF_RESOLUTION)
+    assert deb.getColorResolution() == db.DEBLUR_COLOR_HALF_RESOLUTION
+    half = deb.deblur(blurred, sched, shutter)
+    assert half.shape == blurred.shape and half.dtype == np.float32
+    assert 0.0 <= half.min() and half.max() <= 1.0
+    # the colour phase ran at half resolution, and both restore the frame alike
+    assert np.abs(half - full).max() > 1e-3
+    inner = (slice(10, -10), slice(10, -10))
+    error = {name: np.mean(np.abs(image - sharp)[inner]) for name, image in
+             (("blurred", blurred), ("full", full), ("half", half))}
+    assert error["half"] < 0.7 * error["blurred"] and error["half"] < 1.1 * error["full"], error
+    with pytest.raises(db.error, match="resolution = 2 must be"):
+        deb.setColorResolution(2)
+    odd = db.DynamicDeblurrer.create(plant, db.CameraModel.create(300.0, 300.0, 80.0, 59.5, 161, 120))
+    with pytest.raises(db.error, match="even image size; the camera's is 161x120"):
+        odd.setColorResolution(db.DEBLUR_COLOR_HALF_RESOLUTION)
+
+
 def test_errors_name_the_problem(db, small_setup):
     import cv2
     plant, sched, cam, shutter = small_setup

@@ -43,13 +43,15 @@ const SaccadeFrame& saccadeFrame()
     return frame;
 }
 
-/* DynamicDeblurrer in the frame-rate setting (10 iterations, 3 in colour, bfloat16 blurs; its
-   quality is DeblurQuality's to check) with `psfModel`, or with float blurs. */
-Ptr<DynamicDeblurrer> frameRateDeblurrer(const SaccadeFrame& f, int psfModel,
-                                         int blurPrecision = RL_BLUR_BFLOAT16)
+/* DynamicDeblurrer in the frame-rate setting (10 iterations, 3 in colour at half resolution,
+   bfloat16 blurs; its quality is DeblurQuality's to check) with `psfModel`, or with float blurs or
+   the colour at full resolution. */
+Ptr<DynamicDeblurrer> frameRateDeblurrer(const SaccadeFrame& f, int psfModel, int blurPrecision = RL_BLUR_BFLOAT16,
+                                         int colourResolution = DEBLUR_COLOR_HALF_RESOLUTION)
 {
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(f.plant, f.camera);
     deblurrer->setPsfModel(psfModel);
+    deblurrer->setColorResolution(colourResolution);
     RLParams params = deblurrer->getRLParams();
     params.iterations = 10;
     params.colorIterations = 3;
@@ -87,8 +89,8 @@ BENCHMARK(BM_DeblurFrame)->ArgName("psfModel")->Arg(PSF_UNIFORM)->Arg(PSF_ROWS)-
     ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(5);
 
 /* The targets' ratios: each round restores the frame row-wise and tile-wise, runs the filter2D
-   reference (10 iterations, uniform 21×1 kernel) on it and restores it row-wise with float blurs,
-   in an order that rotates from round to round; each ratio is the median of the rounds' ratios.
+   reference (10 iterations, uniform 21×1 kernel) on it and restores it row-wise with float blurs
+   and with the colour at full resolution, in an order that rotates from round to round; each ratio is the median of the rounds' ratios.
    This machine's speed drifts by ±20 % over minutes, which ratios of medians taken minutes apart
    carry in full; within a round the four see nearly the same machine. Counters: the medians (ms)
    and the ratios. */
@@ -96,15 +98,17 @@ void BM_FrameRatePaired(benchmark::State& state)
 {
     const SaccadeFrame& f = saccadeFrame();
     Ptr<DynamicDeblurrer> rows = frameRateDeblurrer(f, PSF_ROWS), tiles = frameRateDeblurrer(f, PSF_TILES),
-                          rowsFloat = frameRateDeblurrer(f, PSF_ROWS, RL_BLUR_FLOAT32);
+                          rowsFloat = frameRateDeblurrer(f, PSF_ROWS, RL_BLUR_FLOAT32),
+                          rowsFullColour = frameRateDeblurrer(f, PSF_ROWS, RL_BLUR_BFLOAT16, DEBLUR_COLOR_FULL_RESOLUTION);
     const Mat kernel = dynblur_perf::uniformKernel21x1();
     Mat restored, estimate;
-    constexpr int kWorkloads = 4;
+    constexpr int kWorkloads = 5;
     const std::function<void()> work[kWorkloads] = {
         [&] { rows->deblur(f.frame, f.schedule, f.shutter, restored); },
         [&] { tiles->deblur(f.frame, f.schedule, f.shutter, restored); },
         [&] { dynblur_perf::filter2DRichardsonLucy(f.frame, kernel, 10, estimate); },
-        [&] { rowsFloat->deblur(f.frame, f.schedule, f.shutter, restored); }};
+        [&] { rowsFloat->deblur(f.frame, f.schedule, f.shutter, restored); },
+        [&] { rowsFullColour->deblur(f.frame, f.schedule, f.shutter, restored); }};
     for (const auto& w : work)
         w();  // warm: buffers and thread pools set up once
     std::vector<double> ms[kWorkloads];  // per workload, one time per round
@@ -135,5 +139,7 @@ void BM_FrameRatePaired(benchmark::State& state)
     state.counters["tiles_over_rows"] = overRows(1);
     state.counters["filter2d_over_rows"] = overRows(2);
     state.counters["float32_over_rows"] = overRows(3);
+    state.counters["rows_full_colour_ms"] = median(ms[4]);
+    state.counters["full_colour_over_rows"] = overRows(4);
 }
 BENCHMARK(BM_FrameRatePaired)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(15)->Repetitions(1);

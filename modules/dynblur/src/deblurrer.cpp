@@ -167,16 +167,17 @@ private:
     {
         const PsfBank halfBank =
             halfGenerator()->generate(psfModel_, schedule, detail::halfResolutionShutter(shutter), thetaRef);
-        resize(linear, halfFrame_, Size(linear.cols / 2, linear.rows / 2), 0, 0, INTER_AREA);
+        // Both restorations run in place (restoreVariant writes its output after its last read of the frame).
+        resize(linear, halfColour_, Size(linear.cols / 2, linear.rows / 2), 0, 0, INTER_AREA);
         RLParams colourParams = params_;
         colourParams.iterations = params_.colorIterations;  // 0: the start, the frame moved back
         colourParams.colorIterations = -1;
-        detail::restoreVariant(halfFrame_, halfBank, colourParams, halfWorkspace_, halfColour_, noArray(), true);
+        detail::restoreVariant(halfColour_, halfBank, colourParams, halfWorkspace_, halfColour_, noArray(), true);
 
-        detail::channelMean(linear, luminanceFrame_);
+        detail::channelMean(linear, luminance_);
         RLParams luminanceParams = params_;
         luminanceParams.colorIterations = -1;
-        detail::restoreVariant(luminanceFrame_, lastBank_, luminanceParams, workspace_, luminance_, mask_, true);
+        detail::restoreVariant(luminance_, lastBank_, luminanceParams, workspace_, luminance_, mask_, true);
         // Read last: the frame may be the output (restoring in place).
         target.create(linear.size(), CV_32FC3);
         Mat restored = target.getMat();
@@ -249,7 +250,7 @@ private:
     // Kept between frames, so a stream of frames faults in no fresh memory.
     detail::RLWorkspace workspace_, halfWorkspace_;
     Mat latent_, mask_;
-    Mat halfFrame_, halfColour_, luminanceFrame_, luminance_;  // DEBLUR_COLOR_HALF_RESOLUTION's planes
+    Mat halfColour_, luminance_;  // DEBLUR_COLOR_HALF_RESOLUTION's planes
     int lastWindow_ = 0;
     PsfBank lastBank_;
 };

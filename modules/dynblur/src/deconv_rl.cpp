@@ -694,19 +694,9 @@ void scaleRow(float* __restrict p, float factor, int n)
         p[x] *= factor;
 }
 
-/* out[x] = the mean of the planes' rows (the sum in plane order, then times 1 / planes): the
-   luminance phase's start, and the same value again when the planes take its change. */
-void meanRow(const std::vector<Mat>& planes, int y, int x0, int n, float* out)
-{
-    std::fill(out, out + n, 0.f);
-    for (const Mat& p : planes)
-        addRow(p.ptr<float>(y) + x0, n, out);
-    scaleRow(out, 1.f / float(planes.size()), n);
-}
-
-}  // namespace
-
-// Both results are computed and one selected (the divisor made safe), so the loop vectorises.
+/* One plane's row takes the luminance's change from `before` to `restored`: as a ratio where
+   `before` is above `black`, as a difference elsewhere, kept within [0, upper]. Both are computed
+   and one selected (the divisor made safe), so the loop vectorises. */
 DYNBLUR_SIMD_CLONES
 void applyLuminanceRow(const float* __restrict restored, const float* __restrict before, float black, float upper,
                        int n, const float* __restrict plane, float* __restrict out)
@@ -719,6 +709,18 @@ void applyLuminanceRow(const float* __restrict restored, const float* __restrict
         out[x] = std::min(std::max(v, 0.f), upper);
     }
 }
+
+/* out[x] = the mean of the planes' rows (the sum in plane order, then times 1 / planes): the
+   luminance phase's start, and the same value again when the planes take its change. */
+void meanRow(const std::vector<Mat>& planes, int y, int x0, int n, float* out)
+{
+    std::fill(out, out + n, 0.f);
+    for (const Mat& p : planes)
+        addRow(p.ptr<float>(y) + x0, n, out);
+    scaleRow(out, 1.f / float(planes.size()), n);
+}
+
+}  // namespace
 
 void channelMean(const Mat& frame, Mat& luminance)
 {

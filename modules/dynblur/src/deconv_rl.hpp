@@ -96,14 +96,9 @@ as a smooth continuation instead of a hole. Nothing changes when no pixel is val
 @param image CV_32F, any number of channels. @param valid CV_8U, image's size, nonzero where valid. */
 CV_EXPORTS void fillFromNearest(Mat& image, const Mat& valid);
 
-/** One plane's row takes the luminance's change from `before` to `restored`: out = plane · restored
-/ before where `before` is above `black`, plane + restored − before elsewhere, kept within
-[0, upper]. */
-void applyLuminanceRow(const float* restored, const float* before, float black, float upper, int n,
-                       const float* plane, float* out);
-
-//! The mean of each pixel's channels. @param frame CV_32F, 1–4 channels. @param luminance output, CV_32FC1. Rows in parallel.
-void channelMean(const Mat& frame, Mat& luminance);
+/** The mean of each pixel's channels, rows in parallel: the luminance DEBLUR_COLOR_HALF_RESOLUTION
+restores. @param frame CV_32F, 1–4 channels. @param luminance output, CV_32FC1. */
+CV_EXPORTS void channelMean(const Mat& frame, Mat& luminance);
 
 //! p[x] = min(max(p[x], 0), 1) for x in [0, n): an image in [0, 1] from a restoration that overshoots.
 void clampRowToUnit(float* p, int n);

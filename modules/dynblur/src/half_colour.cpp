@@ -1,6 +1,6 @@
 #include "precomp.hpp"
 
-#include "deconv_rl.hpp"
+#include "deconv_operator.hpp"
 #include "half_colour.hpp"
 
 namespace cv {
@@ -56,6 +56,24 @@ void upsampleRow(const float* __restrict interleaved, int halfWidth, float* __re
     }
 }
 
+/* Row of the restored frame from the upsampled colour's three plane rows and the luminance: one
+   gain per pixel, the three channels written interleaved. Both branches are computed and one
+   selected (the divisor made safe), so the loop vectorises. */
+DYNBLUR_SIMD_CLONES
+void scaleToLuminanceRow(const float* __restrict blue, const float* __restrict green, const float* __restrict red,
+                         const float* __restrict luminance, float black, int n, float* __restrict out)
+{
+    for (int x = 0; x < n; x++)
+    {
+        const float before = (blue[x] + green[x] + red[x]) * (1.f / 3.f), after = luminance[x];
+        const bool lit = before > black;
+        const float gain = after / (lit ? before : 1.f), added = after - before;
+        out[3 * x] = std::min(std::max(lit ? blue[x] * gain : blue[x] + added, 0.f), 1.f);
+        out[3 * x + 1] = std::min(std::max(lit ? green[x] * gain : green[x] + added, 0.f), 1.f);
+        out[3 * x + 2] = std::min(std::max(lit ? red[x] * gain : red[x] + added, 0.f), 1.f);
+    }
+}
+
 }  // namespace
 
 void combineLuminanceAndHalfColour(const Mat& luminance, const Mat& halfColour, float black, Mat& restored)
@@ -65,23 +83,18 @@ void combineLuminanceAndHalfColour(const Mat& luminance, const Mat& halfColour, 
     const int width = luminance.cols, halfWidth = halfColour.cols, halfHeight = halfColour.rows;
     restored.create(luminance.size(), CV_32FC3);
     parallel_for_(Range(0, luminance.rows), [&](const Range& rows) {
-        // Scratch: the blended half row, the upsampled planes, their mean, the changed planes.
-        std::vector<float> scratch(size_t(3 * halfWidth) + size_t(7 * width));
+        // Scratch: the blended half row, then the upsampled planes' rows.
+        std::vector<float> scratch(size_t(3 * halfWidth) + size_t(3 * width));
         float* blended = scratch.data();
         float* upsampled[3] = {blended + 3 * halfWidth, blended + 3 * halfWidth + width,
                                blended + 3 * halfWidth + 2 * width};
-        float* mean = upsampled[2] + width;
-        float* changed[3] = {mean + width, mean + 2 * width, mean + 3 * width};
         for (int y = rows.start; y < rows.end; y++)
         {
             const int near = y / 2, far = std::min(std::max(y % 2 ? near + 1 : near - 1, 0), halfHeight - 1);
             blendRows(halfColour.ptr<float>(near), halfColour.ptr<float>(far), 3 * halfWidth, blended);
             upsampleRow(blended, halfWidth, upsampled);
-            for (int x = 0; x < width; x++)
-                mean[x] = (upsampled[0][x] + upsampled[1][x] + upsampled[2][x]) * (1.f / 3.f);
-            for (int c = 0; c < 3; c++)
-                applyLuminanceRow(luminance.ptr<float>(y), mean, black, 1.f, width, upsampled[c], changed[c]);
-            interleaveRow(changed, 3, width, restored.ptr<float>(y));
+            scaleToLuminanceRow(upsampled[0], upsampled[1], upsampled[2], luminance.ptr<float>(y), black, width,
+                                restored.ptr<float>(y));
         }
     });
 }

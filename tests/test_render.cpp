@@ -96,6 +96,58 @@ TEST(RenderSrgb, RoundTripAndEndpoints)
     EXPECT_THROW(linearToSrgb(lin, f, CV_16U), cv::Exception);
 }
 
+/* The 8-bit encoding (tables) is 255·srgb(v) rounded to nearest, computed here with pow in double:
+   on a million random values, on every code's threshold and the floats beside it, and past both
+   ends (clamped; NaN encodes as 0). Also through 3 channels and CV_64F input. */
+TEST(RenderSrgb, EightBitEncodingRoundsTheCurveToNearest)
+{
+    const auto exact = [](double l) {
+        l = std::min(1.0, std::max(0.0, l));
+        const double s = l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055;
+        return int(std::floor(255.0 * s + 0.5));
+    };
+    std::vector<float> values;
+    RNG rng(17);
+    for (int i = 0; i < 1000000; i++)
+        values.push_back(rng.uniform(0.f, 1.f));
+    for (int k = 1; k < 256; k++)
+    {
+        // the threshold: the inverse of the curve at (k − 0.5) / 255
+        const double c = (k - 0.5) / 255.0;
+        const float t = (float)(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+        float below = t, above = t;
+        for (int step = 0; step < 4; step++)
+        {
+            values.push_back(below = std::nextafter(below, -1.f));
+            values.push_back(above = std::nextafter(above, 2.f));
+        }
+        values.push_back(t);
+    }
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    for (float v : {0.f, 1.f, -0.5f, 1.5f, -inf, inf, nan, 1e-30f, std::nextafter(1.f, 0.f)})
+        values.push_back(v);
+    Mat linear(1, int(values.size()), CV_32F, values.data()), encoded;
+    linearToSrgb(linear, encoded, CV_8U);
+    ASSERT_EQ(encoded.type(), CV_8U);
+    int wrong = 0;
+    for (size_t i = 0; i < values.size(); i++)
+    {
+        const int expected = std::isnan(values[i]) ? 0 : exact(values[i]);
+        if (encoded.at<uchar>(int(i)) != expected && wrong++ < 5)
+            ADD_FAILURE() << "linear " << values[i] << " encoded " << int(encoded.at<uchar>(int(i))) << ", expected "
+                          << expected;
+    }
+    EXPECT_EQ(wrong, 0);
+
+    Mat three = linear.colRange(0, 30000).reshape(3), threeEncoded, wide, wideEncoded;
+    linearToSrgb(three, threeEncoded, CV_8U);
+    ASSERT_EQ(threeEncoded.type(), CV_8UC3);
+    EXPECT_EQ(norm(threeEncoded.reshape(1), encoded.colRange(0, 30000), NORM_INF), 0.0);
+    linear.colRange(0, 30000).convertTo(wide, CV_64F);
+    linearToSrgb(wide, wideEncoded, CV_8U);
+    EXPECT_EQ(norm(wideEncoded, encoded.colRange(0, 30000), NORM_INF), 0.0);
+}
+
 TEST(RenderNoise, DeterministicAndPhysical)
 {
     Mat flat(200, 200, CV_32F, Scalar(0.25)), a, b, c;

@@ -50,11 +50,12 @@ public:
             planes.pop_back();
             merge(planes, colour);
         }
-        Mat linear;
+        Mat linear = colour;
         if (colour.depth() == CV_8U)
-            srgbToLinear(colour, linear);
-        else
-            linear = colour;
+        {
+            srgbToLinear(colour, linear_);  // kept: a fresh frame-sized buffer faults in its pages
+            linear = linear_;
+        }
 
         lastBank_ = generator_->generate(psfModel_, schedule, shutter, thetaRef);
         /* A linear frame without alpha is restored straight into the output (written last, after
@@ -87,7 +88,11 @@ public:
                     detail::clampRowToUnit(latent.ptr<float>(y), latent.cols * latent.channels());
             });
 
-        if (!direct)
+        if (!direct && alpha.empty())
+        {
+            linearToSrgb(latent, restored, CV_8U);  // an 8-bit frame, encoded straight into the output
+        }
+        else if (!direct)
         {
             Mat encoded;
             if (input.depth() == CV_8U)
@@ -249,7 +254,7 @@ private:
     RLParams params_;
     // Kept between frames, so a stream of frames faults in no fresh memory.
     detail::RLWorkspace workspace_, halfWorkspace_;
-    Mat latent_, mask_;
+    Mat linear_, latent_, mask_;
     Mat halfColour_, luminance_;  // DEBLUR_COLOR_HALF_RESOLUTION's planes
     int lastWindow_ = 0;
     PsfBank lastBank_;

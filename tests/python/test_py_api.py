@@ -330,3 +330,35 @@ def test_errors_name_the_problem(db, small_setup):
         db.classifyExposure(None, sched, shutter)
     with pytest.raises(TypeError):
         db.Plant.create(naturalFreqHz="fast")
+
+
+def test_type_stub_matches_the_module(db):
+    """Every name of the package's .pyi stub exists in the module and every public name of the
+    module (and of each class) is in the stub, so a binding added without its stub fails."""
+    import ast
+    import pathlib
+    stub = pathlib.Path(__file__).resolve().parents[2] / "python" / "dynblur" / "__init__.pyi"
+    tree = ast.parse(stub.read_text())
+    stubbed, members = set(), {}
+    for node in tree.body:
+        if isinstance(node, ast.ClassDef):
+            stubbed.add(node.name)
+            members[node.name] = {item.name if isinstance(item, (ast.FunctionDef, ast.ClassDef)) else item.target.id
+                                  for item in node.body if isinstance(item, (ast.FunctionDef, ast.ClassDef, ast.AnnAssign))}
+            for base in node.bases:  # a stub class lists its own members; its bases' come before it
+                if isinstance(base, ast.Name) and base.id in members:
+                    members[node.name] |= members[base.id]
+        elif isinstance(node, ast.FunctionDef):
+            stubbed.add(node.name)
+        elif isinstance(node, ast.AnnAssign):
+            stubbed.add(node.target.id)
+    public = {name for name in dir(db) if not name.startswith("_") and not isinstance(getattr(db, name), type(ast))}
+    assert stubbed - {"__version__", "__opencv_version__"} - public == set(), "in the stub, not in the module"
+    assert public - stubbed == set(), "in the module, not in the stub"
+    for name, names in members.items():
+        cls = getattr(db, name)
+        if not isinstance(cls, type) or issubclass(cls, Exception):
+            continue
+        bound = {n for n in dir(cls) if not n.startswith("_")}
+        assert names - {"__init__"} - bound == set(), f"{name}: in the stub, not bound"
+        assert bound - names == set(), f"{name}: bound, not in the stub"

@@ -246,7 +246,7 @@ TEST_P(DeblurQuality, RollingShutterWindowIPutsRowsBackInPlace)
     EXPECT_GE(variant - uniform, 6.0);
 
     /* Window I is where columns differ most (the tile model's gain): the colour's kernels at half
-       resolution keep the tile grid's spacing in the scene (half its columns). Measured 27.14 /
+       resolution take half the tile grid's columns (the same spacing in pixels). Measured 27.14 /
        32.31 dB at half resolution against 26.43 / 32.18 at full (2026-11-23). */
     const double tiles[2] = {frameRateTilesPsnr(s, shutter, r.frame, judged, DEBLUR_COLOR_FULL_RESOLUTION),
                              frameRateTilesPsnr(s, shutter, r.frame, judged, DEBLUR_COLOR_HALF_RESOLUTION)};

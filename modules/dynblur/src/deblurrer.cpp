@@ -191,9 +191,9 @@ private:
     }
 
     /* The generator of the half-size camera, with the settings of getPsfGenerator()'s, halved where
-       they count pixels. A tile grid keeps lastBank_'s node spacing in the scene (half its columns),
-       which is what the automatic rule gives at half the width below its cap of 16: the kernels
-       between nodes then differ by as much, in the half-size pixels, as at full resolution.
+       they count pixels. A tile grid takes half lastBank_'s columns, the same node spacing in its
+       own pixels, which is what the automatic rule gives at half the width below its cap of 16:
+       neighbouring kernels then differ by as many (half-size) pixels as at full resolution.
        DeblurQuality measured 8 columns within 0.08 dB of 16 in window I, 4 columns 0.6 dB below. */
     const Ptr<PsfGenerator>& halfGenerator()
     {

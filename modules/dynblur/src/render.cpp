@@ -10,9 +10,9 @@ namespace dynblur {
 
 namespace {
 
-inline float srgbToLinear1(double c)
+inline double srgbToLinear1(double c)
 {
-    return (float)(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
 }
 
 inline double linearToSrgb1(double l)
@@ -156,7 +156,7 @@ struct SrgbEncoder
         codeStart[0] = -std::numeric_limits<float>::infinity();
         for (int k = 1; k < 256; k++)
         {
-            const double linear = srgbToLinear1Exact((k - 0.5) / 255.0);
+            const double linear = srgbToLinear1((k - 0.5) / 255.0);
             float start = (float)linear;
             if ((double)start < linear)
                 start = std::nextafter(start, 2.f);
@@ -170,11 +170,6 @@ struct SrgbEncoder
                 k++;
             bucketCode[i] = (uchar)k;
         }
-    }
-
-    static double srgbToLinear1Exact(double c)
-    {
-        return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
     }
 
     static const SrgbEncoder& instance()
@@ -209,7 +204,7 @@ void srgbToLinear(InputArray _srgb, OutputArray _linear)
     {
         float lut[256];
         for (int i = 0; i < 256; i++)
-            lut[i] = srgbToLinear1(i / 255.0);
+            lut[i] = (float)srgbToLinear1(i / 255.0);
         _linear.create(src.size(), CV_MAKETYPE(CV_32F, src.channels()));
         Mat out = _linear.getMat();
         const int n = src.cols * src.channels();

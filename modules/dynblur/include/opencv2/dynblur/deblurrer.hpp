@@ -78,7 +78,8 @@ public:
     CV_WRAP virtual void setRLParams(const RLParams& params) = 0;
     /** @brief Exposure window of the last frame passed to deblur() (0 before the first). */
     CV_WRAP virtual int getLastExposureWindow() const = 0;
-    /** @brief Kernels used for the last frame. */
+    /** @brief Kernels used for the last frame (with DEBLUR_COLOR_HALF_RESOLUTION, the full-resolution
+    ones, which the luminance took). */
     CV_WRAP virtual PsfBank getLastPsfBank() const = 0;
     CV_WRAP virtual Ptr<PsfGenerator> getPsfGenerator() const = 0;
 };

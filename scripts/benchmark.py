@@ -126,8 +126,9 @@ def plot(results, bandwidth, path):
 
     size = sorted((v["megapixels"], v["ms"]) for k, v in results.items() if k.startswith("BM_RestoreRowsVsSize"))
     iters = sorted((v["iterations"], v["ms"]) for k, v in results.items() if k.startswith("BM_RestoreRowsVsIterations"))
-    # Channel-iterations of the frame-rate setting: the first ones in colour (3 planes), the rest luminance only.
-    plane_passes = lambda n: 3 * min(COLOUR_ITERATIONS, n) + max(n - COLOUR_ITERATIONS, 0)
+    # Plane iterations of the frame-rate setting, in frame-sized planes: with more iterations than colour ones,
+    # all of them on the luminance and the colour ones on 3 planes of a quarter of the pixels; else all in colour.
+    plane_passes = lambda n: n + 3 * COLOUR_ITERATIONS / 4 if n > COLOUR_ITERATIONS else 3 * n
     bound_ms = lambda mp, n: BYTES_PER_PIXEL_ITERATION * mp * 1e6 * plane_passes(n) / bandwidth * 1e3
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
@@ -143,7 +144,7 @@ def plot(results, bandwidth, path):
     axes[1].plot(n, [i[1] for i in iters], "o-", label="row-wise RL, 1280x960 (measured)")
     axes[1].plot(n, [bound_ms(1.2288, k) for k in n], "--", label="memory-bandwidth bound")
     axes[1].axhline(33.3, color="grey", lw=0.8, ls=":", label="30 fps (33 ms)")
-    axes[1].set_xlabel(f"RL iterations ({COLOUR_ITERATIONS} in colour, the rest luminance)")
+    axes[1].set_xlabel(f"RL iterations (luminance; {COLOUR_ITERATIONS} in colour at half resolution)")
     axes[1].set_ylabel("time, ms")
     axes[1].set_title("time against iterations")
     axes[1].legend(fontsize=8)

@@ -241,6 +241,37 @@ TEST(HalfColour, OtherFramesAndSettingsAreUnchanged)
     EXPECT_EQ(norm(a, b, NORM_INF), 0.0) << "Wiener";
 }
 
+/* The half-size camera follows the camera it halves: a mount axis set after the first frame
+   moves the colour's kernels as it moves the luminance's (a fresh deblurrer gives the same). */
+TEST(HalfColour, FollowsTheCamerasMountAxis)
+{
+    Ptr<Plant> plant = Plant::create(14.4, 0.12, kDeg);
+    Ptr<CameraModel> camera = CameraModel::create(300.0, 300.0, 79.5, 59.5, 160, 120);
+    const SwitchSchedule schedule = SwitchPlanner::create(plant, 16)->plan(0.0, 6 * kDeg, 0.0);
+    const RollingShutter shutter(0.006, 0.008, 1.0 / 30 / 120, 120);
+    Mat frame(120, 160, CV_32FC3);
+    theRNG().state = 9;
+    randu(frame, 0.1f, 0.9f);
+    const auto halfColourDeblurrer = [&] {
+        Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
+        deblurrer->setPsfModel(PSF_TILES);
+        RLParams params = deblurrer->getRLParams();
+        params.iterations = 4;
+        params.colorIterations = 2;
+        deblurrer->setRLParams(params);
+        deblurrer->setColorResolution(DEBLUR_COLOR_HALF_RESOLUTION);
+        return deblurrer;
+    };
+    Ptr<DynamicDeblurrer> stream = halfColourDeblurrer();
+    Mat before, after, fresh;
+    stream->deblur(frame, schedule, shutter, before);
+    camera->setMountAxis(Vec3d(0.6, 0.8, 0));  // tilt and pan: the blur turns
+    stream->deblur(frame, schedule, shutter, after);
+    halfColourDeblurrer()->deblur(frame, schedule, shutter, fresh);
+    EXPECT_GT(norm(before, after, NORM_INF), 1e-2);
+    EXPECT_EQ(norm(after, fresh, NORM_INF), 0.0);
+}
+
 TEST(HalfColour, BadSettingsAreRefusedWithTheirRange)
 {
     Ptr<Plant> plant = Plant::create();

@@ -198,7 +198,11 @@ private:
     const Ptr<PsfGenerator>& halfGenerator()
     {
         if (!halfGenerator_)
-            halfGenerator_ = PsfGenerator::create(plant_, detail::halfResolutionCamera(*camera_));
+        {
+            halfCamera_ = detail::halfResolutionCamera(*camera_);
+            halfGenerator_ = PsfGenerator::create(plant_, halfCamera_);
+        }
+        halfCamera_->setMountAxis(camera_->getMountAxis());  // the one setting a camera has after create()
         halfGenerator_->setMaxKernelSize(generator_->getMaxKernelSize());
         const int bandRows = generator_->getBandRows(), gridRows = generator_->getTileGrid().height;
         halfGenerator_->setBandRows(bandRows > 0 ? std::max(1, bandRows / 2) : 0);
@@ -249,7 +253,8 @@ private:
     int psfModel_ = PSF_TILES;  // the most accurate model; see the quality tests
     int method_ = DEBLUR_RICHARDSON_LUCY;
     int colourResolution_ = DEBLUR_COLOR_FULL_RESOLUTION;
-    Ptr<PsfGenerator> halfGenerator_;  // created when first needed
+    Ptr<CameraModel> halfCamera_;  // created when first needed
+    Ptr<PsfGenerator> halfGenerator_;
     double wienerNoiseToSignal_ = 1e-2;
     RLParams params_;
     // Kept between frames, so a stream of frames faults in no fresh memory.

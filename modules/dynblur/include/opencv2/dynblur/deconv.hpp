@@ -51,7 +51,8 @@ struct CV_EXPORTS_W_SIMPLE RLParams
         restore the luminance (the planes' mean) alone and scale every plane by its change, which
         keeps each pixel's chromaticity. Fine detail is mostly luminance, so the result stays close
         to full colour RL while a luminance iteration costs a third of a colour one. −1 (default) or ≥ iterations: every iteration in
-        colour. Ignored for 1–2 channels. */
+        colour. Ignored for 1–2 channels. DynamicDeblurrer can run them on the frame halved instead, the
+        luminance taking every iteration (DEBLUR_COLOR_HALF_RESOLUTION). */
     CV_PROP_RW int colorIterations;
     /** RLBlurPrecision of the blurs in richardsonLucyVariant and DynamicDeblurrer (default
         RL_BLUR_FLOAT32); richardsonLucy's single-kernel FFT ignores it. */

@@ -694,9 +694,7 @@ void scaleRow(float* __restrict p, float factor, int n)
         p[x] *= factor;
 }
 
-/* One plane's row takes the luminance's change from `before` to `restored`: as a ratio where
-   `before` is above `black`, as a difference elsewhere, kept within [0, upper]. Both are computed
-   and one selected (the divisor made safe), so the loop vectorises. */
+//! One plane's row takes the luminance's change from `before` to `restored` (luminanceChanged).
 DYNBLUR_SIMD_CLONES
 void applyLuminanceRow(const float* __restrict restored, const float* __restrict before, float black, float upper,
                        int n, const float* __restrict plane, float* __restrict out)
@@ -704,9 +702,8 @@ void applyLuminanceRow(const float* __restrict restored, const float* __restrict
     for (int x = 0; x < n; x++)
     {
         const bool lit = before[x] > black;
-        const float gain = restored[x] / (lit ? before[x] : 1.f);
-        const float v = lit ? plane[x] * gain : plane[x] + restored[x] - before[x];
-        out[x] = std::min(std::max(v, 0.f), upper);
+        const float gain = restored[x] / (lit ? before[x] : 1.f);  // the divisor made safe
+        out[x] = luminanceChanged(plane[x], lit, gain, restored[x], before[x], upper);
     }
 }
 

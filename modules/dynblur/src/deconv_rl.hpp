@@ -96,6 +96,15 @@ as a smooth continuation instead of a hole. Nothing changes when no pixel is val
 @param image CV_32F, any number of channels. @param valid CV_8U, image's size, nonzero where valid. */
 CV_EXPORTS void fillFromNearest(Mat& image, const Mat& valid);
 
+/** One channel's `value` after the luminance's change from `before` to `after`: times `gain` =
+after / before where `lit` (before above the black level), plus after − before elsewhere, kept
+within [0, upper]. The one rule of LuminanceChange::applyRow and of the half-resolution colour's
+combination; both loops compute both results and select, so they vectorise. */
+inline float luminanceChanged(float value, bool lit, float gain, float after, float before, float upper)
+{
+    return std::min(std::max(lit ? value * gain : value + after - before, 0.f), upper);
+}
+
 /** The mean of each pixel's channels, rows in parallel: the luminance DEBLUR_COLOR_HALF_RESOLUTION
 restores. @param frame CV_32F, 1–4 channels. @param luminance output, CV_32FC1. */
 CV_EXPORTS void channelMean(const Mat& frame, Mat& luminance);

@@ -1,6 +1,6 @@
 #include "precomp.hpp"
 
-#include "deconv_operator.hpp"
+#include "deconv_rl.hpp"
 #include "half_colour.hpp"
 
 namespace cv {
@@ -56,9 +56,8 @@ void upsampleRow(const float* __restrict interleaved, int halfWidth, float* __re
     }
 }
 
-/* Row of the restored frame from the upsampled colour's three plane rows and the luminance: one
-   gain per pixel, the three channels written interleaved. Both branches are computed and one
-   selected (the divisor made safe), so the loop vectorises. */
+/* Row of the restored frame from the upsampled colour's three plane rows and the luminance
+   (luminanceChanged, within [0, 1]): one gain per pixel, the three channels written interleaved. */
 DYNBLUR_SIMD_CLONES
 void scaleToLuminanceRow(const float* __restrict blue, const float* __restrict green, const float* __restrict red,
                          const float* __restrict luminance, float black, int n, float* __restrict out)
@@ -67,10 +66,10 @@ void scaleToLuminanceRow(const float* __restrict blue, const float* __restrict g
     {
         const float before = (blue[x] + green[x] + red[x]) * (1.f / 3.f), after = luminance[x];
         const bool lit = before > black;
-        const float gain = after / (lit ? before : 1.f), added = after - before;
-        out[3 * x] = std::min(std::max(lit ? blue[x] * gain : blue[x] + added, 0.f), 1.f);
-        out[3 * x + 1] = std::min(std::max(lit ? green[x] * gain : green[x] + added, 0.f), 1.f);
-        out[3 * x + 2] = std::min(std::max(lit ? red[x] * gain : red[x] + added, 0.f), 1.f);
+        const float gain = after / (lit ? before : 1.f);  // the divisor made safe
+        out[3 * x] = luminanceChanged(blue[x], lit, gain, after, before, 1.f);
+        out[3 * x + 1] = luminanceChanged(green[x], lit, gain, after, before, 1.f);
+        out[3 * x + 2] = luminanceChanged(red[x], lit, gain, after, before, 1.f);
     }
 }
 

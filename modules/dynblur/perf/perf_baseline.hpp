@@ -1,10 +1,28 @@
-// The speed targets' reference (issue #8): Richardson–Lucy written plainly with cv::filter2D.
+// The speed targets (issue #8): the frame-rate setting the benchmarks time, and the reference,
+// Richardson–Lucy written plainly with cv::filter2D.
 #ifndef DYNBLUR_PERF_BASELINE_HPP
 #define DYNBLUR_PERF_BASELINE_HPP
 
+#include <opencv2/dynblur.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace dynblur_perf {
+
+/* The frame-rate setting (its quality is DeblurQuality's to check): row bands, `iterations` on the
+   luminance, 3 on the colour planes of the frame halved (with 3 or fewer iterations every one is
+   in colour), bfloat16 blurs; `blurPrecision` and `colourResolution` vary it. */
+inline void setFrameRate(cv::dynblur::DynamicDeblurrer& deblurrer, int iterations = 10,
+                         int blurPrecision = cv::dynblur::RL_BLUR_BFLOAT16,
+                         int colourResolution = cv::dynblur::DEBLUR_COLOR_HALF_RESOLUTION)
+{
+    deblurrer.setPsfModel(cv::dynblur::PSF_ROWS);
+    deblurrer.setColorResolution(colourResolution);
+    cv::dynblur::RLParams params = deblurrer.getRLParams();  // defaults: automatic damping, TV, acceleration
+    params.iterations = iterations;
+    params.colorIterations = 3;
+    params.blurPrecision = blurPrecision;
+    deblurrer.setRLParams(params);
+}
 
 //! The issue's reference kernel: uniform, 21 pixels wide, one row.
 inline cv::Mat uniformKernel21x1()

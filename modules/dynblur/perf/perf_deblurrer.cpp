@@ -44,20 +44,14 @@ const SaccadeFrame& saccadeFrame()
     return frame;
 }
 
-/* DynamicDeblurrer in the frame-rate setting (10 iterations, 3 in colour at half resolution,
-   bfloat16 blurs; its quality is DeblurQuality's to check) with `psfModel`, or with float blurs or
-   the colour at full resolution. */
+/* DynamicDeblurrer in the frame-rate setting (dynblur_perf::setFrameRate) with `psfModel`, or with
+   float blurs or the colour at full resolution. */
 Ptr<DynamicDeblurrer> frameRateDeblurrer(const SaccadeFrame& f, int psfModel, int blurPrecision = RL_BLUR_BFLOAT16,
                                          int colourResolution = DEBLUR_COLOR_HALF_RESOLUTION)
 {
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(f.plant, f.camera);
+    dynblur_perf::setFrameRate(*deblurrer, 10, blurPrecision, colourResolution);
     deblurrer->setPsfModel(psfModel);
-    deblurrer->setColorResolution(colourResolution);
-    RLParams params = deblurrer->getRLParams();
-    params.iterations = 10;
-    params.colorIterations = 3;
-    params.blurPrecision = blurPrecision;
-    deblurrer->setRLParams(params);
     return deblurrer;
 }
 

@@ -5,6 +5,8 @@
 // iteration count, and the machine's memory bandwidth, which bounds any
 // restoration that streams its planes from DRAM. scripts/benchmark.py plots these beside the
 // bandwidth line.
+#include "perf_baseline.hpp"
+
 #include <opencv2/dynblur.hpp>
 
 #include <benchmark/benchmark.h>
@@ -34,13 +36,7 @@ struct ScaledDeblur
         Ptr<CameraModel> camera = CameraModel::create(1230 * scale, 1230 * scale, (width - 1) / 2.0,
                                                       (height - 1) / 2.0, width, height);
         deblurrer = DynamicDeblurrer::create(plant, camera);
-        deblurrer->setPsfModel(PSF_ROWS);
-        RLParams params = deblurrer->getRLParams();  // defaults (damping, TV, acceleration) at frame rate:
-        params.iterations = iterations;
-        params.colorIterations = 3;
-        params.blurPrecision = RL_BLUR_BFLOAT16;
-        deblurrer->setRLParams(params);
-        deblurrer->setColorResolution(DEBLUR_COLOR_HALF_RESOLUTION);
+        dynblur_perf::setFrameRate(*deblurrer, iterations);
         frame.create(height, width, CV_32FC3);
         randu(frame, 0.05f, 0.95f);
     }

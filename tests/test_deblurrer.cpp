@@ -118,16 +118,17 @@ Restorations restoreBoth(const SaccadeScene& s, const RollingShutter& shutter)
     return r;
 }
 
-//! PSNR of the frame-rate setting tile-wise (10 iterations, 3 in colour, bfloat16) with the colour at `resolution`.
-double frameRateTilesPsnr(const SaccadeScene& s, const RollingShutter& shutter, const Mat& frame, const Mat& judged,
-                          int resolution)
+/* PSNR of the frame-rate setting (10 iterations, 3 in colour) with `model`, `blurPrecision` and the
+   colour at `resolution`. */
+double frameRatePsnr(const SaccadeScene& s, const RollingShutter& shutter, const Mat& frame, const Mat& judged,
+                     int model, int blurPrecision, int resolution)
 {
     Ptr<DynamicDeblurrer> fast = DynamicDeblurrer::create(s.plant, s.camera);
-    fast->setPsfModel(PSF_TILES);
+    fast->setPsfModel(model);
     RLParams params = fast->getRLParams();
     params.iterations = 10;
     params.colorIterations = 3;
-    params.blurPrecision = RL_BLUR_BFLOAT16;
+    params.blurPrecision = blurPrecision;
     fast->setRLParams(params);
     fast->setColorResolution(resolution);
     Mat restored;
@@ -161,15 +162,8 @@ TEST_P(DeblurQuality, RollingShutterWindowIIIGainsInTheMostBlurredThird)
     EXPECT_GE(variant - uniform, 3.0);
 
     // The frame-rate setting (the speed benchmark's): row bands, 10 iterations, 3 of them in colour.
-    Ptr<DynamicDeblurrer> fast = DynamicDeblurrer::create(s.plant, s.camera);
-    fast->setPsfModel(PSF_ROWS);
-    RLParams params = fast->getRLParams();
-    params.iterations = 10;
-    params.colorIterations = 3;
-    fast->setRLParams(params);
-    Mat restored;
-    fast->deblur(r.frame, s.schedule, shutter, restored);
-    const double frameRate = maskedPsnr(s.truth, restored, judged, 255);
+    const double frameRate =
+        frameRatePsnr(s, shutter, r.frame, judged, PSF_ROWS, RL_BLUR_FLOAT32, DEBLUR_COLOR_FULL_RESOLUTION);
     std::printf("[ measured ] %s window III rolling, rows %d-%d, frame-rate setting (rows, 10 iterations, 3 in "
                 "colour): %.2f dB\n",
                 GetParam().c_str(), third.start, third.end - 1, frameRate);
@@ -177,10 +171,8 @@ TEST_P(DeblurQuality, RollingShutterWindowIIIGainsInTheMostBlurredThird)
     EXPECT_GE(frameRate - uniform, 3.0);
 
     // The same with bfloat16 blurs: the figures hold, within a tenth of a dB of float's.
-    params.blurPrecision = RL_BLUR_BFLOAT16;
-    fast->setRLParams(params);
-    fast->deblur(r.frame, s.schedule, shutter, restored);
-    const double bfloat16 = maskedPsnr(s.truth, restored, judged, 255);
+    const double bfloat16 =
+        frameRatePsnr(s, shutter, r.frame, judged, PSF_ROWS, RL_BLUR_BFLOAT16, DEBLUR_COLOR_FULL_RESOLUTION);
     std::printf("[ measured ] %s window III rolling, rows %d-%d, frame-rate setting with bfloat16 blurs: %.2f dB\n",
                 GetParam().c_str(), third.start, third.end - 1, bfloat16);
     EXPECT_GE(bfloat16 - blurred, 4.0);
@@ -191,9 +183,8 @@ TEST_P(DeblurQuality, RollingShutterWindowIIIGainsInTheMostBlurredThird)
     // 10 iterations at full resolution, so detail is kept, and the colour starts from the frame
     // instead of from a third of the luminance's iterations. Measured 26.89 / 33.03 dB against
     // 26.29 / 32.46 (building / fruits, 2026-11-23).
-    fast->setColorResolution(DEBLUR_COLOR_HALF_RESOLUTION);
-    fast->deblur(r.frame, s.schedule, shutter, restored);
-    const double halfColour = maskedPsnr(s.truth, restored, judged, 255);
+    const double halfColour =
+        frameRatePsnr(s, shutter, r.frame, judged, PSF_ROWS, RL_BLUR_BFLOAT16, DEBLUR_COLOR_HALF_RESOLUTION);
     std::printf("[ measured ] %s window III rolling, rows %d-%d, frame-rate setting with bfloat16 blurs and the "
                 "colour at half resolution: %.2f dB\n",
                 GetParam().c_str(), third.start, third.end - 1, halfColour);
@@ -202,8 +193,10 @@ TEST_P(DeblurQuality, RollingShutterWindowIIIGainsInTheMostBlurredThird)
     EXPECT_GE(halfColour, bfloat16 + 0.3);
 
     // The same tile-wise: 29.32 / 33.32 dB at half resolution against 28.29 / 32.71 at full.
-    const double tiles[2] = {frameRateTilesPsnr(s, shutter, r.frame, judged, DEBLUR_COLOR_FULL_RESOLUTION),
-                             frameRateTilesPsnr(s, shutter, r.frame, judged, DEBLUR_COLOR_HALF_RESOLUTION)};
+    const double tiles[2] = {frameRatePsnr(s, shutter, r.frame, judged, PSF_TILES, RL_BLUR_BFLOAT16,
+                                           DEBLUR_COLOR_FULL_RESOLUTION),
+                             frameRatePsnr(s, shutter, r.frame, judged, PSF_TILES, RL_BLUR_BFLOAT16,
+                                           DEBLUR_COLOR_HALF_RESOLUTION)};
     std::printf("[ measured ] %s window III rolling, rows %d-%d, frame-rate setting tile-wise: colour at full "
                 "resolution %.2f dB, at half resolution %.2f dB\n",
                 GetParam().c_str(), third.start, third.end - 1, tiles[0], tiles[1]);
@@ -248,8 +241,10 @@ TEST_P(DeblurQuality, RollingShutterWindowIPutsRowsBackInPlace)
     /* Window I is where columns differ most (the tile model's gain): the colour's kernels at half
        resolution take half the tile grid's columns (the same spacing in pixels). Measured 27.14 /
        32.31 dB at half resolution against 26.43 / 32.18 at full (2026-11-23). */
-    const double tiles[2] = {frameRateTilesPsnr(s, shutter, r.frame, judged, DEBLUR_COLOR_FULL_RESOLUTION),
-                             frameRateTilesPsnr(s, shutter, r.frame, judged, DEBLUR_COLOR_HALF_RESOLUTION)};
+    const double tiles[2] = {frameRatePsnr(s, shutter, r.frame, judged, PSF_TILES, RL_BLUR_BFLOAT16,
+                                           DEBLUR_COLOR_FULL_RESOLUTION),
+                             frameRatePsnr(s, shutter, r.frame, judged, PSF_TILES, RL_BLUR_BFLOAT16,
+                                           DEBLUR_COLOR_HALF_RESOLUTION)};
     std::printf("[ measured ] %s window I rolling, whole frame, frame-rate setting tile-wise: colour at full "
                 "resolution %.2f dB, at half resolution %.2f dB\n",
                 GetParam().c_str(), tiles[0], tiles[1]);
@@ -296,16 +291,28 @@ TEST(DeblurChannels, AlphaPassesThroughAndColourMatchesTheThreeChannelResult)
     randu(alpha, 0, 256);
     merge(std::vector<Mat>{bgr, alpha}, bgra);
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
-    Mat restoredBgr, restoredBgra;
-    deblurrer->deblur(bgr, schedule, shutter, restoredBgr);
-    deblurrer->deblur(bgra, schedule, shutter, restoredBgra);
-    ASSERT_EQ(restoredBgra.type(), CV_8UC4);
-    std::vector<Mat> planes;
-    split(restoredBgra, planes);
-    EXPECT_EQ(norm(planes[3], alpha, NORM_INF), 0.0);
-    Mat colour;
-    merge(std::vector<Mat>{planes[0], planes[1], planes[2]}, colour);
-    EXPECT_EQ(norm(colour, restoredBgr, NORM_INF), 0.0);
+    // The default, then a colour phase at half resolution (test_half_colour.cpp)
+    for (int resolution : {DEBLUR_COLOR_FULL_RESOLUTION, DEBLUR_COLOR_HALF_RESOLUTION})
+    {
+        if (resolution == DEBLUR_COLOR_HALF_RESOLUTION)
+        {
+            RLParams params = deblurrer->getRLParams();
+            params.iterations = 4;
+            params.colorIterations = 1;
+            deblurrer->setRLParams(params);
+            deblurrer->setColorResolution(resolution);
+        }
+        Mat restoredBgr, restoredBgra;
+        deblurrer->deblur(bgr, schedule, shutter, restoredBgr);
+        deblurrer->deblur(bgra, schedule, shutter, restoredBgra);
+        ASSERT_EQ(restoredBgra.type(), CV_8UC4);
+        std::vector<Mat> planes;
+        split(restoredBgra, planes);
+        EXPECT_EQ(norm(planes[3], alpha, NORM_INF), 0.0) << "resolution " << resolution;
+        Mat colour;
+        merge(std::vector<Mat>{planes[0], planes[1], planes[2]}, colour);
+        EXPECT_EQ(norm(colour, restoredBgr, NORM_INF), 0.0) << "resolution " << resolution;
+    }
     Mat grey, restoredGrey;
     cvtColor(bgr, grey, COLOR_BGR2GRAY);
     deblurrer->deblur(grey, schedule, shutter, restoredGrey);

@@ -84,6 +84,33 @@ TEST(HalfColour, HalvedCameraAndShutterRecordTheHalvedFrame)
     EXPECT_LT(error, 0.2 * focalError);
 }
 
+/* The one pass that starts the phases gives what OpenCV gives: the frame halved by cv::resize with
+   INTER_AREA, to the bit, and each pixel's channel mean. */
+TEST(HalfColour, HalvingAndChannelMeanAreResizeAndTheMean)
+{
+    for (const Size size : {Size(2, 2), Size(14, 6), Size(322, 240)})
+    {
+        Mat frame(size, CV_32FC3);
+        theRNG().state = 5;
+        randu(frame, 0.0f, 1.0f);
+        Mat halfColour, luminance, expectedHalf;
+        cv::dynblur::detail::halveAndAverageChannels(frame, halfColour, luminance);
+        resize(frame, expectedHalf, Size(size.width / 2, size.height / 2), 0, 0, INTER_AREA);
+        ASSERT_EQ(halfColour.type(), CV_32FC3);
+        EXPECT_EQ(norm(halfColour, expectedHalf, NORM_INF), 0.0) << size;
+        ASSERT_EQ(luminance.type(), CV_32FC1);
+        ASSERT_EQ(luminance.size(), size);
+        double worst = 0;
+        for (int y = 0; y < size.height; y++)
+            for (int x = 0; x < size.width; x++)
+            {
+                const Vec3f c = frame.at<Vec3f>(y, x);
+                worst = std::max(worst, double(std::abs(luminance.at<float>(y, x) - (c[0] + c[1] + c[2]) / 3)));
+            }
+        EXPECT_LT(worst, 1e-7) << size;
+    }
+}
+
 /* The fused pass equals its definition written with OpenCV: the colour upsampled by cv::resize
    (INTER_LINEAR), each pixel's channels scaled by the luminance over their mean (the change added
    where the mean is black), clamped to [0, 1]. */
@@ -136,8 +163,8 @@ TEST(HalfColour, DeblurrerKeepsTheFullResolutionLuminance)
     randu(sharp, 0.1f, 0.9f);
     GaussianBlur(sharp, sharp, Size(0, 0), 1.0);
     renderBlurred(sharp, plant, schedule, camera, shutter, frame);
-    Mat luminanceFrame;
-    cv::dynblur::detail::channelMean(frame, luminanceFrame);
+    Mat luminanceFrame, unused;
+    cv::dynblur::detail::halveAndAverageChannels(frame, unused, luminanceFrame);
 
     // colorIterations 0: the colour is the half-size frame moved back, without an iteration.
     for (const auto& setting : {std::make_pair(int(PSF_ROWS), 2), std::make_pair(int(PSF_TILES), 2),
@@ -155,7 +182,7 @@ TEST(HalfColour, DeblurrerKeepsTheFullResolutionLuminance)
         deblurrer->deblur(frame, schedule, shutter, restored, std::numeric_limits<double>::quiet_NaN(), valid);
         ASSERT_EQ(restored.type(), CV_32FC3);
         deblurrer->deblur(luminanceFrame, schedule, shutter, luminance);
-        cv::dynblur::detail::channelMean(restored, restoredMean);
+        cv::dynblur::detail::halveAndAverageChannels(restored, unused, restoredMean);
 
         Mat unclamped;  // no channel at 0 or 1
         inRange(restored, Scalar::all(1e-6), Scalar::all(1 - 1e-6), unclamped);

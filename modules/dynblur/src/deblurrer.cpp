@@ -3,7 +3,6 @@
 #include "deconv_rl.hpp"
 #include "half_colour.hpp"
 
-#include <opencv2/imgproc.hpp>
 
 namespace cv {
 namespace dynblur {
@@ -173,13 +172,12 @@ private:
         const PsfBank halfBank =
             halfGenerator()->generate(psfModel_, schedule, detail::halfResolutionShutter(shutter), thetaRef);
         // Both restorations run in place (restoreVariant writes its output after its last read of the frame).
-        resize(linear, halfColour_, Size(linear.cols / 2, linear.rows / 2), 0, 0, INTER_AREA);
+        detail::halveAndAverageChannels(linear, halfColour_, luminance_);
         RLParams colourParams = params_;
         colourParams.iterations = params_.colorIterations;  // 0: the start, the frame moved back
         colourParams.colorIterations = -1;
         detail::restoreVariant(halfColour_, halfBank, colourParams, halfWorkspace_, halfColour_, noArray(), true);
 
-        detail::channelMean(linear, luminance_);
         RLParams luminanceParams = params_;
         luminanceParams.colorIterations = -1;
         detail::restoreVariant(luminance_, lastBank_, luminanceParams, workspace_, luminance_, mask_, true);

@@ -660,32 +660,6 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
     return most;
 }
 
-//! out[x] = the mean of the `channels` interleaved values of pixel x (constant strides, as channelRow).
-DYNBLUR_SIMD_CLONES
-void channelMeanRow(const float* __restrict interleaved, int channels, int n, float* __restrict out)
-{
-    switch (channels)
-    {
-    case 3:
-        for (int x = 0; x < n; x++)
-            out[x] = (interleaved[3 * x] + interleaved[3 * x + 1] + interleaved[3 * x + 2]) * (1.f / 3.f);
-        return;
-    case 4:
-        for (int x = 0; x < n; x++)
-            out[x] = (interleaved[4 * x] + interleaved[4 * x + 1] + interleaved[4 * x + 2] + interleaved[4 * x + 3]) *
-                     0.25f;
-        return;
-    default:
-        for (int x = 0; x < n; x++)
-        {
-            float s = 0.f;
-            for (int c = 0; c < channels; c++)
-                s += interleaved[x * channels + c];
-            out[x] = s / float(channels);
-        }
-    }
-}
-
 //! p[x] = p[x] · factor.
 DYNBLUR_SIMD_CLONES
 void scaleRow(float* __restrict p, float factor, int n)
@@ -719,13 +693,29 @@ void meanRow(const std::vector<Mat>& planes, int y, int x0, int n, float* out)
 
 }  // namespace
 
-void channelMean(const Mat& frame, Mat& luminance)
+DYNBLUR_SIMD_CLONES
+void channelMeanRow(const float* __restrict interleaved, int channels, int n, float* __restrict out)
 {
-    luminance.create(frame.size(), CV_32FC1);
-    parallel_for_(Range(0, frame.rows), [&](const Range& rows) {
-        for (int y = rows.start; y < rows.end; y++)
-            channelMeanRow(frame.ptr<float>(y), frame.channels(), frame.cols, luminance.ptr<float>(y));
-    });
+    switch (channels)
+    {
+    case 3:
+        for (int x = 0; x < n; x++)
+            out[x] = (interleaved[3 * x] + interleaved[3 * x + 1] + interleaved[3 * x + 2]) * (1.f / 3.f);
+        return;
+    case 4:
+        for (int x = 0; x < n; x++)
+            out[x] = (interleaved[4 * x] + interleaved[4 * x + 1] + interleaved[4 * x + 2] + interleaved[4 * x + 3]) *
+                     0.25f;
+        return;
+    default:
+        for (int x = 0; x < n; x++)
+        {
+            float s = 0.f;
+            for (int c = 0; c < channels; c++)
+                s += interleaved[x * channels + c];
+            out[x] = s / float(channels);
+        }
+    }
 }
 
 /* The strides a frame has are spelled out: with a constant stride the compiler loads whole vectors

@@ -105,9 +105,8 @@ inline float luminanceChanged(float value, bool lit, float gain, float after, fl
     return std::min(std::max(lit ? value * gain : value + after - before, 0.f), upper);
 }
 
-/** The mean of each pixel's channels, rows in parallel: the luminance DEBLUR_COLOR_HALF_RESOLUTION
-restores. @param frame CV_32F, 1–4 channels. @param luminance output, CV_32FC1. */
-CV_EXPORTS void channelMean(const Mat& frame, Mat& luminance);
+//! out[x] = the mean of the `channels` interleaved values of pixel x (constant strides, as channelRow).
+void channelMeanRow(const float* interleaved, int channels, int n, float* out);
 
 //! p[x] = min(max(p[x], 0), 1) for x in [0, n): an image in [0, 1] from a restoration that overshoots.
 void clampRowToUnit(float* p, int n);

@@ -27,6 +27,16 @@ RollingShutter halfResolutionShutter(const RollingShutter& shutter)
 
 namespace {
 
+/* Row of the frame halved from its rows 2y (`top`) and 2y + 1 of 3-channel pixels: each 2×2
+   block's mean, its four values added in cv::resize's order, so the result is INTER_AREA's to the bit. */
+DYNBLUR_SIMD_CLONES
+void halveRows(const float* __restrict top, const float* __restrict bottom, int halfWidth, float* __restrict out)
+{
+    for (int x = 0; x < halfWidth; x++)
+        for (int c = 0; c < 3; c++)
+            out[3 * x + c] = (top[6 * x + c] + top[6 * x + 3 + c] + bottom[6 * x + c] + bottom[6 * x + 3 + c]) * 0.25f;
+}
+
 /* Row y of a factor-2 linear upsampling reads rows y/2 and y/2 ∓ 1 (cv::resize's source
    coordinate is (y + 0.5) / 2 − 0.5): out = 3/4 · near + 1/4 · far, `far` clamped to the image. */
 DYNBLUR_SIMD_CLONES
@@ -74,6 +84,22 @@ void scaleToLuminanceRow(const float* __restrict blue, const float* __restrict g
 }
 
 }  // namespace
+
+void halveAndAverageChannels(const Mat& frame, Mat& halfColour, Mat& luminance)
+{
+    CV_Assert(frame.type() == CV_32FC3 && frame.cols % 2 == 0 && frame.rows % 2 == 0);
+    halfColour.create(frame.rows / 2, frame.cols / 2, CV_32FC3);
+    luminance.create(frame.size(), CV_32FC1);
+    parallel_for_(Range(0, halfColour.rows), [&](const Range& rows) {
+        for (int y = rows.start; y < rows.end; y++)
+        {
+            const float *top = frame.ptr<float>(2 * y), *bottom = frame.ptr<float>(2 * y + 1);
+            channelMeanRow(top, 3, frame.cols, luminance.ptr<float>(2 * y));
+            channelMeanRow(bottom, 3, frame.cols, luminance.ptr<float>(2 * y + 1));
+            halveRows(top, bottom, halfColour.cols, halfColour.ptr<float>(y));
+        }
+    });
+}
 
 void combineLuminanceAndHalfColour(const Mat& luminance, const Mat& halfColour, float black, Mat& restored)
 {

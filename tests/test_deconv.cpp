@@ -507,7 +507,11 @@ TEST(DeconvOperator, DisplacementAdjointEqualsTheOperatorsAdjoint)
         for (bool pad : {true, false})
         {
             SCOPED_TRACE(format("%d node columns, pad=%d", int(bank.nodeCols.size()), int(pad)));
-            const PsfBank moved = displacementBank(bank);
+            // The displacement as a bank of its own: one tap of 1 per node, at the shifts.
+            PsfBank moved = bank;
+            moved.shifts = displacementShifts(bank);
+            for (Mat& kernel : moved.kernels)
+                kernel = Mat::ones(1, 1, CV_32F);
             const std::unique_ptr<BlurOperator> blur = createBankOperator(bank, pad),
                                                 move = createBankOperator(moved, pad);
             std::vector<Mat> frames, adjoints;
@@ -519,7 +523,7 @@ TEST(DeconvOperator, DisplacementAdjointEqualsTheOperatorsAdjoint)
             }
             // The rows handed over, put together.
             Mat weight(blur->latentSize(), CV_32F, Scalar(-1));
-            displacementAdjoint(moved, blur->latentSize(), blur->origin(), frames,
+            displacementAdjoint(bank, moved.shifts, blur->latentSize(), blur->origin(), frames,
                                 [&](int row, const float* w, const float* const* a) {
                                     std::copy(w, w + weight.cols, weight.ptr<float>(row));
                                     for (size_t p = 0; p < frames.size(); p++)

@@ -425,7 +425,7 @@ void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& pa
     estimate.resize(observedPlanes.size());
     for (Mat& e : estimate)
         e.create(latentSize, CV_32F);
-    displacementAdjoint(displacementBank(bank), latentSize, op.origin(), observedPlanes,
+    displacementAdjoint(bank, displacementShifts(bank), latentSize, op.origin(), observedPlanes,
                         [&](int y, const float* weight, const float* const* moved) {
                             for (size_t c = 0; c < estimate.size(); c++)
                                 normalizedRow(moved[c], weight, float(std::max(channelMean[int(c)], 0.0)),

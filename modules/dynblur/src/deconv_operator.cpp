@@ -863,11 +863,10 @@ double bankSpotGain(const PsfBank& bank)
     return smallestPeak > 0 ? blended / smallestPeak : 1.0;
 }
 
-PsfBank displacementBank(const PsfBank& bank)
+std::vector<Point> displacementShifts(const PsfBank& bank)
 {
-    PsfBank moved = bank;
+    std::vector<Point> shifts(bank.shifts.size());
     // A tile bank holds ~10⁴ kernels: plain sums in parallel, where cv::moments took 9 ms serially.
-    const Mat delta(1, 1, CV_32F, Scalar(1));  // read-only, so every node can share it
     parallel_for_(Range(0, int(bank.kernels.size())), [&](const Range& range) {
         Mat converted;
         for (int n = range.start; n < range.end; n++)
@@ -892,11 +891,10 @@ PsfBank displacementBank(const PsfBank& bank)
             }
             const Point centre((k.cols - 1) / 2, (k.rows - 1) / 2);
             const Point centroid = mass > 0 ? Point(cvRound(sumU / mass), cvRound(sumV / mass)) : centre;
-            moved.kernels[size_t(n)] = delta;
-            moved.shifts[size_t(n)] = bank.shifts[size_t(n)] + centroid - centre;
+            shifts[size_t(n)] = bank.shifts[size_t(n)] + centroid - centre;
         }
     });
-    return moved;
+    return shifts;
 }
 
 namespace {
@@ -913,13 +911,14 @@ void addColumnWeightedRow(const float* __restrict columnWeight, const float* __r
 
 }  // namespace
 
-void displacementAdjoint(const PsfBank& moved, Size latentSize, Point origin, const std::vector<Mat>& frames,
+void displacementAdjoint(const PsfBank& bank, const std::vector<Point>& shifts, Size latentSize, Point origin,
+                         const std::vector<Mat>& frames,
                          const std::function<void(int, const float*, const float* const*)>& rowDone)
 {
-    const Size frame = moved.imageSize;
-    const int nodeCols = int(moved.nodeCols.size());
-    const std::vector<BankBlurOperator::AxisWeight> rowWeights = nodeRowWeights(moved, frame.height);
-    const std::vector<BankBlurOperator::AxisWeight> colWeights = nodeColumnWeights(moved, frame.width);
+    const Size frame = bank.imageSize;
+    const int nodeCols = int(bank.nodeCols.size());
+    const std::vector<BankBlurOperator::AxisWeight> rowWeights = nodeRowWeights(bank, frame.height);
+    const std::vector<BankBlurOperator::AxisWeight> colWeights = nodeColumnWeights(bank, frame.width);
     const std::vector<Range> colSupport = supports(colWeights, nodeCols);
     const std::vector<std::vector<float>> colWeight = supportWeights(colWeights, colSupport);
 
@@ -931,7 +930,7 @@ void displacementAdjoint(const PsfBank& moved, Size latentSize, Point origin, co
     struct Segment
     {
         int frameRow, node;
-        float weight;  // the node row's blend weight times the node's one tap
+        float weight;  // the node row's blend weight
     };
     const auto forEachSegment = [&](const auto& emit) {
         for (int y = 0; y < frame.height; y++)
@@ -943,9 +942,9 @@ void displacementAdjoint(const PsfBank& moved, Size latentSize, Point origin, co
                 for (int c = 0; c < nodeCols; c++)
                 {
                     const int node = rw.node[k] * nodeCols + c;
-                    const int row = y - moved.shifts[size_t(node)].y + origin.y;
+                    const int row = y - shifts[size_t(node)].y + origin.y;
                     if (row >= 0 && row < latentSize.height && !colSupport[size_t(c)].empty())
-                        emit(row, Segment{y, node, rw.weight[k] * moved.kernels[size_t(node)].at<float>(0, 0)});
+                        emit(row, Segment{y, node, rw.weight[k]});
                 }
             }
     };
@@ -971,7 +970,7 @@ void displacementAdjoint(const PsfBank& moved, Size latentSize, Point origin, co
                 const Segment& s = segments[size_t(i)];
                 const int c = s.node % nodeCols;
                 const Range support = colSupport[size_t(c)];
-                const int offset = origin.x - moved.shifts[size_t(s.node)].x;  // latent column − frame column
+                const int offset = origin.x - shifts[size_t(s.node)].x;  // latent column − frame column
                 const int begin = std::max(support.start, -offset);
                 const int end = std::min(support.end, width - offset);
                 if (begin >= end)

@@ -85,7 +85,8 @@ TEST(HalfColour, HalvedCameraAndShutterRecordTheHalvedFrame)
 }
 
 /* The one pass that starts the phases gives what OpenCV gives: the frame halved by cv::resize with
-   INTER_AREA, to the bit, and each pixel's channel mean. */
+   INTER_AREA, to the bit, and each pixel's channel mean; from an 8-bit frame, what its linear values
+   give. */
 TEST(HalfColour, HalvingAndChannelMeanAreResizeAndTheMean)
 {
     for (const Size size : {Size(2, 2), Size(14, 6), Size(322, 240)})
@@ -108,6 +109,14 @@ TEST(HalfColour, HalvingAndChannelMeanAreResizeAndTheMean)
                 worst = std::max(worst, double(std::abs(luminance.at<float>(y, x) - (c[0] + c[1] + c[2]) / 3)));
             }
         EXPECT_LT(worst, 1e-7) << size;
+
+        Mat frame8, decoded, halfFrom8, luminanceFrom8, halfFromDecoded, luminanceFromDecoded;
+        frame.convertTo(frame8, CV_8U, 255);
+        srgbToLinear(frame8, decoded);
+        cv::dynblur::detail::halveAndAverageChannels(frame8, halfFrom8, luminanceFrom8);
+        cv::dynblur::detail::halveAndAverageChannels(decoded, halfFromDecoded, luminanceFromDecoded);
+        EXPECT_EQ(norm(halfFrom8, halfFromDecoded, NORM_INF), 0.0) << size;
+        EXPECT_EQ(norm(luminanceFrom8, luminanceFromDecoded, NORM_INF), 0.0) << size;
     }
 }
 
@@ -126,9 +135,15 @@ TEST(HalfColour, CombinationUpsamplesAsResizeAndScalesToTheLuminance)
         const float black = 1e-3f;
 
         Mat restored;
-        cv::dynblur::detail::combineLuminanceAndHalfColour(luminance, halfColour, black, restored);
+        cv::dynblur::detail::combineLuminanceAndHalfColour(luminance, halfColour, black, CV_32F, restored);
         ASSERT_EQ(restored.type(), CV_32FC3);
         ASSERT_EQ(restored.size(), luminance.size());
+        // An 8-bit result is the linear one encoded by linearToSrgb.
+        Mat restored8, encoded;
+        cv::dynblur::detail::combineLuminanceAndHalfColour(luminance, halfColour, black, CV_8U, restored8);
+        linearToSrgb(restored, encoded, CV_8U);
+        ASSERT_EQ(restored8.type(), CV_8UC3);
+        EXPECT_EQ(norm(restored8, encoded, NORM_INF), 0.0) << halfSize;
 
         Mat upsampled;
         resize(halfColour, upsampled, luminance.size(), 0, 0, INTER_LINEAR);
@@ -240,6 +255,9 @@ TEST(HalfColour, OtherFramesAndSettingsAreUnchanged)
     half->deblur(linear, schedule, shutter, restoredLinear);
     linearToSrgb(restoredLinear, encoded, CV_8U);
     EXPECT_EQ(norm(encoded, restoredBgr, NORM_INF), 0.0);
+    Mat inPlace = bgr.clone();  // the 8-bit frame is read before the output is written
+    half->deblur(inPlace, schedule, shutter, inPlace);
+    EXPECT_EQ(norm(inPlace, restoredBgr, NORM_INF), 0.0) << "8-bit in place";
 
     // Every iteration in colour: no colour phase of its own, so the resolution does not apply.
     params.colorIterations = -1;

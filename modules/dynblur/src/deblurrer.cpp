@@ -49,17 +49,20 @@ public:
             planes.pop_back();
             merge(planes, colour);
         }
+        // The colour at half resolution decodes an 8-bit frame as it reads it.
+        const bool halfColour = method_ == DEBLUR_RICHARDSON_LUCY && colourAtHalfResolution(colour.channels());
         Mat linear = colour;
-        if (colour.depth() == CV_8U)
+        if (colour.depth() == CV_8U && !halfColour)
         {
             srgbToLinear(colour, linear_);  // kept: a fresh frame-sized buffer faults in its pages
             linear = linear_;
         }
 
         lastBank_ = generator_->generate(psfModel_, schedule, shutter, thetaRef);
-        /* A linear frame without alpha is restored straight into the output (written last, after
-           every read of the frame, so restoring in place works); others go through latent_. */
-        const bool direct = input.depth() == CV_32F && alpha.empty();
+        /* A frame without alpha is restored straight into the output (written last, after every
+           read of the frame, so restoring in place works) when it is linear, or 8-bit with the
+           colour at half resolution (encoded as it is written); others go through latent_. */
+        const bool direct = alpha.empty() && (input.depth() == CV_32F || halfColour);
         Mat latent = direct ? Mat() : latent_;
         _OutputArray target = direct ? restored : _OutputArray(latent);
         // Restoration may overshoot a little at edges; the output is an image in [0, 1].
@@ -69,9 +72,9 @@ public:
             mask_.create(input.size(), CV_8U);
             mask_.setTo(Scalar::all(255));
         }
-        else if (colourAtHalfResolution(linear.channels()))
+        else if (halfColour)
         {
-            restoreWithHalfColour(linear, schedule, shutter, thetaRef, target);
+            restoreWithHalfColour(linear, schedule, shutter, thetaRef, target, direct ? input.depth() : CV_32F);
         }
         else
         {
@@ -165,14 +168,15 @@ private:
 
     /* DEBLUR_COLOR_HALF_RESOLUTION: the colour phase on the halved frame, with a half-size
        camera's kernels; the luminance with every iteration at full resolution; then one pass that
-       upsamples the colour and scales it to the luminance. `linear` is CV_32FC3. */
-    void restoreWithHalfColour(const Mat& linear, const SwitchSchedule& schedule, const RollingShutter& shutter,
-                               double thetaRef, const _OutputArray& target)
+       upsamples the colour, scales it to the luminance and writes it in `depth` (CV_8U: sRGB).
+       `frame` is CV_32FC3 (linear) or CV_8UC3 (sRGB). */
+    void restoreWithHalfColour(const Mat& frame, const SwitchSchedule& schedule, const RollingShutter& shutter,
+                               double thetaRef, const _OutputArray& target, int depth)
     {
         const PsfBank halfBank =
             halfGenerator()->generate(psfModel_, schedule, detail::halfResolutionShutter(shutter), thetaRef);
         // Both restorations run in place (restoreVariant writes its output after its last read of the frame).
-        detail::halveAndAverageChannels(linear, halfColour_, luminance_);
+        detail::halveAndAverageChannels(frame, halfColour_, luminance_);
         RLParams colourParams = params_;
         colourParams.iterations = params_.colorIterations;  // 0: the start, the frame moved back
         colourParams.colorIterations = -1;
@@ -181,11 +185,9 @@ private:
         RLParams luminanceParams = params_;
         luminanceParams.colorIterations = -1;
         detail::restoreVariant(luminance_, lastBank_, luminanceParams, workspace_, luminance_, mask_, true);
-        // Read last: the frame may be the output (restoring in place).
-        target.create(linear.size(), CV_32FC3);
-        Mat restored = target.getMat();
-        // Below a millionth of full well a pixel's colour has no chromaticity to keep: add the change.
-        detail::combineLuminanceAndHalfColour(luminance_, halfColour_, 1e-6f, restored);
+        // Written last: the frame may be the output (restoring in place). Below a millionth of
+        // full well a pixel's colour has no chromaticity to keep: the change is added.
+        detail::combineLuminanceAndHalfColour(luminance_, halfColour_, 1e-6f, depth, target);
     }
 
     /* The generator of the half-size camera, with the settings of getPsfGenerator()'s, halved where

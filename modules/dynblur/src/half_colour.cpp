@@ -87,13 +87,33 @@ void scaleToLuminanceRow(const float* __restrict blue, const float* __restrict g
 
 void halveAndAverageChannels(const Mat& frame, Mat& halfColour, Mat& luminance)
 {
-    CV_Assert(frame.type() == CV_32FC3 && frame.cols % 2 == 0 && frame.rows % 2 == 0);
+    CV_Assert((frame.type() == CV_32FC3 || frame.type() == CV_8UC3) && frame.cols % 2 == 0 && frame.rows % 2 == 0);
     halfColour.create(frame.rows / 2, frame.cols / 2, CV_32FC3);
     luminance.create(frame.size(), CV_32FC1);
+    const bool srgb = frame.depth() == CV_8U;
+    const float* decode = detail::srgbDecodingTable();
+    const int n = 3 * frame.cols;
     parallel_for_(Range(0, halfColour.rows), [&](const Range& rows) {
+        std::vector<float> decoded(srgb ? size_t(2 * n) : 0);  // an 8-bit frame's two rows, linear
         for (int y = rows.start; y < rows.end; y++)
         {
-            const float *top = frame.ptr<float>(2 * y), *bottom = frame.ptr<float>(2 * y + 1);
+            const float *top, *bottom;
+            if (srgb)
+            {
+                const uchar *codesTop = frame.ptr<uchar>(2 * y), *codesBottom = frame.ptr<uchar>(2 * y + 1);
+                for (int x = 0; x < n; x++)
+                {
+                    decoded[size_t(x)] = decode[codesTop[x]];
+                    decoded[size_t(n + x)] = decode[codesBottom[x]];
+                }
+                top = decoded.data();
+                bottom = top + n;
+            }
+            else
+            {
+                top = frame.ptr<float>(2 * y);
+                bottom = frame.ptr<float>(2 * y + 1);
+            }
             channelMeanRow(top, 3, frame.cols, luminance.ptr<float>(2 * y));
             channelMeanRow(bottom, 3, frame.cols, luminance.ptr<float>(2 * y + 1));
             halveRows(top, bottom, halfColour.cols, halfColour.ptr<float>(y));
@@ -101,25 +121,31 @@ void halveAndAverageChannels(const Mat& frame, Mat& halfColour, Mat& luminance)
     });
 }
 
-void combineLuminanceAndHalfColour(const Mat& luminance, const Mat& halfColour, float black, Mat& restored)
+void combineLuminanceAndHalfColour(const Mat& luminance, const Mat& halfColour, float black, int depth,
+                                   const _OutputArray& restored)
 {
     CV_Assert(luminance.type() == CV_32FC1 && halfColour.type() == CV_32FC3 &&
-              luminance.size() == Size(2 * halfColour.cols, 2 * halfColour.rows));
+              luminance.size() == Size(2 * halfColour.cols, 2 * halfColour.rows) &&
+              (depth == CV_32F || depth == CV_8U));
     const int width = luminance.cols, halfWidth = halfColour.cols, halfHeight = halfColour.rows;
-    restored.create(luminance.size(), CV_32FC3);
+    restored.create(luminance.size(), CV_MAKETYPE(depth, 3));
+    Mat out = restored.getMat();
     parallel_for_(Range(0, luminance.rows), [&](const Range& rows) {
-        // Scratch: the blended half row, then the upsampled planes' rows.
-        std::vector<float> scratch(size_t(3 * halfWidth) + size_t(3 * width));
+        // Scratch: the blended half row, the upsampled planes' rows, and an 8-bit frame's linear row.
+        std::vector<float> scratch(size_t(3 * halfWidth) + size_t(3 * width) + (depth == CV_8U ? size_t(3 * width) : 0));
         float* blended = scratch.data();
         float* upsampled[3] = {blended + 3 * halfWidth, blended + 3 * halfWidth + width,
                                blended + 3 * halfWidth + 2 * width};
+        float* linearRow = upsampled[2] + width;
         for (int y = rows.start; y < rows.end; y++)
         {
             const int near = y / 2, far = std::min(std::max(y % 2 ? near + 1 : near - 1, 0), halfHeight - 1);
             blendRows(halfColour.ptr<float>(near), halfColour.ptr<float>(far), 3 * halfWidth, blended);
             upsampleRow(blended, halfWidth, upsampled);
             scaleToLuminanceRow(upsampled[0], upsampled[1], upsampled[2], luminance.ptr<float>(y), black, width,
-                                restored.ptr<float>(y));
+                                depth == CV_8U ? linearRow : out.ptr<float>(y));
+            if (depth == CV_8U)
+                encodeSrgbRow(linearRow, 3 * width, out.ptr<uchar>(y));
         }
     });
 }

@@ -24,10 +24,11 @@ even number of rows. */
 CV_EXPORTS RollingShutter halfResolutionShutter(const RollingShutter& shutter);
 
 /** @brief The two images the colour and the luminance are restored from, in one pass over the
-frame (reading it twice cost 2.6 ms of a 1280×960 frame, one pass 1.0 ms): the frame halved as
-cv::resize with INTER_AREA halves it (each 2×2 block's mean), and the mean of each pixel's channels
-at full size, the luminance.
-@param frame CV_32FC3, size W×H (both even), linear intensity.
+frame (reading it twice took 2.3–2.5 ms for a 1280×960 frame, one pass 0.6–0.7 ms): the frame
+halved as cv::resize with INTER_AREA halves it (each 2×2 block's mean), and the mean of each
+pixel's channels at full size, the luminance; an 8-bit frame is decoded as it is read, as
+srgbToLinear decodes it.
+@param frame CV_32FC3 (linear intensity) or CV_8UC3 (sRGB), size W×H (both even).
 @param halfColour output, CV_32FC3, (W/2)×(H/2).
 @param luminance output, CV_32FC1, W×H. */
 CV_EXPORTS void halveAndAverageChannels(const Mat& frame, Mat& halfColour, Mat& luminance);
@@ -37,13 +38,14 @@ resolution: the colour is upsampled as cv::resize with INTER_LINEAR does (weight
 a factor of 2, edges replicated), and each pixel's channels are scaled by the luminance over their
 mean, which keeps the colour's chromaticity and gives the pixel the luminance's detail. Where the
 mean is at or below `black` the difference is added instead. The result is clamped to [0, 1]. One
-pass over rows in parallel: the upsampled colour is never stored.
+pass over rows in parallel: the upsampled colour is never stored, nor an 8-bit result's linear values.
 @param luminance CV_32FC1, size W×H (both even), linear intensity.
 @param halfColour CV_32FC3, size (W/2)×(H/2).
 @param black mean below which a pixel takes the luminance's change as a difference, ≥ 0.
-@param restored output, CV_32FC3, W×H. */
-CV_EXPORTS void combineLuminanceAndHalfColour(const Mat& luminance, const Mat& halfColour, float black,
-                                              Mat& restored);
+@param depth CV_32F: the result in linear intensity; CV_8U: encoded as linearToSrgb encodes it.
+@param restored output, W×H, 3 channels of `depth`. */
+CV_EXPORTS void combineLuminanceAndHalfColour(const Mat& luminance, const Mat& halfColour, float black, int depth,
+                                              const _OutputArray& restored);
 
 }  // namespace detail
 }  // namespace dynblur

@@ -34,6 +34,17 @@ inline Matx33d axisRotation(const Vec3d& unitAxis, double angle)
 //! Throws cv::Exception naming the RLParams field that is out of range; `function` prefixes the message.
 void checkRLParams(const RLParams& params, const char* function);
 
+namespace detail {
+
+//! The linear intensity of each 8-bit sRGB code, 256 values (srgbToLinear's table).
+const float* srgbDecodingTable();
+
+/** out[x] = the 8-bit sRGB code of linear[x] (clamped to [0, 1], NaN as 0), 255·srgb rounded to
+nearest: linearToSrgb's rows, for passes that write an 8-bit frame straight from their own rows. */
+void encodeSrgbRow(const float* linear, int n, uchar* out);
+
+}  // namespace detail
+
 }  // namespace dynblur
 }  // namespace cv
 

@@ -179,9 +179,22 @@ struct SrgbEncoder
     }
 };
 
-/* The codes of n linear values: clamped to [0, 1] first (a NaN to 0, as std::max(0, NaN) gives
-   0). The multiply by a power of two is exact, so the bucket starts at or below the value. */
-void encodeSrgbRow(const float* __restrict linear, int n, uchar* __restrict out)
+}  // namespace
+
+const float* detail::srgbDecodingTable()
+{
+    static const std::vector<float> table = [] {
+        std::vector<float> t(256);
+        for (int i = 0; i < 256; i++)
+            t[size_t(i)] = (float)srgbToLinear1(i / 255.0);
+        return t;
+    }();
+    return table.data();
+}
+
+/* Clamped to [0, 1] first (a NaN to 0, as std::max(0, NaN) gives 0). The multiply by a power of
+   two is exact, so the bucket starts at or below the value. */
+void detail::encodeSrgbRow(const float* __restrict linear, int n, uchar* __restrict out)
 {
     const SrgbEncoder& e = SrgbEncoder::instance();
     for (int x = 0; x < n; x++)
@@ -192,8 +205,6 @@ void encodeSrgbRow(const float* __restrict linear, int n, uchar* __restrict out)
     }
 }
 
-}  // namespace
-
 void srgbToLinear(InputArray _srgb, OutputArray _linear)
 {
     Mat src = _srgb.getMat();
@@ -202,9 +213,7 @@ void srgbToLinear(InputArray _srgb, OutputArray _linear)
     const int depth = src.depth();
     if (depth == CV_8U)
     {
-        float lut[256];
-        for (int i = 0; i < 256; i++)
-            lut[i] = (float)srgbToLinear1(i / 255.0);
+        const float* lut = detail::srgbDecodingTable();
         _linear.create(src.size(), CV_MAKETYPE(CV_32F, src.channels()));
         Mat out = _linear.getMat();
         const int n = src.cols * src.channels();
@@ -242,7 +251,7 @@ void linearToSrgb(InputArray _linear, OutputArray _srgb, int depth)
         const int n = src.cols * src.channels();
         parallel_for_(Range(0, src.rows), [&](const Range& rows) {
             for (int y = rows.start; y < rows.end; y++)
-                encodeSrgbRow(single.ptr<float>(y), n, out.ptr<uchar>(y));
+                detail::encodeSrgbRow(single.ptr<float>(y), n, out.ptr<uchar>(y));
         });
         return;
     }

@@ -1332,8 +1332,44 @@ TEST(DeconvRegularisation, ObservedFrameSplitsAndMeasuresInOnePass)
     }
 }
 
-// −0 is a valid black pixel (≥ 0 holds): the damped ratio's bit-level log must take it as 0 does,
-// in the uniform and the row-variant restoration alike.
+/* The damped ratio's deviance, log-free: against b ln(b / ab) − b + ab in double, it is never above
+   it, within e²/18 + |e|³/15 relative where the damping acts (|e| ≤ 0.5 for the relative residual
+   e), 3 % up to e = 1, 25 % down to b = 0; 0 where b = ab, including two zeros. */
+TEST(DeconvRegularisation, DevianceFormAgreesWithThePoissonDeviance)
+{
+    using cv::dynblur::detail::halfPoissonDeviance;
+    for (const double ab : {1e-6, 0.03, 1.0, 40.0})
+        for (double e = -1.0; e <= 4.0; e += 1.0 / 64)
+        {
+            const double b = ab * (1 + e);
+            const double exact = b > 0 ? b * std::log(b / ab) - b + ab : ab;
+            const double form = halfPoissonDeviance(float(b), float(ab));
+            SCOPED_TRACE(cv::format("ab = %g, e = %g", ab, e));
+            EXPECT_LE(form, exact * (1 + 1e-5) + 1e-12 * ab);
+            if (std::abs(e) <= 0.5)
+            {
+                EXPECT_GE(form, exact * (1 - (e * e / 18 + std::abs(e * e * e) / 15) * 1.1) - 1e-6 * exact -
+                                    1e-12 * ab);
+            }
+            else if (e < 0)
+            {
+                EXPECT_GE(form, exact * 0.75 * (1 - 1e-6));
+            }
+            else if (e <= 1)
+            {
+                EXPECT_GE(form, exact * (1 - 0.03));
+            }
+            if (e == -1)
+            {
+                EXPECT_NEAR(form, 0.75 * ab, 1e-6 * ab);
+            }
+        }
+    EXPECT_EQ(halfPoissonDeviance(0.f, 0.f), 0.f);
+    EXPECT_EQ(halfPoissonDeviance(0.25f, 0.25f), 0.f);
+}
+
+// −0 is a valid black pixel (≥ 0 holds): the damped ratio must take it as 0 does, in the uniform
+// and the row-variant restoration alike.
 TEST(DeconvRegularisation, NegativeZeroPixelsRestoreAsZero)
 {
     cv::Mat frame(64, 48, CV_32FC3);

@@ -3,7 +3,6 @@
 #include "deconv_rl.hpp"
 #include "half_colour.hpp"
 
-
 namespace cv {
 namespace dynblur {
 

@@ -41,7 +41,8 @@ struct CV_EXPORTS_W_SIMPLE RLParams
     /** DAMPAR of MATLAB's deconvlucy @cite White1994Damped, linear intensity units, ≥ 0 (0: off): where the
         re-blurred estimate is within it of the data, the update is suppressed, so noise is not fitted.
         The Poisson deviance it is measured by is taken in its [2/1] Padé form, without a log
-        @cite Baker1996Pade: within 0.06 % of it where the relative residual is ±0.1, 2.2 % at ±0.5.
+        @cite Baker1996Pade: within 0.06 % of it where the relative residual is ±0.1, 2.2 % at ±0.5
+        (never above it).
         NaN: automatic, 3 × the noise standard deviation estimated from the blurred image
         @cite Immerkaer1996Noise (DynamicDeblurrer's default). Default 0, as in deconvlucy. */
     CV_PROP_RW double damping;

@@ -495,6 +495,34 @@ TEST(DeconvOperator, AdjointIsExactForRowBankWithLargeShifts)
     cv::dynblur::detail::setPortableGathers(false);
 }
 
+/* A row bank's normaliser, gathered only near the edges and filled in between, is the adjoint of a
+   frame of ones to the bit: float and bfloat16 gathers, this CPU's and the portable ones, both
+   boundaries, a bank of slanted kernels (safe spans that differ from row to row), one of 1-column
+   kernels, and one too narrow for the fill (the whole rows gathered). */
+TEST(DeconvOperator, RowNormaliserIsTheAdjointOfOnes)
+{
+    const PsfBank banks[] = {withSlantedKernel(unevenTaps(rowBank(Size(150, 161), 8, 120), 7), 3, Point(-4, 2)),
+                             rowBank(Size(200, 90), 5, 40), withSlantedKernel(rowBank(Size(40, 60), 3, 20), 1, Point(9, 0))};
+    for (const PsfBank& bank : banks)
+        for (bool packed : {false, true})
+            for (bool portable : {false, true})
+                for (bool pad : {true, false})
+                {
+                    SCOPED_TRACE(cv::format("%dx%d bank, %s, %s, %s", bank.imageSize.width, bank.imageSize.height,
+                                            packed ? "bfloat16" : "float", portable ? "portable" : "this CPU's",
+                                            pad ? "pad" : "zero"));
+                    cv::dynblur::detail::setPortableGathers(portable);
+                    cv::dynblur::detail::RowBankOperator rows(bank, pad, packed);
+                    Mat normaliser, scratch, ofOnes;
+                    rows.adjointOfOnes(normaliser, scratch);
+                    rows.adjoint(Mat::ones(rows.frameSize(), CV_32F), ofOnes);
+                    ASSERT_EQ(normaliser.size(), ofOnes.size());
+                    EXPECT_EQ(norm(normaliser, ofOnes, NORM_INF), 0.0);
+                    EXPECT_GT(norm(ofOnes, NORM_L1), 0.5 * double(rows.frameSize().area()));
+                }
+    cv::dynblur::detail::setPortableGathers(false);
+}
+
 /* The restoration's start, the displacement-only blur's adjoint for several planes and a plane of
    ones at once, equals that blur's operator's adjoint placed in the full blur's latent domain:
    rows and tiles, both boundaries, kernels whose centroids sit off their centres. */

@@ -75,7 +75,7 @@ public:
     /** latent = Aᵀ1, the adjoint of a frame of ones (RL's normaliser). A packed operator reads the
     ones packed as packPlane would pack them, written straight into `ones` without a float frame.
     @param ones scratch: the frame of ones (packed when gathersPackedRows()), reused when it fits. */
-    void adjointOfOnes(Mat& latent, Mat& ones);
+    virtual void adjointOfOnes(Mat& latent, Mat& ones);
 
 protected:
     //! The latent domain starts as the frame; operators with padding grow it.
@@ -90,6 +90,8 @@ protected:
     void adjointByBlocks(const Mat& frame, Mat& latent);
     //! adjointByBlocks from the packed frame (gathersPackedRows()).
     void adjointOfPacked(const Mat& packedFrame, Mat& latent);
+    //! `ones` = a frame of ones, packed as packPlane packs it when gathersPackedRows().
+    void onesFrame(Mat& ones) const;
     Size frame_, latent_;
     bool packed_;
     Point origin_;
@@ -180,6 +182,11 @@ public:
                             size_t outStep) const CV_OVERRIDE;
     void adjointPackedBlock(const Mat& packedFrame, const Range& latentRows, float* out,
                             size_t outStep) const CV_OVERRIDE;
+    /** Every row of a row bank's Aᵀ1 holds one value between the columns where all its taps read
+    inside the frame: those are filled with it, and only the columns near the edges are gathered.
+    The result is the full gather's to the bit (a tap's weight times one is exact, so every such
+    column sums the same values in the same order). */
+    void adjointOfOnes(Mat& latent, Mat& ones) CV_OVERRIDE;
 
     //! One term of a gathered row: out[x] += weight · source(row, x + col).
     struct Tap

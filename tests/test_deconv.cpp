@@ -502,7 +502,8 @@ TEST(DeconvOperator, AdjointIsExactForRowBankWithLargeShifts)
 TEST(DeconvOperator, RowNormaliserIsTheAdjointOfOnes)
 {
     const PsfBank banks[] = {withSlantedKernel(unevenTaps(rowBank(Size(150, 161), 8, 120), 7), 3, Point(-4, 2)),
-                             rowBank(Size(200, 90), 5, 40), withSlantedKernel(rowBank(Size(40, 60), 3, 20), 1, Point(9, 0))};
+                             rowBank(Size(200, 90), 5, 40),
+                             withSlantedKernel(rowBank(Size(40, 60), 3, 20), 1, Point(9, 0))};
     for (const PsfBank& bank : banks)
         for (bool packed : {false, true})
             for (bool portable : {false, true})

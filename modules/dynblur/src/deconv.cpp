@@ -276,6 +276,8 @@ namespace detail {
    of rows, so narrower strips would each transform the band's reach again. */
 constexpr int kFillStripRows = 128;
 
+namespace {
+
 /* fillFromNearest where every row is wholly valid or wholly invalid (`rowReach` -1 or INT_MAX), as
    a row-wise bank leaves a frame (the rows beyond the motion at one edge): an invalid row's nearest
    valid pixels are straight up or down in the nearest valid row, which the distance transform finds
@@ -283,8 +285,6 @@ constexpr int kFillStripRows = 128;
    took 1.1 ms of a row-wise frame-rate frame for its 71 such rows. Returns false, doing nothing,
    for any other mask, or when a row lies as far from a valid row above as below (the transform's
    choice between them is its own) or has none. */
-namespace {
-
 bool fillWholeRows(Mat& image, const std::vector<int>& rowReach)
 {
     const int height = image.rows;

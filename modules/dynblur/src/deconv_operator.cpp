@@ -176,51 +176,80 @@ struct KernelTap
     float weight;
 };
 
-/* The non-zero taps of a kernel with its shift, in (dy, dx) order: the kernel walked backwards,
-   since a read offset is the negated kernel position. */
-std::vector<KernelTap> kernelTaps(const Mat& kernel32f, Point shift)
+/* The non-zero taps of a kernel with its shift, in (dy, dx) order, written from `out` on: the
+   kernel walked backwards, since a read offset is the negated kernel position. Returns the end. */
+KernelTap* writeKernelTaps(const Mat& kernel32f, Point shift, KernelTap* out)
 {
     const int cx = (kernel32f.cols - 1) / 2, cy = (kernel32f.rows - 1) / 2;
-    std::vector<KernelTap> taps(size_t(countNonZero(kernel32f)));  // motion kernels are mostly empty
-    size_t n = 0;
     for (int v = kernel32f.rows - 1; v >= 0; v--)
     {
         const float* row = kernel32f.ptr<float>(v);
         for (int u = kernel32f.cols - 1; u >= 0; u--)
             if (row[u] != 0.f)  // skip, do not multiply by zero
-                taps[n++] = {-(shift.y + v - cy), -(shift.x + u - cx), row[u]};
+                *out++ = {-(shift.y + v - cy), -(shift.x + u - cx), row[u]};
     }
+    return out;
+}
+
+std::vector<KernelTap> kernelTaps(const Mat& kernel32f, Point shift)
+{
+    std::vector<KernelTap> taps(size_t(countNonZero(kernel32f)));  // motion kernels are mostly empty
+    writeKernelTaps(kernel32f, shift, taps.data());
     return taps;
 }
 
-/* Every node's kernel as taps (kernelTaps), nodes in parallel, and the offsets' reach (each range
-   includes 0). */
-std::vector<std::vector<KernelTap>> nodeTaps(const PsfBank& bank, int& dxMin, int& dxMax, int& dyMin, int& dyMax)
+/* Every node's kernel as taps (writeKernelTaps) in one table, node columns one after the other (a
+   tile operator merges down one node column at a time), nodes in parallel; and the offsets' reach
+   (each range includes 0). One table instead of a list per node: a tile bank's ~10⁴ lists were as
+   many allocations, and the merges down a column read them from all over the heap. */
+class NodeTaps
 {
-    std::vector<std::vector<KernelTap>> nodes(bank.kernels.size());
-    std::mutex mutex;
-    dxMin = dxMax = dyMin = dyMax = 0;
-    parallel_for_(Range(0, int(nodes.size())), [&](const Range& r) {
-        int reach[4] = {0, 0, 0, 0};  // dxMin, dxMax, dyMin, dyMax of these nodes
-        for (int n = r.start; n < r.end; n++)
-        {
-            nodes[size_t(n)] = kernelTaps(bank.kernels[size_t(n)], bank.shifts[size_t(n)]);
-            for (const KernelTap& t : nodes[size_t(n)])
+public:
+    NodeTaps(const PsfBank& bank, int& dxMin, int& dxMax, int& dyMin, int& dyMax)
+        : nodeCols_(int(bank.nodeCols.size())), nodeRows_(int(bank.nodeRows.size())),
+          start_(bank.kernels.size() + 1, 0)
+    {
+        const int nodes = int(bank.kernels.size());
+        parallel_for_(Range(0, nodes), [&](const Range& r) {
+            for (int n = r.start; n < r.end; n++)
+                start_[slot(n) + 1] = countNonZero(bank.kernels[size_t(n)]);
+        });
+        for (size_t i = 1; i < start_.size(); i++)
+            start_[i] += start_[i - 1];
+        taps_.resize(size_t(start_.back()));
+        std::mutex mutex;
+        dxMin = dxMax = dyMin = dyMax = 0;
+        parallel_for_(Range(0, nodes), [&](const Range& r) {
+            int reach[4] = {0, 0, 0, 0};  // dxMin, dxMax, dyMin, dyMax of these nodes
+            for (int n = r.start; n < r.end; n++)
             {
-                reach[0] = std::min(reach[0], t.dx);
-                reach[1] = std::max(reach[1], t.dx);
-                reach[2] = std::min(reach[2], t.dy);
-                reach[3] = std::max(reach[3], t.dy);
+                KernelTap* const first = taps_.data() + start_[slot(n)];
+                KernelTap* const last = writeKernelTaps(bank.kernels[size_t(n)], bank.shifts[size_t(n)], first);
+                for (const KernelTap* t = first; t < last; t++)
+                {
+                    reach[0] = std::min(reach[0], t->dx);
+                    reach[1] = std::max(reach[1], t->dx);
+                    reach[2] = std::min(reach[2], t->dy);
+                    reach[3] = std::max(reach[3], t->dy);
+                }
             }
-        }
-        std::lock_guard<std::mutex> lock(mutex);
-        dxMin = std::min(dxMin, reach[0]);
-        dxMax = std::max(dxMax, reach[1]);
-        dyMin = std::min(dyMin, reach[2]);
-        dyMax = std::max(dyMax, reach[3]);
-    });
-    return nodes;
-}
+            std::lock_guard<std::mutex> lock(mutex);
+            dxMin = std::min(dxMin, reach[0]);
+            dxMax = std::max(dxMax, reach[1]);
+            dyMin = std::min(dyMin, reach[2]);
+            dyMax = std::max(dyMax, reach[3]);
+        });
+    }
+    //! Node n's taps (n = node row · node columns + node column, as in the bank).
+    const KernelTap* taps(int n) const { return taps_.data() + start_[slot(n)]; }
+    size_t count(int n) const { return size_t(start_[slot(n) + 1] - start_[slot(n)]); }
+
+private:
+    size_t slot(int n) const { return size_t(n % nodeCols_) * size_t(nodeRows_) + size_t(n / nodeCols_); }
+    int nodeCols_, nodeRows_;
+    std::vector<int> start_;  // by slot
+    std::vector<KernelTap> taps_;
+};
 
 /* The latent domain: with padding, the bounding box of every pixel a tap reads (offsets in
    [dxMin, dxMax] × [dyMin, dyMax], which include 0); otherwise the frame. */
@@ -1231,7 +1260,7 @@ RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad, bool packed)
     spotGain_ = bankSpotGain(bank);
     CV_Assert(bank.nodeCols.size() == 1 && bank.kernels.size() == bank.nodeRows.size());
     int dxMin, dxMax, dyMin, dyMax;
-    const std::vector<std::vector<KernelTap>> nodes = nodeTaps(bank, dxMin, dxMax, dyMin, dyMax);
+    const NodeTaps nodes(bank, dxMin, dxMax, dyMin, dyMax);
     domain(frame_, pad, dxMin, dxMax, dyMin, dyMax, latent_, origin_);
 
     // Each frame row's kernel: its row nodes' taps, weighted and merged; reads of latent rows
@@ -1244,9 +1273,8 @@ RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad, bool packed)
         row.clear();
         const BankBlurOperator::AxisWeight& w = rowWeights[size_t(y)];
         // Both node kernels are in (dy, dx) order, so their union is a merge, not a sort.
-        const std::vector<KernelTap>& a = nodes[size_t(w.node[0])];
-        const std::vector<KernelTap>& b = nodes[size_t(w.node[1])];
-        forUnion(a.data(), w.weight[0] > 0.f ? a.size() : 0, b.data(), w.weight[1] > 0.f ? b.size() : 0,
+        forUnion(nodes.taps(w.node[0]), w.weight[0] > 0.f ? nodes.count(w.node[0]) : 0, nodes.taps(w.node[1]),
+                 w.weight[1] > 0.f ? nodes.count(w.node[1]) : 0,
                  [](const KernelTap& t) { return std::make_pair(t.dy, t.dx); },
                  [&](const KernelTap& t, float wa, float wb) {
                      const int ly = y + t.dy + origin_.y;
@@ -1528,22 +1556,21 @@ struct UnionColumn
     std::vector<int> runStart;
     std::vector<Kernel> kernels;  // per node row
 
-    UnionColumn(const std::vector<std::vector<KernelTap>>& nodes, int nodeRows, int nodeCols, int column)
+    UnionColumn(const NodeTaps& nodes, int nodeRows, int nodeCols, int column)
     {
-        static const std::vector<KernelTap> none;
         kernels.resize(size_t(nodeRows));
         size_t most = 0;  // no union is larger than its two node rows: node row j ≥ 1 is in two
         for (int j = 0; j < nodeRows; j++)
-            most += nodes[size_t(j * nodeCols + column)].size() * (j > 0 ? 2 : 1);
+            most += nodes.count(j * nodeCols + column) * (j > 0 ? 2 : 1);
         taps.reserve(most);
         runStart.reserve(most + size_t(nodeRows));
         for (int j = 0; j < nodeRows; j++)
         {
-            const std::vector<KernelTap>& a = nodes[size_t(j * nodeCols + column)];
-            const std::vector<KernelTap>& b = j + 1 < nodeRows ? nodes[size_t((j + 1) * nodeCols + column)] : none;
+            const int a = j * nodeCols + column, b = a + nodeCols;
             Kernel& k = kernels[size_t(j)];
             k.begin = int(taps.size());
-            forUnion(a.data(), a.size(), b.data(), b.size(),
+            forUnion(nodes.taps(a), nodes.count(a), j + 1 < nodeRows ? nodes.taps(b) : nullptr,
+                     j + 1 < nodeRows ? nodes.count(b) : 0,
                      [](const KernelTap& t) { return std::make_pair(t.dy, t.dx); },
                      [&](const KernelTap& t, float w0, float w1) { taps.push_back({t.dy, t.dx, {w0, w1}}); });
             k.end = int(taps.size());
@@ -1803,7 +1830,7 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
     nodeCols_ = int(bank.nodeCols.size());
     const int nodeRows = int(bank.nodeRows.size());
     int dxMin, dxMax, dyMin, dyMax;
-    const std::vector<std::vector<KernelTap>> nodes = nodeTaps(bank, dxMin, dxMax, dyMin, dyMax);
+    const NodeTaps nodes(bank, dxMin, dxMax, dyMin, dyMax);
     domain(frame_, pad, dxMin, dxMax, dyMin, dyMax, latent_, origin_);
     dxMin_ = dxMin;
     dxMax_ = dxMax;

@@ -845,6 +845,57 @@ void buildPacked(const RowBankOperator::Gather& gather, int outWidth, int source
     }
 }
 
+/* The packed adjoint transposed from the packed forward gather: a forward tap (frame pair k, latent
+   pair g, column colBase + dx) holds the 2×2 block of A between frame rows 2k + o and latent rows
+   2g + h, so Aᵀ's block between latent pair g and frame pair k is the same four weights with o and
+   h swapped, read at column adjointColBase − dx. Both gathers list a pair's taps by source pair,
+   then by column ascending: a forward block's run (dx ascending) goes in reversed. The adjoint is
+   then the packed forward's to the bit, in the time of a counting sort (transposing the float lists,
+   sorting them and packing them again, or walking a tile column's kernels again, took longer). */
+void transposePackedGather(const RowBankOperator::PackedGather& forward, int colBase, int outRows, int adjointColBase,
+                           int outWidth, int sourceWidth, RowBankOperator::PackedGather& adjoint)
+{
+    const size_t pairs = size_t((outRows + 1) / 2);
+    std::vector<int> start(pairs + 1, 0);  // each adjoint pair's first tap
+    for (const RowBankOperator::PackedTap& t : forward.taps)
+        start[size_t(t.pair) + 1]++;
+    for (size_t g = 0; g < pairs; g++)
+        start[g + 1] += start[g];
+    adjoint.taps.resize(forward.taps.size());
+    adjoint.pairs.assign(pairs, RowBankOperator::GatherRow());
+    std::vector<int> next(start.begin(), start.end() - 1);
+    std::vector<int> safeBegin(pairs, 0), safeEnd(pairs, outWidth);
+    for (int k = 0; k < int(forward.pairs.size()); k++)
+    {
+        const RowBankOperator::GatherRow& row = forward.pairs[size_t(k)];
+        for (int runEnd = row.begin; runEnd < row.end;)
+        {
+            const int runBegin = runEnd, g = forward.taps[size_t(runBegin)].pair;
+            while (runEnd < row.end && forward.taps[size_t(runEnd)].pair == g)
+                runEnd++;
+            int& at = next[size_t(g)];
+            for (int t = runEnd - 1; t >= runBegin; t--)
+            {
+                const RowBankOperator::PackedTap& f = forward.taps[size_t(t)];
+                const int col = adjointColBase - (f.col - colBase);
+                adjoint.taps[size_t(at++)] = {k, col,
+                                              {(f.weight[0] & 0xFFFFu) | (f.weight[1] << 16),
+                                               (f.weight[0] >> 16) | (f.weight[1] & 0xFFFF0000u)}};
+                safeBegin[size_t(g)] = std::max(safeBegin[size_t(g)], -col);
+                safeEnd[size_t(g)] = std::min(safeEnd[size_t(g)], sourceWidth - col);
+            }
+        }
+    }
+    for (size_t g = 0; g < pairs; g++)
+    {
+        RowBankOperator::GatherRow& row = adjoint.pairs[g];
+        row.begin = start[g];
+        row.end = start[g + 1];
+        row.safeBegin = std::min(safeBegin[g], outWidth);
+        row.safeEnd = std::max(safeEnd[g], row.safeBegin);
+    }
+}
+
 //! dst = src ⊙ weight over n packed pairs (both halves of element x times weight[x]), re-rounded.
 DYNBLUR_SIMD_CLONES
 void scalePackedRow(const uint32_t* __restrict src, const float* __restrict weight, int n, uint32_t* __restrict dst)
@@ -1288,6 +1339,13 @@ RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad, bool packed)
         safeColumns(row.data(), int(row.size()), frame_.width, latent_.width, g.safeBegin, g.safeEnd);
     }
 
+    if (packed_)
+    {
+        buildPacked(forward_, frame_.width, latent_.width, packedForward_);
+        transposePackedGather(packedForward_, 0, latent_.height, 0, latent_.width, frame_.width, packedAdjoint_);
+        forward_ = Gather();
+        return;
+    }
     // Transpose: frame pixel (x, y) reads latent (x + col, row) with weight w, so latent row `row`
     // gathers frame row y at column x − col with the same weight.
     std::vector<int> count(size_t(latent_.height) + 1, 0);
@@ -1319,24 +1377,11 @@ RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad, bool packed)
                         g.safeEnd);
         }
     });
-    // The two directions are built side by side.
+    // The two directions' pairs are built side by side.
     parallel_for_(Range(0, 2), [&](const Range& directions) {
         for (int d = directions.start; d < directions.end; d++)
-        {
-            const bool forward = d == 0;
-            Gather& gather = forward ? forward_ : adjoint_;
-            if (packed_)
-                buildPacked(gather, forward ? frame_.width : latent_.width, forward ? latent_.width : frame_.width,
-                            forward ? packedForward_ : packedAdjoint_);
-            else
-                buildPairs(gather);
-        }
+            buildPairs(d == 0 ? forward_ : adjoint_);
     });
-    if (packed_)
-    {
-        forward_ = Gather();
-        adjoint_ = Gather();
-    }
 }
 
 void RowBankOperator::forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const
@@ -1718,57 +1763,6 @@ void buildPackedColumn(const UnionColumn& column, const std::vector<BankBlurOper
     packed.taps.shrink_to_fit();
 }
 
-/* The packed adjoint of one node column, transposed from its packed forward gather: a forward tap
-   (frame pair k, latent pair g, column colBase + dx) holds the 2×2 block of A between frame rows
-   2k + o and latent rows 2g + h, so Aᵀ's block between latent pair g and frame pair k is the same
-   four weights with o and h swapped, read at column adjointColBase − dx. Both gathers list a pair's
-   taps by source pair, then by column ascending: a forward block's run (dx ascending) goes in
-   reversed. Walking the union kernels again for the adjoint (walkColumn) gave the same taps in
-   twice the time. */
-void transposePackedColumn(const RowBankOperator::PackedGather& forward, int colBase, int outRows, int adjointColBase,
-                           int outWidth, int sourceWidth, RowBankOperator::PackedGather& adjoint)
-{
-    const size_t pairs = size_t((outRows + 1) / 2);
-    std::vector<int> start(pairs + 1, 0);  // each adjoint pair's first tap
-    for (const RowBankOperator::PackedTap& t : forward.taps)
-        start[size_t(t.pair) + 1]++;
-    for (size_t g = 0; g < pairs; g++)
-        start[g + 1] += start[g];
-    adjoint.taps.resize(forward.taps.size());
-    adjoint.pairs.assign(pairs, RowBankOperator::GatherRow());
-    std::vector<int> next(start.begin(), start.end() - 1);
-    std::vector<int> safeBegin(pairs, 0), safeEnd(pairs, outWidth);
-    for (int k = 0; k < int(forward.pairs.size()); k++)
-    {
-        const RowBankOperator::GatherRow& row = forward.pairs[size_t(k)];
-        for (int runEnd = row.begin; runEnd < row.end;)
-        {
-            const int runBegin = runEnd, g = forward.taps[size_t(runBegin)].pair;
-            while (runEnd < row.end && forward.taps[size_t(runEnd)].pair == g)
-                runEnd++;
-            int& at = next[size_t(g)];
-            for (int t = runEnd - 1; t >= runBegin; t--)
-            {
-                const RowBankOperator::PackedTap& f = forward.taps[size_t(t)];
-                const int col = adjointColBase - (f.col - colBase);
-                adjoint.taps[size_t(at++)] = {k, col,
-                                              {(f.weight[0] & 0xFFFFu) | (f.weight[1] << 16),
-                                               (f.weight[0] >> 16) | (f.weight[1] & 0xFFFF0000u)}};
-                safeBegin[size_t(g)] = std::max(safeBegin[size_t(g)], -col);
-                safeEnd[size_t(g)] = std::min(safeEnd[size_t(g)], sourceWidth - col);
-            }
-        }
-    }
-    for (size_t g = 0; g < pairs; g++)
-    {
-        RowBankOperator::GatherRow& row = adjoint.pairs[g];
-        row.begin = start[g];
-        row.end = start[g + 1];
-        row.safeBegin = std::min(safeBegin[g], outWidth);
-        row.safeEnd = std::max(safeEnd[g], row.safeBegin);
-    }
-}
-
 /* The float gather of one node column: each output row's taps (walkColumn's single source rows,
    zero weights left out) and each full pair's union, as buildPairs makes it. Safe columns are the
    caller's. */
@@ -1858,7 +1852,7 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
             {
                 buildPackedColumn(column, rowWeights, false, frame_.height, latent_.height, origin_.y, origin_.x,
                                   frame_.width, latent_.width, packedForwardColumns_[size_t(i)]);
-                transposePackedColumn(packedForwardColumns_[size_t(i)], origin_.x, latent_.height, adjointColBase,
+                transposePackedGather(packedForwardColumns_[size_t(i)], origin_.x, latent_.height, adjointColBase,
                                       latent_.width, cols.size() + 2 * margin_, packedAdjointColumns_[size_t(i)]);
                 continue;
             }

@@ -221,25 +221,32 @@ public:
         dxMin = dxMax = dyMin = dyMax = 0;
         parallel_for_(Range(0, nodes), [&](const Range& r) {
             int reach[4] = {0, 0, 0, 0};  // dxMin, dxMax, dyMin, dyMax of these nodes
+            float smallest = 1;
             for (int n = r.start; n < r.end; n++)
             {
                 KernelTap* const first = taps_.data() + start_[slot(n)];
                 KernelTap* const last = writeKernelTaps(bank.kernels[size_t(n)], bank.shifts[size_t(n)], first);
+                float peak = 0;  // the kernel's largest element, zeros included
                 for (const KernelTap* t = first; t < last; t++)
                 {
                     reach[0] = std::min(reach[0], t->dx);
                     reach[1] = std::max(reach[1], t->dx);
                     reach[2] = std::min(reach[2], t->dy);
                     reach[3] = std::max(reach[3], t->dy);
+                    peak = std::max(peak, t->weight);
                 }
+                smallest = std::min(smallest, peak);
             }
             std::lock_guard<std::mutex> lock(mutex);
             dxMin = std::min(dxMin, reach[0]);
             dxMax = std::max(dxMax, reach[1]);
             dyMin = std::min(dyMin, reach[2]);
             dyMax = std::max(dyMax, reach[3]);
+            smallestPeak_ = std::min(smallestPeak_, double(smallest));
         });
     }
+    //! The smallest of the kernels' peaks (their largest elements), at most 1.
+    double smallestPeak() const { return smallestPeak_; }
     //! Node n's taps (n = node row · node columns + node column, as in the bank).
     const KernelTap* taps(int n) const { return taps_.data() + start_[slot(n)]; }
     size_t count(int n) const { return size_t(start_[slot(n) + 1] - start_[slot(n)]); }
@@ -247,6 +254,7 @@ public:
 private:
     size_t slot(int n) const { return size_t(n % nodeCols_) * size_t(nodeRows_) + size_t(n / nodeCols_); }
     int nodeCols_, nodeRows_;
+    double smallestPeak_ = 1;
     std::vector<int> start_;  // by slot
     std::vector<KernelTap> taps_;
 };
@@ -923,6 +931,17 @@ void multiplyInto(float* __restrict dst, const float* __restrict a, const float*
 
 }  // namespace
 
+namespace {
+
+//! bankSpotGain, given the smallest of the kernels' peaks.
+double spotGainOf(const PsfBank& bank, double smallestPeak)
+{
+    const double blended = double(std::min<size_t>(bank.nodeRows.size(), 2) * std::min<size_t>(bank.nodeCols.size(), 2));
+    return smallestPeak > 0 ? blended / smallestPeak : 1.0;
+}
+
+}  // namespace
+
 double bankSpotGain(const PsfBank& bank)
 {
     // A tile bank holds ~10⁴ kernels: their peaks in parallel (serially they took 3 ms).
@@ -939,8 +958,7 @@ double bankSpotGain(const PsfBank& bank)
         std::lock_guard<std::mutex> lock(mutex);
         smallestPeak = std::min(smallestPeak, smallest);
     });
-    const double blended = double(std::min<size_t>(bank.nodeRows.size(), 2) * std::min<size_t>(bank.nodeCols.size(), 2));
-    return smallestPeak > 0 ? blended / smallestPeak : 1.0;
+    return spotGainOf(bank, smallestPeak);
 }
 
 std::vector<Point> displacementShifts(const PsfBank& bank)
@@ -1315,10 +1333,10 @@ void buildPairs(RowBankOperator::Gather& gather)
 RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad, bool packed)
     : BlurOperator(bank.imageSize, packed)
 {
-    spotGain_ = bankSpotGain(bank);
     CV_Assert(bank.nodeCols.size() == 1 && bank.kernels.size() == bank.nodeRows.size());
     int dxMin, dxMax, dyMin, dyMax;
     const NodeTaps nodes(bank, dxMin, dxMax, dyMin, dyMax);
+    spotGain_ = spotGainOf(bank, nodes.smallestPeak());
     domain(frame_, pad, dxMin, dxMax, dyMin, dyMax, latent_, origin_);
 
     // Each frame row's kernel: its row nodes' taps, weighted and merged; reads of latent rows
@@ -1827,11 +1845,11 @@ void buildFloatColumn(const UnionColumn& column, const std::vector<BankBlurOpera
 TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
     : BlurOperator(bank.imageSize, packed)
 {
-    spotGain_ = bankSpotGain(bank);
     nodeCols_ = int(bank.nodeCols.size());
     const int nodeRows = int(bank.nodeRows.size());
     int dxMin, dxMax, dyMin, dyMax;
     const NodeTaps nodes(bank, dxMin, dxMax, dyMin, dyMax);
+    spotGain_ = spotGainOf(bank, nodes.smallestPeak());
     domain(frame_, pad, dxMin, dxMax, dyMin, dyMax, latent_, origin_);
     dxMin_ = dxMin;
     dxMax_ = dxMax;

@@ -1851,13 +1851,11 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
     const NodeTaps nodes(bank, dxMin, dxMax, dyMin, dyMax);
     spotGain_ = spotGainOf(bank, nodes.smallestPeak());
     domain(frame_, pad, dxMin, dxMax, dyMin, dyMax, latent_, origin_);
-    dxMin_ = dxMin;
-    dxMax_ = dxMax;
     const std::vector<BankBlurOperator::AxisWeight> rowWeights = nodeRowWeights(bank, frame_.height);
     const std::vector<BankBlurOperator::AxisWeight> colWeights = nodeColumnWeights(bank, frame_.width);
     colSupport_ = supports(colWeights, nodeCols_);
     colWeight_ = supportWeights(colWeights, colSupport_);
-    margin_ = dxMax - dxMin;
+    reach_.resize(size_t(nodeCols_));
 
     /* Each node column's taps for every frame row (forward) and every latent row (adjoint), with
        the row blend's weights applied: built once per bank, node columns in parallel. */
@@ -1872,13 +1870,20 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
         {
             const UnionColumn column(nodes, nodeRows, nodeCols_, i);
             const Range cols = colSupport_[size_t(i)];
-            const int adjointColBase = margin_ - cols.start - origin_.x;  // frame column → weighted copy's
+            Reach& reach = reach_[size_t(i)];
+            for (const UnionTap& u : column.taps)
+            {
+                reach.dxMin = std::min(reach.dxMin, u.dx);
+                reach.dxMax = std::max(reach.dxMax, u.dx);
+            }
+            const int margin = reach.margin();
+            const int adjointColBase = margin - cols.start - origin_.x;  // frame column → weighted copy's
             if (packed_)
             {
                 buildPackedColumn(column, rowWeights, false, frame_.height, latent_.height, origin_.y, origin_.x,
                                   frame_.width, latent_.width, packedForwardColumns_[size_t(i)]);
                 transposePackedGather(packedForwardColumns_[size_t(i)], origin_.x, latent_.height, adjointColBase,
-                                      latent_.width, cols.size() + 2 * margin_, packedAdjointColumns_[size_t(i)]);
+                                      latent_.width, cols.size() + 2 * margin, packedAdjointColumns_[size_t(i)]);
                 continue;
             }
             // Forward: frame row y reads latent row y + dy + origin.y at column x + dx + origin.x.
@@ -1902,8 +1907,8 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
             buildFloatColumn(column, rowWeights, true, latent_.height, frame_.height, origin_.y, adjointColBase, aw);
             for (GatherRow& g : aw.rows)
             {
-                g.safeBegin = std::max(0, cols.start + dxMin_ + origin_.x);
-                g.safeEnd = std::min(latent_.width, cols.end + dxMax_ + origin_.x);
+                g.safeBegin = std::max(0, cols.start + reach.dxMin + origin_.x);
+                g.safeEnd = std::min(latent_.width, cols.end + reach.dxMax + origin_.x);
             }
         }
     });
@@ -1924,20 +1929,32 @@ void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, si
     {
         const Range rows(start, std::min(start + kTileBlockRows, outRows.end));
         /* A column's first contribution is written, later ones added, so no pass zeroes the block
-           first. The non-empty supports of the node columns' weights, a partition of unity, tile the
-           row in order, and the adjoint's ranges widen them alike: each range starts inside the
-           columns [0, covered) that already hold a contribution and ends past them. */
+           first: [0, covered) holds a contribution. The non-empty supports of the node columns'
+           weights, a partition of unity, tile the row in order; the adjoint's ranges widen them by
+           each column's own reach, so one may start past `covered` (nothing reaches the columns
+           between: they are zeroed) or end before it. */
         int covered = 0;
+        const auto zero = [&](int from, int to) {
+            for (int y = rows.start; y < rows.end; y++)
+            {
+                float* o = out + size_t(y - outRows.start) * outStep;
+                std::fill(o + from, o + to, 0.f);
+            }
+        };
         for (int i = 0; i < nodeCols_; i++)
         {
             const Range support = colSupport_[size_t(i)];
-            // The adjoint's weights are in the source (prepareAdjoint), and its rows reach past the support.
-            const Range cols = adjoint ? Range(std::max(0, support.start + dxMin_ + origin_.x),
-                                               std::min(width, support.end + dxMax_ + origin_.x))
-                                       : support;
             if (support.empty())
-                continue;  // a node column beside the frame weights nothing (its adjoint range is not empty)
-            CV_DbgAssert(cols.start <= covered && covered <= cols.end);
+                continue;  // a node column beside the frame weights nothing
+            // The adjoint's weights are in the source (prepareAdjoint), and its rows reach past the support.
+            const Reach& reach = reach_[size_t(i)];
+            const Range cols = adjoint ? Range(std::max(0, support.start + reach.dxMin + origin_.x),
+                                               std::min(width, support.end + reach.dxMax + origin_.x))
+                                       : support;
+            if (cols.start > covered)
+                zero(covered, cols.start);
+            covered = std::max(covered, cols.start);
+            const int split = std::min(covered, cols.end);  // added below it, written from it
             gather(i, rows, cols, part.data());
             const float* cw = colWeight_[size_t(i)].data() - support.start;
             for (int y = rows.start; y < rows.end; y++)
@@ -1946,18 +1963,19 @@ void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, si
                 const float* p = part.data() + size_t(y - rows.start) * size_t(width);
                 if (adjoint)
                 {
-                    addRow(p + cols.start, covered - cols.start, o + cols.start);
-                    std::copy(p + covered, p + cols.end, o + covered);
+                    addRow(p + cols.start, split - cols.start, o + cols.start);
+                    std::copy(p + split, p + cols.end, o + split);
                 }
                 else
                 {
-                    addProductRow(cw + cols.start, p + cols.start, covered - cols.start, o + cols.start);
-                    multiplyInto(o + covered, cw + covered, p + covered, cols.end - covered);
+                    addProductRow(cw + cols.start, p + cols.start, split - cols.start, o + cols.start);
+                    multiplyInto(o + split, cw + split, p + split, cols.end - split);
                 }
             }
-            covered = cols.end;
+            covered = std::max(covered, cols.end);
         }
-        CV_DbgAssert(covered == width);
+        if (covered < width)
+            zero(covered, width);
     }
 }
 
@@ -1981,7 +1999,7 @@ void TileBankOperator::weightColumns(const Mat& source, int type, const WeightRo
 {
     weighted_.resize(size_t(nodeCols_));
     for (int i = 0; i < nodeCols_; i++)
-        weighted_[size_t(i)].create(source.rows, colSupport_[size_t(i)].size() + 2 * margin_, type);
+        weighted_[size_t(i)].create(source.rows, colSupport_[size_t(i)].size() + 2 * reach_[size_t(i)].margin(), type);
     parallel_for_(Range(0, source.rows), [&](const Range& rows) {
         for (int r = rows.start; r < rows.end; r++)
         {
@@ -1989,10 +2007,11 @@ void TileBankOperator::weightColumns(const Mat& source, int type, const WeightRo
             for (int i = 0; i < nodeCols_; i++)
             {
                 const Range cols = colSupport_[size_t(i)];
+                const int margin = reach_[size_t(i)].margin();
                 T* w = weighted_[size_t(i)].ptr<T>(r);
-                std::fill(w, w + margin_, T(0));
-                weightRow(src + cols.start, colWeight_[size_t(i)].data(), cols.size(), w + margin_);
-                std::fill(w + margin_ + cols.size(), w + cols.size() + 2 * margin_, T(0));
+                std::fill(w, w + margin, T(0));
+                weightRow(src + cols.start, colWeight_[size_t(i)].data(), cols.size(), w + margin);
+                std::fill(w + margin + cols.size(), w + cols.size() + 2 * margin, T(0));
             }
         }
     });

@@ -242,9 +242,10 @@ two node rows and of one or two node columns (nodeColumnWeights). Along a frame 
 blend is fixed, so for each node column the row's kernel is one tap list (the union of the two node
 rows' taps, mixed by the row's weights), gathered like RowBankOperator's over the columns that node
 column covers and added with the column's weight. The adjoint gathers too, from the frame weighted
-by each node column's weight, kept per node column with zero margins as wide as the kernels reach,
-so every tap reads inside and no read strays into a neighbour column's share. Both directions' tap
-lists are built once per bank.
+by each node column's weight, kept per node column with zero margins as wide as that column's own
+kernels reach, so every tap reads inside and no read strays into a neighbour column's share; it
+gathers only as far as they reach (a keystone's kernels slant more toward the frame's sides). Both
+directions' tap lists are built once per bank.
 Domains and padding as BankBlurOperator. The bank is trusted (validated by the caller). */
 class CV_EXPORTS TileBankOperator CV_FINAL : public BlurOperator
 {
@@ -278,8 +279,16 @@ private:
     template <typename T, typename WeightRow>
     void weightColumns(const Mat& source, int type, const WeightRow& weightRow);
 
+    //! A node column's column offsets (latent − frame), 0 included.
+    struct Reach
+    {
+        int dxMin = 0, dxMax = 0;
+        //! The zero columns each side of its weighted copy, so that every read of its adjoint lands inside.
+        int margin() const { return dxMax - dxMin; }
+    };
+
     int nodeCols_ = 1;
-    int dxMin_ = 0, dxMax_ = 0;  // the bank's column offsets (latent − frame)
+    std::vector<Reach> reach_;  // per node column: the adjoint writes only as far as its own kernels reach
     /* Per node column i: rows[y] of forwardColumns_[i] is frame row y's gather (safe columns
        within the column's support); rows[l] of adjointColumns_[i] latent row l's, reading the
        weighted copy of node column i. */
@@ -287,7 +296,6 @@ private:
     std::vector<PackedGather> packedForwardColumns_, packedAdjointColumns_;  // packed mode
     std::vector<Range> colSupport_;                // frame columns each node column covers
     std::vector<std::vector<float>> colWeight_;    // per node column, over its support
-    int margin_ = 0;                               // zero columns around each weighted part
     std::vector<Mat> weighted_;                    // per node column: frame × its weight, with margins (packed: packed)
 };
 

@@ -856,7 +856,10 @@ PsfBank PsfGeneratorImpl::generate(int model, const SwitchSchedule& schedule, co
        stripe's kernels share one allocation: a tile bank's ~10⁴ kernels allocated and freed one by
        one took 3 ms of a tile-wise frame. */
     parallel_for_(Range(0, n), [&](const Range& range) {
-        KernelScratch scratch;
+        /* Kept per thread: a stripe's kernels grew their buffer by doubling, copying it about twice
+           over, for every stripe of every frame. */
+        thread_local KernelScratch scratch;
+        scratch.kernels.clear();
         std::vector<Size> sizes(size_t(range.size()));
         for (int i = range.start; i < range.end; i++)
         {

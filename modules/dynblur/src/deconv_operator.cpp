@@ -1605,62 +1605,67 @@ void addProductRow(const float* __restrict weight, const float* __restrict part,
 //! Rows a tile gather computes per node column before adding them up: a block's source stays in L1/L2.
 constexpr int kTileBlockRows = 8;
 
-//! One term of the union of two node rows' kernels: frame pixel p reads latent p + (dx, dy) + origin.
-struct UnionTap
+/* One node column's kernels, read from the node table where they lie: each node row's taps in
+   (dy, dx) order and where each of its dy's taps start. A frame row's kernel blends two node rows'
+   (nodeRowWeights), and the walk reads both: merging them into union kernels first took as long
+   as the walk itself, and wrote and read back a union table of ~1.4 MB per node column. */
+class ColumnKernels
 {
-    int dy, dx;
-    float weight[2];  // of node row j and of node row j + 1
-};
-
-/* The kernels of one node column, node row j merged with node row j + 1 (the last with nothing):
-   every tap of either, sorted by (dy, dx), with a weight for each, and where each dy's taps start. */
-struct UnionColumn
-{
+public:
     struct Kernel
     {
-        int begin = 0, end = 0;  // into taps
-        int dyMin = 0, dyMax = -1;
-        int runs = 0;            // into runStart: dyMax − dyMin + 2 offsets
+        const KernelTap* taps = nullptr;
+        const int* runStart = nullptr;  // runStart[dy − dyMin] … runStart[dy − dyMin + 1]: the taps of dy
+        int dyMin = 0, dyMax = -1;      // empty: dyMin > dyMax
     };
-    std::vector<UnionTap> taps;
-    std::vector<int> runStart;
-    std::vector<Kernel> kernels;  // per node row
 
-    UnionColumn(const NodeTaps& nodes, int nodeRows, int nodeCols, int column)
+    ColumnKernels(const NodeTaps& nodes, int nodeRows, int nodeCols, int column) : kernels_(size_t(nodeRows))
     {
-        kernels.resize(size_t(nodeRows));
-        size_t most = 0;  // no union is larger than its two node rows: node row j ≥ 1 is in two
-        for (int j = 0; j < nodeRows; j++)
-            most += nodes.count(j * nodeCols + column) * (j > 0 ? 2 : 1);
-        taps.reserve(most);
-        runStart.reserve(most + size_t(nodeRows));
+        size_t runs = 0;
         for (int j = 0; j < nodeRows; j++)
         {
-            const int a = j * nodeCols + column, b = a + nodeCols;
-            Kernel& k = kernels[size_t(j)];
-            k.begin = int(taps.size());
-            forUnion(nodes.taps(a), nodes.count(a), j + 1 < nodeRows ? nodes.taps(b) : nullptr,
-                     j + 1 < nodeRows ? nodes.count(b) : 0,
-                     [](const KernelTap& t) { return std::make_pair(t.dy, t.dx); },
-                     [&](const KernelTap& t, float w0, float w1) { taps.push_back({t.dy, t.dx, {w0, w1}}); });
-            k.end = int(taps.size());
-            if (k.end == k.begin)
+            const int n = j * nodeCols + column;
+            if (nodes.count(n) > 0)
+                runs += size_t(nodes.taps(n)[nodes.count(n) - 1].dy - nodes.taps(n)[0].dy + 2);
+        }
+        runStart_.resize(runs);
+        int* run = runStart_.data();
+        for (int j = 0; j < nodeRows; j++)
+        {
+            const int n = j * nodeCols + column;
+            const KernelTap* taps = nodes.taps(n);
+            const int count = int(nodes.count(n));
+            Kernel& k = kernels_[size_t(j)];
+            k.taps = taps;
+            if (count == 0)
                 continue;
-            k.dyMin = taps[size_t(k.begin)].dy;
-            k.dyMax = taps[size_t(k.end - 1)].dy;
-            k.runs = int(runStart.size());
-            int t = k.begin;
-            for (int dy = k.dyMin; dy <= k.dyMax + 1; dy++)
+            k.dyMin = taps[0].dy;
+            k.dyMax = taps[count - 1].dy;
+            k.runStart = run;
+            for (int t = 0, dy = k.dyMin; dy <= k.dyMax + 1; dy++)
             {
-                while (t < k.end && taps[size_t(t)].dy < dy)
+                while (t < count && taps[t].dy < dy)
                     t++;
-                runStart.push_back(t);
+                *run++ = t;
+            }
+            for (int t = 0; t < count; t++)
+            {
+                dxMin = std::min(dxMin, taps[t].dx);
+                dxMax = std::max(dxMax, taps[t].dx);
             }
         }
     }
+    const Kernel& operator[](int nodeRow) const { return kernels_[size_t(nodeRow)]; }
+    bool empty() const { return dxMin > dxMax; }
+
+    int dxMin = INT_MAX, dxMax = INT_MIN;  // over every tap of the column
+
+private:
+    std::vector<Kernel> kernels_;
+    std::vector<int> runStart_;
 };
 
-/* One node column's gather, walked straight from its union kernels (building per-row float lists
+/* One node column's gather, walked straight from its node kernels (building per-row float lists
    first and merging them took most of a tile-wise frame's set-up). Output rows come in pairs
    (2k, 2k + 1; the last alone when outRows is odd), source rows in groups of `group` (1, or 2 for
    packed pairs). For each pair k, each source group g in order and each column in order,
@@ -1670,23 +1675,37 @@ struct UnionColumn
    row = r + dy + originY, column colBase + dx), the source row's in the adjoint (source row =
    r − originY − dy, column colBase − dx, read from the weighted copy). */
 template <typename Term, typename PairEnd>
-void walkColumn(const UnionColumn& column, const std::vector<BankBlurOperator::AxisWeight>& rowWeights, bool adjoint,
+void walkColumn(const ColumnKernels& column, const std::vector<BankBlurOperator::AxisWeight>& rowWeights, bool adjoint,
                 int outRows, int sourceRows, int originY, int colBase, int group, const Term& term,
                 const PairEnd& pairEnd)
 {
-    int dxMin = INT_MAX, dxMax = INT_MIN;
-    for (const UnionTap& u : column.taps)
+    //! The node kernels a frame row blends (the second only where its weight is not 0) and their rows.
+    struct RowKernel
     {
-        dxMin = std::min(dxMin, u.dx);
-        dxMax = std::max(dxMax, u.dx);
-    }
+        const ColumnKernels::Kernel* node[2];
+        float weight[2];
+        int count, dyMin, dyMax;
+    };
+    const auto rowKernel = [&](int row) {
+        const BankBlurOperator::AxisWeight& rw = rowWeights[size_t(row)];
+        RowKernel k{{&column[rw.node[0]], &column[rw.node[1]]}, {rw.weight[0], rw.weight[1]}, 1, INT_MAX, INT_MIN};
+        if (rw.node[1] != rw.node[0] && rw.weight[1] != 0.f)
+            k.count = 2;
+        for (int i = 0; i < k.count; i++)
+            if (k.node[i]->dyMin <= k.node[i]->dyMax)
+            {
+                k.dyMin = std::min(k.dyMin, k.node[i]->dyMin);
+                k.dyMax = std::max(k.dyMax, k.node[i]->dyMax);
+            }
+        return k;
+    };
     /* The source rows each output row reads: its kernel's rows, which the shifts move along the
        frame, so the whole column's span would visit mostly empty groups. */
     std::vector<int> sourceFrom(size_t(outRows), INT_MAX), sourceTo(size_t(outRows), INT_MIN);
     for (int row = 0; row < (adjoint ? sourceRows : outRows); row++)
     {
-        const UnionColumn::Kernel& kernel = column.kernels[size_t(rowWeights[size_t(row)].node[0])];
-        if (kernel.end == kernel.begin)
+        const RowKernel kernel = rowKernel(row);
+        if (kernel.dyMin > kernel.dyMax)
             continue;
         if (!adjoint)
         {
@@ -1707,13 +1726,18 @@ void walkColumn(const UnionColumn& column, const std::vector<BankBlurOperator::A
         bool used;
     };
     const Slot empty{{{0.f, 0.f}, {0.f, 0.f}}, false};
-    std::vector<Slot> slots(column.taps.empty() ? 0 : size_t(dxMax - dxMin + 1), empty);  // one per dx
+    std::vector<Slot> slots(column.empty() ? 0 : size_t(column.dxMax - column.dxMin + 1), empty);  // one per dx
     const int groups = (sourceRows + group - 1) / group;
     for (int k = 0; k < (outRows + 1) / 2; k++)
     {
         const size_t high = size_t(std::min(2 * k + 1, outRows - 1));
         const int from = std::min(sourceFrom[size_t(2 * k)], sourceFrom[high]);
         const int to = std::max(sourceTo[size_t(2 * k)], sourceTo[high]);
+        // The output rows' kernels (forward): the same for every group of the pair.
+        RowKernel outputKernel[2];
+        for (int output = 0; output < 2 && !adjoint; output++)
+            if (2 * k + output < outRows)
+                outputKernel[output] = rowKernel(2 * k + output);
         for (int g = std::max(0, from / group); g <= std::min(groups - 1, to / group); g++)  // none if no reads
         {
             int lowest = INT_MAX, highest = INT_MIN;  // the slots filled
@@ -1723,25 +1747,29 @@ void walkColumn(const UnionColumn& column, const std::vector<BankBlurOperator::A
                     const int r = 2 * k + output, source = group * g + half;
                     if (r >= outRows || source >= sourceRows)
                         continue;
-                    const BankBlurOperator::AxisWeight& rw = rowWeights[size_t(adjoint ? source : r)];
-                    const UnionColumn::Kernel& kernel = column.kernels[size_t(rw.node[0])];
+                    const RowKernel kernel = adjoint ? rowKernel(source) : outputKernel[output];
                     const int dy = adjoint ? r - originY - source : source - r - originY;
                     if (dy < kernel.dyMin || dy > kernel.dyMax)  // also when the kernel is empty
                         continue;
-                    const float a0 = rw.weight[0], a1 = rw.node[1] != rw.node[0] ? rw.weight[1] : 0.f;
-                    const int* run = &column.runStart[size_t(kernel.runs + dy - kernel.dyMin)];
-                    /* Without branches: a zero weight (a tap of the other node row, blended
-                       at 0) is written to a slot that holds 0 there, and widens the range only
-                       by slots the read-out skips. */
-                    for (int t = run[0]; t < run[1]; t++)
+                    /* Each node kernel's taps of this dy, added with its blend weight: a tap both
+                       hold gets a0·w0 + a1·w1, as a merged kernel would give it. */
+                    for (int i = 0; i < kernel.count; i++)
                     {
-                        const UnionTap& u = column.taps[size_t(t)];
-                        const float w = a0 * u.weight[0] + a1 * u.weight[1];
-                        const int index = u.dx - dxMin;
-                        slots[size_t(index)].weight[output][half] = w;
-                        slots[size_t(index)].used |= w != 0.f;
-                        lowest = std::min(lowest, index);
-                        highest = std::max(highest, index);
+                        const ColumnKernels::Kernel& node = *kernel.node[i];
+                        if (dy < node.dyMin || dy > node.dyMax)
+                            continue;
+                        const float a = kernel.weight[i];
+                        const int* run = node.runStart + (dy - node.dyMin);
+                        for (int t = run[0]; t < run[1]; t++)
+                        {
+                            const KernelTap& u = node.taps[t];
+                            const float w = a * u.weight;
+                            const int index = u.dx - column.dxMin;
+                            slots[size_t(index)].weight[output][half] += w;
+                            slots[size_t(index)].used |= w != 0.f;
+                            lowest = std::min(lowest, index);
+                            highest = std::max(highest, index);
+                        }
                     }
                 }
             // Columns ascending: dx ascending forward, descending in the adjoint.
@@ -1751,7 +1779,7 @@ void walkColumn(const UnionColumn& column, const std::vector<BankBlurOperator::A
                 Slot& slot = slots[size_t(index)];
                 if (!slot.used)
                     continue;
-                term(k, g, adjoint ? colBase - (dxMin + index) : colBase + dxMin + index, slot.weight);
+                term(k, g, adjoint ? colBase - (column.dxMin + index) : colBase + column.dxMin + index, slot.weight);
                 slot = empty;
             }
         }
@@ -1760,7 +1788,7 @@ void walkColumn(const UnionColumn& column, const std::vector<BankBlurOperator::A
 }
 
 //! The packed gather of one node column (walkColumn's pairs of source rows, weights as bfloat16).
-void buildPackedColumn(const UnionColumn& column, const std::vector<BankBlurOperator::AxisWeight>& rowWeights,
+void buildPackedColumn(const ColumnKernels& column, const std::vector<BankBlurOperator::AxisWeight>& rowWeights,
                        bool adjoint, int outRows, int sourceRows, int originY, int colBase, int outWidth,
                        int sourceWidth, RowBankOperator::PackedGather& packed)
 {
@@ -1791,17 +1819,22 @@ void buildPackedColumn(const UnionColumn& column, const std::vector<BankBlurOper
 /* The float gather of one node column: each output row's taps (walkColumn's single source rows,
    zero weights left out) and each full pair's union, as buildPairs makes it. Safe columns are the
    caller's. */
-void buildFloatColumn(const UnionColumn& column, const std::vector<BankBlurOperator::AxisWeight>& rowWeights,
+void buildFloatColumn(const ColumnKernels& column, const std::vector<BankBlurOperator::AxisWeight>& rowWeights,
                       bool adjoint, int outRows, int sourceRows, int originY, int colBase,
                       RowBankOperator::Gather& gather)
 {
-    /* Every frame row's union kernel once: no list grows past it, so they are sized once and
+    /* Every frame row's node kernels once: no list grows past them, so they are sized once and
        written in place (growing them by push_back copied and faulted in each several times). */
     size_t most = 0;
     for (int y = 0; y < (adjoint ? sourceRows : outRows); y++)
     {
-        const UnionColumn::Kernel& kernel = column.kernels[size_t(rowWeights[size_t(y)].node[0])];
-        most += size_t(kernel.end - kernel.begin);
+        const BankBlurOperator::AxisWeight& rw = rowWeights[size_t(y)];
+        for (int i = 0; i < (rw.node[1] != rw.node[0] ? 2 : 1); i++)
+        {
+            const ColumnKernels::Kernel& kernel = column[rw.node[i]];
+            if (kernel.dyMin <= kernel.dyMax)
+                most += size_t(kernel.runStart[kernel.dyMax - kernel.dyMin + 1]);
+        }
     }
     gather.rows.assign(size_t(outRows), RowBankOperator::GatherRow());
     gather.pairs.assign(size_t(outRows / 2), RowBankOperator::GatherRow());
@@ -1868,13 +1901,13 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
     parallel_for_(Range(0, nodeCols_), [&](const Range& range) {
         for (int i = range.start; i < range.end; i++)
         {
-            const UnionColumn column(nodes, nodeRows, nodeCols_, i);
+            const ColumnKernels column(nodes, nodeRows, nodeCols_, i);
             const Range cols = colSupport_[size_t(i)];
             Reach& reach = reach_[size_t(i)];
-            for (const UnionTap& u : column.taps)
+            if (!column.empty())
             {
-                reach.dxMin = std::min(reach.dxMin, u.dx);
-                reach.dxMax = std::max(reach.dxMax, u.dx);
+                reach.dxMin = std::min(0, column.dxMin);
+                reach.dxMax = std::max(0, column.dxMax);
             }
             const int margin = reach.margin();
             const int adjointColBase = margin - cols.start - origin_.x;  // frame column → weighted copy's

@@ -199,9 +199,10 @@ std::vector<KernelTap> kernelTaps(const Mat& kernel32f, Point shift)
 }
 
 /* Every node's kernel as taps (writeKernelTaps) in one table, node columns one after the other (a
-   tile operator merges down one node column at a time), nodes in parallel; and the offsets' reach
-   (each range includes 0). One table instead of a list per node: a tile bank's ~10⁴ lists were as
-   many allocations, and the merges down a column read them from all over the heap. */
+   tile operator walks down one node column at a time), nodes in parallel; the offsets' reach
+   (each range includes 0) and the kernels' smallest peak (bankSpotGain's, without a pass of its
+   own). One table instead of a list per node: a tile bank's ~10⁴ lists were as many allocations,
+   and the walk down a column read them from all over the heap. */
 class NodeTaps
 {
 public:
@@ -928,10 +929,6 @@ void multiplyInto(float* __restrict dst, const float* __restrict a, const float*
     for (int x = 0; x < n; x++)
         dst[x] = a[x] * b[x];
 }
-
-}  // namespace
-
-namespace {
 
 //! bankSpotGain, given the smallest of the kernels' peaks.
 double spotGainOf(const PsfBank& bank, double smallestPeak)

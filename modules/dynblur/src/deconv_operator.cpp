@@ -1662,6 +1662,47 @@ private:
     std::vector<int> runStart_;
 };
 
+/* The node kernels a frame row blends in one node column (the second only where its weight is not
+   0), their weights and the rows they span together. */
+struct RowKernel
+{
+    const ColumnKernels::Kernel* node[2];
+    float weight[2];
+    int count, dyMin, dyMax;  // empty: dyMin > dyMax
+
+    //! How many taps the row's node kernels hold together (at least as many as it reads).
+    size_t taps() const
+    {
+        size_t n = 0;
+        for (int i = 0; i < count; i++)
+            if (node[i]->dyMin <= node[i]->dyMax)
+                n += size_t(node[i]->runStart[node[i]->dyMax - node[i]->dyMin + 1]);
+        return n;
+    }
+};
+
+//! RowKernel of each of the first `rows` frame rows in `column`.
+std::vector<RowKernel> rowKernels(const ColumnKernels& column, const std::vector<BankBlurOperator::AxisWeight>& rowWeights,
+                                  int rows)
+{
+    std::vector<RowKernel> kernels(static_cast<size_t>(rows));
+    for (int row = 0; row < rows; row++)
+    {
+        const BankBlurOperator::AxisWeight& rw = rowWeights[size_t(row)];
+        RowKernel& k = kernels[size_t(row)];
+        k = RowKernel{{&column[rw.node[0]], &column[rw.node[1]]}, {rw.weight[0], rw.weight[1]}, 1, INT_MAX, INT_MIN};
+        if (rw.node[1] != rw.node[0] && rw.weight[1] != 0.f)
+            k.count = 2;
+        for (int i = 0; i < k.count; i++)
+            if (k.node[i]->dyMin <= k.node[i]->dyMax)
+            {
+                k.dyMin = std::min(k.dyMin, k.node[i]->dyMin);
+                k.dyMax = std::max(k.dyMax, k.node[i]->dyMax);
+            }
+    }
+    return kernels;
+}
+
 /* One node column's gather, walked straight from its node kernels (building per-row float lists
    first and merging them took most of a tile-wise frame's set-up). Output rows come in pairs
    (2k, 2k + 1; the last alone when outRows is odd), source rows in groups of `group` (1, or 2 for
@@ -1672,36 +1713,15 @@ private:
    row = r + dy + originY, column colBase + dx), the source row's in the adjoint (source row =
    r − originY − dy, column colBase − dx, read from the weighted copy). */
 template <typename Term, typename PairEnd>
-void walkColumn(const ColumnKernels& column, const std::vector<BankBlurOperator::AxisWeight>& rowWeights, bool adjoint,
-                int outRows, int sourceRows, int originY, int colBase, int group, const Term& term,
-                const PairEnd& pairEnd)
+void walkColumn(const ColumnKernels& column, const std::vector<RowKernel>& rowKernels, bool adjoint, int outRows,
+                int sourceRows, int originY, int colBase, int group, const Term& term, const PairEnd& pairEnd)
 {
-    //! The node kernels a frame row blends (the second only where its weight is not 0) and their rows.
-    struct RowKernel
-    {
-        const ColumnKernels::Kernel* node[2];
-        float weight[2];
-        int count, dyMin, dyMax;
-    };
-    const auto rowKernel = [&](int row) {
-        const BankBlurOperator::AxisWeight& rw = rowWeights[size_t(row)];
-        RowKernel k{{&column[rw.node[0]], &column[rw.node[1]]}, {rw.weight[0], rw.weight[1]}, 1, INT_MAX, INT_MIN};
-        if (rw.node[1] != rw.node[0] && rw.weight[1] != 0.f)
-            k.count = 2;
-        for (int i = 0; i < k.count; i++)
-            if (k.node[i]->dyMin <= k.node[i]->dyMax)
-            {
-                k.dyMin = std::min(k.dyMin, k.node[i]->dyMin);
-                k.dyMax = std::max(k.dyMax, k.node[i]->dyMax);
-            }
-        return k;
-    };
     /* The source rows each output row reads: its kernel's rows, which the shifts move along the
        frame, so the whole column's span would visit mostly empty groups. */
     std::vector<int> sourceFrom(size_t(outRows), INT_MAX), sourceTo(size_t(outRows), INT_MIN);
     for (int row = 0; row < (adjoint ? sourceRows : outRows); row++)
     {
-        const RowKernel kernel = rowKernel(row);
+        const RowKernel& kernel = rowKernels[size_t(row)];
         if (kernel.dyMin > kernel.dyMax)
             continue;
         if (!adjoint)
@@ -1730,11 +1750,6 @@ void walkColumn(const ColumnKernels& column, const std::vector<BankBlurOperator:
         const size_t high = size_t(std::min(2 * k + 1, outRows - 1));
         const int from = std::min(sourceFrom[size_t(2 * k)], sourceFrom[high]);
         const int to = std::max(sourceTo[size_t(2 * k)], sourceTo[high]);
-        // The output rows' kernels (forward): the same for every group of the pair.
-        RowKernel outputKernel[2];
-        for (int output = 0; output < 2 && !adjoint; output++)
-            if (2 * k + output < outRows)
-                outputKernel[output] = rowKernel(2 * k + output);
         for (int g = std::max(0, from / group); g <= std::min(groups - 1, to / group); g++)  // none if no reads
         {
             int lowest = INT_MAX, highest = INT_MIN;  // the slots filled
@@ -1744,7 +1759,7 @@ void walkColumn(const ColumnKernels& column, const std::vector<BankBlurOperator:
                     const int r = 2 * k + output, source = group * g + half;
                     if (r >= outRows || source >= sourceRows)
                         continue;
-                    const RowKernel kernel = adjoint ? rowKernel(source) : outputKernel[output];
+                    const RowKernel& kernel = rowKernels[size_t(adjoint ? source : r)];
                     const int dy = adjoint ? r - originY - source : source - r - originY;
                     if (dy < kernel.dyMin || dy > kernel.dyMax)  // also when the kernel is empty
                         continue;
@@ -1793,7 +1808,8 @@ void buildPackedColumn(const ColumnKernels& column, const std::vector<BankBlurOp
     packed.taps.clear();
     int begin = 0, safeBegin = 0, safeEnd = outWidth;
     walkColumn(
-        column, rowWeights, adjoint, outRows, sourceRows, originY, colBase, 2,
+        column, rowKernels(column, rowWeights, adjoint ? sourceRows : outRows), adjoint, outRows, sourceRows, originY,
+        colBase, 2,
         [&](int, int pair, int col, const float(&weight)[2][2]) {
             packed.taps.push_back({pair, col, {0u, 0u}});
             for (int o = 0; o < 2; o++)
@@ -1822,17 +1838,10 @@ void buildFloatColumn(const ColumnKernels& column, const std::vector<BankBlurOpe
 {
     /* Every frame row's node kernels once: no list grows past them, so they are sized once and
        written in place (growing them by push_back copied and faulted in each several times). */
+    const std::vector<RowKernel> kernels = rowKernels(column, rowWeights, adjoint ? sourceRows : outRows);
     size_t most = 0;
-    for (int y = 0; y < (adjoint ? sourceRows : outRows); y++)
-    {
-        const BankBlurOperator::AxisWeight& rw = rowWeights[size_t(y)];
-        for (int i = 0; i < (rw.node[1] != rw.node[0] ? 2 : 1); i++)
-        {
-            const ColumnKernels::Kernel& kernel = column[rw.node[i]];
-            if (kernel.dyMin <= kernel.dyMax)
-                most += size_t(kernel.runStart[kernel.dyMax - kernel.dyMin + 1]);
-        }
-    }
+    for (const RowKernel& kernel : kernels)
+        most += kernel.taps();
     gather.rows.assign(size_t(outRows), RowBankOperator::GatherRow());
     gather.pairs.assign(size_t(outRows / 2), RowBankOperator::GatherRow());
     gather.taps.resize(most);
@@ -1840,7 +1849,7 @@ void buildFloatColumn(const ColumnKernels& column, const std::vector<BankBlurOpe
     std::vector<RowBankOperator::Tap> second;  // the pair's second row, appended after the first's
     int taps = 0, pairTaps = 0;
     walkColumn(
-        column, rowWeights, adjoint, outRows, sourceRows, originY, colBase, 1,
+        column, kernels, adjoint, outRows, sourceRows, originY, colBase, 1,
         [&](int k, int row, int col, const float(&weight)[2][2]) {
             if (weight[0][0] != 0.f)
                 gather.taps[size_t(taps++)] = {row, col, weight[0][0]};

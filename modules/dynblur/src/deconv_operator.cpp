@@ -169,6 +169,47 @@ void forUnion(const TapT* a, size_t countA, const TapT* b, size_t countB, Key ke
     }
 }
 
+/* A gather's tap array and its rows (or row pairs) [0, count), built in parallel: build(i, taps)
+   appends row i's taps to `taps` and returns its GatherRow with begin and end indexing `taps`.
+   Each part of the rows fills an array of its own, joined in row order afterwards, so the result
+   is the serial build's. A frame-rate row bank's forward list took 1.1 ms on one core. */
+template <typename T, typename Build>
+void buildGatherRows(int count, std::vector<T>& taps, std::vector<RowBankOperator::GatherRow>& rows,
+                     const Build& build)
+{
+    rows.resize(size_t(count));
+    const int parts = std::max(1, std::min(count, 4 * getNumThreads()));
+    std::vector<std::vector<T>> partTaps(static_cast<size_t>(parts));
+    const auto partRows = [&](int part) {
+        return Range(int(int64_t(count) * part / parts), int(int64_t(count) * (part + 1) / parts));
+    };
+    parallel_for_(Range(0, parts), [&](const Range& range) {
+        for (int part = range.start; part < range.end; part++)
+        {
+            const Range r = partRows(part);
+            for (int i = r.start; i < r.end; i++)
+                rows[size_t(i)] = build(i, partTaps[size_t(part)]);
+        }
+    });
+    std::vector<size_t> offset(size_t(parts) + 1, 0);
+    for (int part = 0; part < parts; part++)
+        offset[size_t(part) + 1] = offset[size_t(part)] + partTaps[size_t(part)].size();
+    taps.resize(offset.back());
+    parallel_for_(Range(0, parts), [&](const Range& range) {
+        for (int part = range.start; part < range.end; part++)
+        {
+            const std::vector<T>& own = partTaps[size_t(part)];
+            std::copy(own.begin(), own.end(), taps.begin() + ptrdiff_t(offset[size_t(part)]));
+            const Range r = partRows(part);
+            for (int i = r.start; i < r.end; i++)
+            {
+                rows[size_t(i)].begin += int(offset[size_t(part)]);
+                rows[size_t(i)].end += int(offset[size_t(part)]);
+            }
+        }
+    });
+}
+
 //! One non-zero kernel element as a read offset: frame pixel p reads latent p + (dx, dy).
 struct KernelTap
 {
@@ -805,11 +846,8 @@ void buildPacked(const RowBankOperator::Gather& gather, int outWidth, int source
     typedef RowBankOperator::Tap Tap;
     typedef RowBankOperator::PairTap PairTap;
     const int rows = int(gather.rows.size());
-    packed.pairs.assign(size_t((rows + 1) / 2), RowBankOperator::GatherRow());
-    packed.taps.clear();
-    std::vector<PairTap> merged;
-    for (int k = 0; k < int(packed.pairs.size()); k++)
-    {
+    buildGatherRows((rows + 1) / 2, packed.taps, packed.pairs, [&](int k, std::vector<RowBankOperator::PackedTap>& taps) {
+        thread_local std::vector<PairTap> merged;
         const RowBankOperator::GatherRow& first = gather.rows[size_t(2 * k)];
         const RowBankOperator::GatherRow* second = 2 * k + 1 < rows ? &gather.rows[size_t(2 * k + 1)] : nullptr;
         merged.clear();
@@ -817,8 +855,8 @@ void buildPacked(const RowBankOperator::Gather& gather, int outWidth, int source
                  second ? gather.taps.data() + second->begin : nullptr, second ? size_t(second->end - second->begin) : 0,
                  [](const Tap& t) { return std::make_pair(t.row, t.col); },
                  [&](const Tap& t, float w0, float w1) { merged.push_back({t.row, t.col, {w0, w1}}); });
-        RowBankOperator::GatherRow& g = packed.pairs[size_t(k)];
-        g.begin = int(packed.taps.size());
+        RowBankOperator::GatherRow g;
+        g.begin = int(taps.size());
         g.safeBegin = 0;
         g.safeEnd = outWidth;
         for (size_t i = 0; i < merged.size();)
@@ -840,7 +878,7 @@ void buildPacked(const RowBankOperator::Gather& gather, int outWidth, int source
                 for (int o = 0; o < 2; o++)
                     term.weight[o] = (takeEven ? roundToBfloat16(merged[p].weight[o]) : 0u) |
                                      (takeOdd ? roundToBfloat16(merged[q].weight[o]) << 16 : 0u);
-                packed.taps.push_back(term);
+                taps.push_back(term);
                 g.safeBegin = std::max(g.safeBegin, -col);
                 g.safeEnd = std::min(g.safeEnd, sourceWidth - col);
                 p += takeEven;
@@ -848,10 +886,11 @@ void buildPacked(const RowBankOperator::Gather& gather, int outWidth, int source
             }
             i = odd;
         }
-        g.end = int(packed.taps.size());
+        g.end = int(taps.size());
         g.safeBegin = std::min(g.safeBegin, outWidth);
         g.safeEnd = std::max(g.safeEnd, g.safeBegin);
-    }
+        return g;
+    });
 }
 
 /* The packed adjoint transposed from the packed forward gather: a forward tap (frame pair k, latent
@@ -1339,11 +1378,9 @@ RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad, bool packed)
     // Each frame row's kernel: its row nodes' taps, weighted and merged; reads of latent rows
     // outside the domain (possible without padding) read zero and are dropped.
     const std::vector<BankBlurOperator::AxisWeight> rowWeights = nodeRowWeights(bank, frame_.height);
-    forward_.rows.resize(size_t(frame_.height));
-    std::vector<Tap> row;
-    for (int y = 0; y < frame_.height; y++)
-    {
-        row.clear();
+    buildGatherRows(frame_.height, forward_.taps, forward_.rows, [&](int y, std::vector<Tap>& taps) {
+        GatherRow g;
+        g.begin = int(taps.size());
         const BankBlurOperator::AxisWeight& w = rowWeights[size_t(y)];
         // Both node kernels are in (dy, dx) order, so their union is a merge, not a sort.
         forUnion(nodes.taps(w.node[0]), w.weight[0] > 0.f ? nodes.count(w.node[0]) : 0, nodes.taps(w.node[1]),
@@ -1352,14 +1389,12 @@ RowBankOperator::RowBankOperator(const PsfBank& bank, bool pad, bool packed)
                  [&](const KernelTap& t, float wa, float wb) {
                      const int ly = y + t.dy + origin_.y;
                      if (ly >= 0 && ly < latent_.height)
-                         row.push_back({ly, t.dx + origin_.x, w.weight[0] * wa + w.weight[1] * wb});
+                         taps.push_back({ly, t.dx + origin_.x, w.weight[0] * wa + w.weight[1] * wb});
                  });
-        GatherRow& g = forward_.rows[size_t(y)];
-        g.begin = int(forward_.taps.size());
-        forward_.taps.insert(forward_.taps.end(), row.begin(), row.end());
-        g.end = int(forward_.taps.size());
-        safeColumns(row.data(), int(row.size()), frame_.width, latent_.width, g.safeBegin, g.safeEnd);
-    }
+        g.end = int(taps.size());
+        safeColumns(taps.data() + g.begin, g.end - g.begin, frame_.width, latent_.width, g.safeBegin, g.safeEnd);
+        return g;
+    });
 
     if (packed_)
     {

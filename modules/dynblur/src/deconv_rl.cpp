@@ -400,19 +400,29 @@ float projectionBound(const BlurOperator& op, const ImageLevel& level)
 }
 
 /* Aᵀ1 as the update reads it: its plane (empty: 1 everywhere) and, for each latent row that holds
-   one value, that value (NaN where the row varies), found once for both phases of a restoration. */
+   one value, that value (NaN where the row varies), found once for both phases of a restoration;
+   and the rows no frame pixel sees (every normaliser ≤ kUnobserved). A padded domain's first and
+   last rows often are (the bounding box of every kernel's reach, where the kernels near the
+   frame's top and bottom reach less): 185 of the frame-rate frame's 1077 latent rows. */
 struct RowNormalizer
 {
-    RowNormalizer(const Mat& normalizer, int rows) : plane(normalizer), constant(size_t(rows), 1.f)
+    RowNormalizer(const Mat& normalizer, int rows)
+        : plane(normalizer), constant(size_t(rows), 1.f), unseen(size_t(rows), 0)
     {
         if (!plane.empty())
             parallel_for_(Range(0, rows), [&](const Range& range) {
                 for (int r = range.start; r < range.end; r++)
-                    constant[size_t(r)] = constantValue(plane.ptr<float>(r), plane.cols);
+                {
+                    const float* p = plane.ptr<float>(r);
+                    constant[size_t(r)] = constantValue(p, plane.cols);
+                    // A seen row is left at its first seen pixel.
+                    unseen[size_t(r)] = std::none_of(p, p + plane.cols, [](float v) { return v > kUnobserved; });
+                }
             });
     }
     const Mat& plane;
     std::vector<float> constant;
+    std::vector<uchar> unseen;
 };
 
 /* RL over every plane for params.iterations (colorIterations ignored): `observed` holds the frame's
@@ -494,14 +504,25 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                 packRowPair(plane.ptr<float>(r), r + 1 < latentSize.height ? plane.ptr<float>(r + 1) : nullptr, 0.f,
                             latentSize.width, packedY.ptr<uint32_t>(r / 2));
             };
+            /* Rows that no frame pixel sees keep their start: from the second iteration on, both
+               planes hold it, and their extrapolation, packing (packedY holds them from the first
+               two iterations), adjoint and update are skipped. */
+            const auto unseen = [&](const Range& rows) {
+                return iteration > 0 && std::all_of(rowNormalizer.unseen.begin() + rows.start,
+                                                    rowNormalizer.unseen.begin() + rows.end,
+                                                    [](uchar u) { return u != 0; });
+            };
+            // Rows r and r + 1 (r even, the second only where the plane has it).
+            const auto pairOf = [&](int r) { return Range(r, std::min(r + 2, latentSize.height)); };
             if (alpha > 0)
             {
                 const float a = float(alpha);
                 forBands(latentSize.height, bands, [&](int, const Range& rows) {
                     for (int r = rows.start; r < rows.end; r++)
                     {
-                        extrapolateRow(x.ptr<float>(r), a, latentSize.width, next.ptr<float>(r));
-                        if (packed && (r % 2 == 1 || r + 1 == rows.end))
+                        if (!unseen(Range(r, r + 1)))
+                            extrapolateRow(x.ptr<float>(r), a, latentSize.width, next.ptr<float>(r));
+                        if (packed && (r % 2 == 1 || r + 1 == rows.end) && !unseen(pairOf(r & ~1)))
                             packPair(next, r & ~1);
                     }
                 });
@@ -587,20 +608,33 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                 {
                     const RowTv* rowTv = tv ? tvWalk.next(r) : nullptr;
                     const int inBlock = (r - rows.start) % kBlockRows;
-                    if (packed && inBlock == 0)
-                        op.adjointPackedBlock(ws.packedRatio, Range(r, std::min(r + kBlockRows, rows.end)),
-                                              correctionBlock.data(), size_t(width));
-                    else if (fused && inBlock == 0)
-                        op.adjointBlock(ratio, Range(r, std::min(r + kBlockRows, rows.end)), correctionBlock.data(),
-                                        size_t(width));
+                    const Range block(r, std::min(r + kBlockRows, rows.end));
+                    if (inBlock == 0 && !unseen(block))
+                    {
+                        if (packed)
+                            op.adjointPackedBlock(ws.packedRatio, block, correctionBlock.data(), size_t(width));
+                        else if (fused)
+                            op.adjointBlock(ratio, block, correctionBlock.data(), size_t(width));
+                    }
                     const float* cp = fused || packed ? correctionBlock.data() + size_t(inBlock) * size_t(width)
                                             : correction.ptr<float>(r);
                     // `next` may be y itself: no later row reads row r of y (its ny is carried).
                     float* out = next.ptr<float>(r);
                     const float constant = rowNormalizer.constant[size_t(r)];
-                    updateRow(y.ptr<float>(r), cp, packed, std::isnan(constant) ? normalizer.ptr<float>(r) : nullptr,
-                              constant, rowTv, tvWeight, upper, width, out,
-                              accelerate ? step.ptr<uint16_t>(r) : nullptr, scale, s);
+                    // An unseen row's step stays 0; TV's row below, where it is seen, still takes its ny.
+                    if (unseen(Range(r, r + 1)))
+                    {
+                        if (rowTv && r + 1 < rows.end && !rowNormalizer.unseen[size_t(r + 1)])
+                        {
+                            UpdateSums unused;
+                            updateRow(y.ptr<float>(r), nullptr, false, nullptr, 0.f, rowTv, 0.f, 0.f, width, nullptr,
+                                      nullptr, 1.f, unused);
+                        }
+                    }
+                    else
+                        updateRow(y.ptr<float>(r), cp, packed,
+                                  std::isnan(constant) ? normalizer.ptr<float>(r) : nullptr, constant, rowTv, tvWeight,
+                                  upper, width, out, accelerate ? step.ptr<uint16_t>(r) : nullptr, scale, s);
                     if (packedReady && (r % 2 == 1 || r + 1 == rows.end))
                         packPair(next, r & ~1);
                     if (measure)

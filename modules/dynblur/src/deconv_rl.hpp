@@ -79,9 +79,9 @@ before its change.
 @param change out: the luminance phase's change, which `estimate` has not taken yet (its
 `restored` is empty when no luminance phase ran).
 @return the iterations run (the most any plane ran). */
-int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const ObservedFrame& observed, const Mat& normalizer,
-                          const RLParams& params, std::vector<Mat>& estimate, RLWorkspace& workspace,
-                          LuminanceChange& change);
+CV_EXPORTS int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const ObservedFrame& observed,
+                                     const Mat& normalizer, const RLParams& params, std::vector<Mat>& estimate,
+                                     RLWorkspace& workspace, LuminanceChange& change);
 
 /** @brief richardsonLucyVariant in a workspace, without its argument checks (the caller has made
 them): the frame-rate path of DynamicDeblurrer.

@@ -846,7 +846,8 @@ void buildPacked(const RowBankOperator::Gather& gather, int outWidth, int source
     typedef RowBankOperator::Tap Tap;
     typedef RowBankOperator::PairTap PairTap;
     const int rows = int(gather.rows.size());
-    buildGatherRows((rows + 1) / 2, packed.taps, packed.pairs, [&](int k, std::vector<RowBankOperator::PackedTap>& taps) {
+    typedef RowBankOperator::PackedTap PackedTap;
+    buildGatherRows((rows + 1) / 2, packed.taps, packed.pairs, [&](int k, std::vector<PackedTap>& taps) {
         thread_local std::vector<PairTap> merged;
         const RowBankOperator::GatherRow& first = gather.rows[size_t(2 * k)];
         const RowBankOperator::GatherRow* second = 2 * k + 1 < rows ? &gather.rows[size_t(2 * k + 1)] : nullptr;
@@ -874,7 +875,7 @@ void buildPacked(const RowBankOperator::Gather& gather, int outWidth, int source
                 const bool takeEven = p < even && (q == odd || merged[p].col <= merged[q].col);
                 const bool takeOdd = q < odd && (p == even || merged[q].col <= merged[p].col);
                 const int col = takeEven ? merged[p].col : merged[q].col;
-                RowBankOperator::PackedTap term{pair, col, {0u, 0u}};
+                PackedTap term{pair, col, {0u, 0u}};
                 for (int o = 0; o < 2; o++)
                     term.weight[o] = (takeEven ? roundToBfloat16(merged[p].weight[o]) : 0u) |
                                      (takeOdd ? roundToBfloat16(merged[q].weight[o]) << 16 : 0u);
@@ -1775,9 +1776,16 @@ void walkColumn(const ColumnKernels& column, const std::vector<RowKernel>& rowKe
     struct Slot
     {
         float weight[2][2];
-        bool used;
+        /* Whether a term holds a weight, taken when the slot is emitted: a flag set at every tap
+           (w != 0) cost a compare and a spilled flag per tap, a tenth of the tile operator's
+           build. A bank's weights are ≥ 0, so the sum is 0 only where every term was; where a
+           user's negative weights cancel, the tap left out weighed nothing. */
+        bool used() const
+        {
+            return weight[0][0] != 0.f || weight[0][1] != 0.f || weight[1][0] != 0.f || weight[1][1] != 0.f;
+        }
     };
-    const Slot empty{{{0.f, 0.f}, {0.f, 0.f}}, false};
+    const Slot empty{{{0.f, 0.f}, {0.f, 0.f}}};
     std::vector<Slot> slots(column.empty() ? 0 : size_t(column.dxMax - column.dxMin + 1), empty);  // one per dx
     const int groups = (sourceRows + group - 1) / group;
     for (int k = 0; k < (outRows + 1) / 2; k++)
@@ -1813,7 +1821,6 @@ void walkColumn(const ColumnKernels& column, const std::vector<RowKernel>& rowKe
                             const float w = a * u.weight;
                             const int index = u.dx - column.dxMin;
                             slots[size_t(index)].weight[output][half] += w;
-                            slots[size_t(index)].used |= w != 0.f;
                             lowest = std::min(lowest, index);
                             highest = std::max(highest, index);
                         }
@@ -1824,7 +1831,7 @@ void walkColumn(const ColumnKernels& column, const std::vector<RowKernel>& rowKe
             {
                 const int index = adjoint ? highest - i : lowest + i;
                 Slot& slot = slots[size_t(index)];
-                if (!slot.used)
+                if (!slot.used())
                     continue;
                 term(k, g, adjoint ? colBase - (column.dxMin + index) : colBase + column.dxMin + index, slot.weight);
                 slot = empty;
@@ -1840,11 +1847,16 @@ void buildPackedColumn(const ColumnKernels& column, const std::vector<BankBlurOp
                        int sourceWidth, RowBankOperator::PackedGather& packed)
 {
     packed.pairs.assign(size_t((outRows + 1) / 2), RowBankOperator::GatherRow());
+    // Room reserved once, as buildFloatColumn sizes its lists: each packed tap takes a node tap of its rows.
+    const std::vector<RowKernel> kernels = rowKernels(column, rowWeights, adjoint ? sourceRows : outRows);
+    size_t most = 0;
+    for (const RowKernel& kernel : kernels)
+        most += kernel.taps();
     packed.taps.clear();
+    packed.taps.reserve(most);
     int begin = 0, safeBegin = 0, safeEnd = outWidth;
     walkColumn(
-        column, rowKernels(column, rowWeights, adjoint ? sourceRows : outRows), adjoint, outRows, sourceRows, originY,
-        colBase, 2,
+        column, kernels, adjoint, outRows, sourceRows, originY, colBase, 2,
         [&](int, int pair, int col, const float(&weight)[2][2]) {
             packed.taps.push_back({pair, col, {0u, 0u}});
             for (int o = 0; o < 2; o++)

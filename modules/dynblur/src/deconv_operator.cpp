@@ -258,7 +258,8 @@ public:
         });
         for (size_t i = 1; i < start_.size(); i++)
             start_[i] += start_[i - 1];
-        taps_.resize(size_t(start_.back()));
+        // Left uninitialised (every tap is written below): zeroing a tile bank's 12 MB first took 0.5 ms on one core.
+        taps_.reset(new KernelTap[size_t(start_.back())]);
         std::mutex mutex;
         dxMin = dxMax = dyMin = dyMax = 0;
         parallel_for_(Range(0, nodes), [&](const Range& r) {
@@ -266,7 +267,7 @@ public:
             float smallest = 1;
             for (int n = r.start; n < r.end; n++)
             {
-                KernelTap* const first = taps_.data() + start_[slot(n)];
+                KernelTap* const first = taps_.get() + start_[slot(n)];
                 KernelTap* const last = writeKernelTaps(bank.kernels[size_t(n)], bank.shifts[size_t(n)], first);
                 float peak = 0;  // the kernel's largest element, zeros included
                 for (const KernelTap* t = first; t < last; t++)
@@ -290,7 +291,7 @@ public:
     //! The smallest of the kernels' peaks (their largest elements), at most 1.
     double smallestPeak() const { return smallestPeak_; }
     //! Node n's taps (n = node row · node columns + node column, as in the bank).
-    const KernelTap* taps(int n) const { return taps_.data() + start_[slot(n)]; }
+    const KernelTap* taps(int n) const { return taps_.get() + start_[slot(n)]; }
     size_t count(int n) const { return size_t(start_[slot(n) + 1] - start_[slot(n)]); }
 
 private:
@@ -298,7 +299,7 @@ private:
     int nodeCols_, nodeRows_;
     double smallestPeak_ = 1;
     std::vector<int> start_;  // by slot
-    std::vector<KernelTap> taps_;
+    std::unique_ptr<KernelTap[]> taps_;
 };
 
 /* The latent domain: with padding, the bounding box of every pixel a tap reads (offsets in

@@ -1719,8 +1719,8 @@ struct RowKernel
 };
 
 //! RowKernel of each of the first `rows` frame rows in `column`.
-std::vector<RowKernel> rowKernels(const ColumnKernels& column, const std::vector<BankBlurOperator::AxisWeight>& rowWeights,
-                                  int rows)
+std::vector<RowKernel> rowKernels(const ColumnKernels& column,
+                                  const std::vector<BankBlurOperator::AxisWeight>& rowWeights, int rows)
 {
     std::vector<RowKernel> kernels(static_cast<size_t>(rows));
     for (int row = 0; row < rows; row++)
@@ -1738,6 +1738,15 @@ std::vector<RowKernel> rowKernels(const ColumnKernels& column, const std::vector
             }
     }
     return kernels;
+}
+
+//! How many taps the rows' node kernels hold together: no list built from them grows past it.
+size_t totalTaps(const std::vector<RowKernel>& kernels)
+{
+    size_t most = 0;
+    for (const RowKernel& kernel : kernels)
+        most += kernel.taps();
+    return most;
 }
 
 /* One node column's gather, walked straight from its node kernels (building per-row float lists
@@ -1842,22 +1851,19 @@ void walkColumn(const ColumnKernels& column, const std::vector<RowKernel>& rowKe
     }
 }
 
-//! The packed gather of one node column (walkColumn's pairs of source rows, weights as bfloat16).
-void buildPackedColumn(const ColumnKernels& column, const std::vector<BankBlurOperator::AxisWeight>& rowWeights,
-                       bool adjoint, int outRows, int sourceRows, int originY, int colBase, int outWidth,
-                       int sourceWidth, RowBankOperator::PackedGather& packed)
+/* The packed forward gather of one node column (walkColumn's pairs of source rows, weights as
+   bfloat16; the adjoint is its transpose, transposePackedGather). `kernels`: rowKernels of every
+   frame row. */
+void buildPackedColumn(const ColumnKernels& column, const std::vector<RowKernel>& kernels, int outRows,
+                       int sourceRows, int originY, int colBase, int outWidth, int sourceWidth,
+                       RowBankOperator::PackedGather& packed)
 {
     packed.pairs.assign(size_t((outRows + 1) / 2), RowBankOperator::GatherRow());
-    // Room reserved once, as buildFloatColumn sizes its lists: each packed tap takes a node tap of its rows.
-    const std::vector<RowKernel> kernels = rowKernels(column, rowWeights, adjoint ? sourceRows : outRows);
-    size_t most = 0;
-    for (const RowKernel& kernel : kernels)
-        most += kernel.taps();
     packed.taps.clear();
-    packed.taps.reserve(most);
+    packed.taps.reserve(totalTaps(kernels));  // room once, instead of growing
     int begin = 0, safeBegin = 0, safeEnd = outWidth;
     walkColumn(
-        column, kernels, adjoint, outRows, sourceRows, originY, colBase, 2,
+        column, kernels, false, outRows, sourceRows, originY, colBase, 2,
         [&](int, int pair, int col, const float(&weight)[2][2]) {
             packed.taps.push_back({pair, col, {0u, 0u}});
             for (int o = 0; o < 2; o++)
@@ -1879,17 +1885,13 @@ void buildPackedColumn(const ColumnKernels& column, const std::vector<BankBlurOp
 
 /* The float gather of one node column: each output row's taps (walkColumn's single source rows,
    zero weights left out) and each full pair's union, as buildPairs makes it. Safe columns are the
-   caller's. */
-void buildFloatColumn(const ColumnKernels& column, const std::vector<BankBlurOperator::AxisWeight>& rowWeights,
-                      bool adjoint, int outRows, int sourceRows, int originY, int colBase,
-                      RowBankOperator::Gather& gather)
+   caller's. `kernels`: rowKernels of every frame row. */
+void buildFloatColumn(const ColumnKernels& column, const std::vector<RowKernel>& kernels, bool adjoint, int outRows,
+                      int sourceRows, int originY, int colBase, RowBankOperator::Gather& gather)
 {
-    /* Every frame row's node kernels once: no list grows past them, so they are sized once and
-       written in place (growing them by push_back copied and faulted in each several times). */
-    const std::vector<RowKernel> kernels = rowKernels(column, rowWeights, adjoint ? sourceRows : outRows);
-    size_t most = 0;
-    for (const RowKernel& kernel : kernels)
-        most += kernel.taps();
+    /* No list grows past the frame rows' node kernels, so they are sized once and written in place
+       (growing them by push_back copied and faulted in each several times). */
+    const size_t most = totalTaps(kernels);
     gather.rows.assign(size_t(outRows), RowBankOperator::GatherRow());
     gather.pairs.assign(size_t(outRows / 2), RowBankOperator::GatherRow());
     gather.taps.resize(most);
@@ -1956,6 +1958,7 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
         for (int i = range.start; i < range.end; i++)
         {
             const ColumnKernels column(nodes, nodeRows, nodeCols_, i);
+            const std::vector<RowKernel> kernels = rowKernels(column, rowWeights, frame_.height);
             const Range cols = colSupport_[size_t(i)];
             Reach& reach = reach_[size_t(i)];
             if (!column.empty())
@@ -1967,7 +1970,7 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
             const int adjointColBase = margin - cols.start - origin_.x;  // frame column → weighted copy's
             if (packed_)
             {
-                buildPackedColumn(column, rowWeights, false, frame_.height, latent_.height, origin_.y, origin_.x,
+                buildPackedColumn(column, kernels, frame_.height, latent_.height, origin_.y, origin_.x,
                                   frame_.width, latent_.width, packedForwardColumns_[size_t(i)]);
                 transposePackedGather(packedForwardColumns_[size_t(i)], origin_.x, latent_.height, adjointColBase,
                                       latent_.width, cols.size() + 2 * margin, packedAdjointColumns_[size_t(i)]);
@@ -1975,7 +1978,7 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
             }
             // Forward: frame row y reads latent row y + dy + origin.y at column x + dx + origin.x.
             Gather& fw = forwardParts[size_t(i)];
-            buildFloatColumn(column, rowWeights, false, frame_.height, latent_.height, origin_.y, origin_.x, fw);
+            buildFloatColumn(column, kernels, false, frame_.height, latent_.height, origin_.y, origin_.x, fw);
             for (GatherRow& g : fw.rows)
             {
                 int colMin = INT_MAX, colMax = INT_MIN;
@@ -1991,7 +1994,7 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
                at its place in the node column's weighted copy, where every column it produces reads
                inside (zero margins). */
             Gather& aw = adjointParts[size_t(i)];
-            buildFloatColumn(column, rowWeights, true, latent_.height, frame_.height, origin_.y, adjointColBase, aw);
+            buildFloatColumn(column, kernels, true, latent_.height, frame_.height, origin_.y, adjointColBase, aw);
             for (GatherRow& g : aw.rows)
             {
                 g.safeBegin = std::max(0, cols.start + reach.dxMin + origin_.x);

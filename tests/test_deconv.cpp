@@ -15,6 +15,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <iostream>
 #include <random>
 
@@ -195,10 +196,14 @@ Mat directRichardsonLucy(const Mat& blurred, const Mat& k, const Mat& start, int
     return x;
 }
 
-/* RL with TV (Dey et al.), zero boundary: x ← x ⊙ (k★(b / (k⊛x))) / (1 − λ div(∇x/|∇x|)), the
-   divisor kept ≥ 0.1. ∇ by forward differences (0 across the last column and row), div by backward
-   ones, |∇x| on x / mean(b) regularised at 1e-3: the library's definition, written out pixel by pixel. */
-Mat directRichardsonLucyTV(const Mat& blurred, const Mat& k, const Mat& start, int iterations, double lambda)
+/* RL with TV (Dey et al.) for a blur A given by `forward` and `adjoint`:
+   x ← x ⊙ Aᵀ(b / A x) / (Aᵀ1 − λ div(∇x/|∇x|)), the divisor kept ≥ 0.1 Aᵀ1, pixels whose Aᵀ1
+   (`normalizer`) is ≤ kUnobserved kept. ∇ by forward differences (0 across the last column and
+   row), div by backward ones, |∇x| on x / mean(b) regularised at 1e-3: the library's definition,
+   written out pixel by pixel. */
+Mat directRichardsonLucyTV(const Mat& blurred, const std::function<Mat(const Mat&)>& forward,
+                           const std::function<Mat(const Mat&)>& adjoint, const Mat& normalizer, const Mat& start,
+                           int iterations, double lambda)
 {
     const double scale = 1.0 / mean(blurred)[0], eps2 = 1e-6;
     Mat x = start.clone();
@@ -214,17 +219,29 @@ Mat directRichardsonLucyTV(const Mat& blurred, const Mat& k, const Mat& start, i
                 nx.at<double>(r, c) = gx / length;
                 ny.at<double>(r, c) = gy / length;
             }
-        const Mat correction = directConvolve(blurred / (directConvolve(x, k, false) + 1e-12f), k, true);
+        const Mat correction = adjoint(blurred / (forward(x) + 1e-12f));
         for (int r = 0; r < x.rows; r++)
             for (int c = 0; c < x.cols; c++)
             {
+                const double n = normalizer.at<float>(r, c);
+                if (n <= cv::dynblur::detail::kUnobserved)
+                    continue;
                 const double curvature = nx.at<double>(r, c) - (c > 0 ? nx.at<double>(r, c - 1) : 0.0) +
                                          ny.at<double>(r, c) - (r > 0 ? ny.at<double>(r - 1, c) : 0.0);
-                const double divisor = std::max(1.0 - lambda * curvature, 0.1);
+                const double divisor = std::max(n - lambda * curvature, 0.1 * n);
                 x.at<float>(r, c) = float(x.at<float>(r, c) * correction.at<float>(r, c) / divisor);
             }
     }
     return x;
+}
+
+//! The same for one kernel, zero boundary, where the update divides by 1 − λ div(∇x/|∇x|).
+Mat directRichardsonLucyTV(const Mat& blurred, const Mat& k, const Mat& start, int iterations, double lambda)
+{
+    return directRichardsonLucyTV(
+        blurred, [&](const Mat& x) { return directConvolve(x, k, false); },
+        [&](const Mat& ratio) { return directConvolve(ratio, k, true); }, Mat(start.size(), CV_32F, Scalar(1)), start,
+        iterations, lambda);
 }
 
 RLParams plainParams(int boundary, int iterations)
@@ -372,9 +389,9 @@ TEST(DeconvRichardsonLucy, NormalisedUpdateMatchesDirectReferenceWithConstantAnd
    loop skips them from its second iteration on (extrapolation, packing, adjoint blocks, update;
    TV's unit gradient still for the seen row below). Here the bank's lowest node kernel reads 11–21
    rows above each frame row and the upper ones read in place, so the 21 latent rows above the
-   frame are unseen: whole adjoint blocks, and a seen row just below one in the same band. RL with TV matches the
-   written-out loop on the general operator; accelerated, regularised RL in bfloat16 leaves the
-   unseen rows at their start and restores the frame as the float loop does. */
+   frame are unseen: whole adjoint blocks, and a seen row just below one in the same band. RL with
+   TV matches the written-out loop on the general operator; accelerated, regularised RL in
+   bfloat16 leaves the unseen rows at their start and restores the frame as the float loop does. */
 TEST(DeconvRichardsonLucy, UnseenLatentRowsKeepTheirStart)
 {
     using namespace cv::dynblur::detail;
@@ -387,7 +404,7 @@ TEST(DeconvRichardsonLucy, UnseenLatentRowsKeepTheirStart)
     bank.shifts = {Point(0, 0), Point(0, 0), Point(0, 16)};
 
     BankBlurOperator general(bank, true);
-    Mat normalizer, scratch;
+    Mat normalizer;
     general.adjoint(Mat::ones(general.frameSize(), CV_32F), normalizer);
     int unseen = 0;
     for (int r = 0; r < normalizer.rows; r++)
@@ -401,50 +418,33 @@ TEST(DeconvRichardsonLucy, UnseenLatentRowsKeepTheirStart)
     const Mat start(general.latentSize(), CV_32F, Scalar(0.5));
     const Range unseenRows(0, 21), frameRows(21, 81);
     const auto restore = [&](BlurOperator& op, const RLParams& params) {
-        Mat ones;
-        op.adjointOfOnes(normalizer, ones);
+        Mat ones, opNormalizer;
+        op.adjointOfOnes(opNormalizer, ones);
         std::vector<Mat> pool, estimate{start.clone()};
         RLWorkspace ws;
         LuminanceChange change;
-        iterateRichardsonLucy(op, blurred, observeFrame(blurred, pool, false), normalizer, params, estimate, ws,
+        iterateRichardsonLucy(op, blurred, observeFrame(blurred, pool, false), opNormalizer, params, estimate, ws,
                               change);
         return estimate[0];
     };
 
-    // RL with TV (directRichardsonLucyTV's terms) on the general operator, unseen pixels kept.
+    // RL with TV on the general operator, unseen pixels kept.
     const int iterations = 5;  // odd: the planes the loop alternates between end swapped
     RLParams regularised = plainParams(RL_BOUNDARY_PAD, iterations);
     regularised.tvWeight = 0.02;
-    const double scale = 1.0 / mean(blurred)[0];
-    Mat reference = start.clone();
-    for (int i = 0; i < iterations; i++)
-    {
-        Mat reblurred, correction, nx(reference.size(), CV_32F), ny(reference.size(), CV_32F);
-        general.forward(reference, reblurred);
-        general.adjoint(blurred / (reblurred + 1e-12f), correction);
-        const auto at = [&](int r, int c) { return double(reference.at<float>(r, c)); };
-        for (int r = 0; r < reference.rows; r++)
-            for (int c = 0; c < reference.cols; c++)
-            {
-                const double gx = c + 1 < reference.cols ? (at(r, c + 1) - at(r, c)) * scale : 0.0;
-                const double gy = r + 1 < reference.rows ? (at(r + 1, c) - at(r, c)) * scale : 0.0;
-                const double length = std::sqrt(gx * gx + gy * gy + 1e-6);
-                nx.at<float>(r, c) = float(gx / length);
-                ny.at<float>(r, c) = float(gy / length);
-            }
-        Mat updated = reference.clone();
-        for (int r = 0; r < reference.rows; r++)
-            for (int c = 0; c < reference.cols; c++)
-            {
-                const double n = normalizer.at<float>(r, c);
-                const double curvature = nx.at<float>(r, c) - (c > 0 ? nx.at<float>(r, c - 1) : 0.f) +
-                                         ny.at<float>(r, c) - (r > 0 ? ny.at<float>(r - 1, c) : 0.f);
-                if (n > kUnobserved)
-                    updated.at<float>(r, c) = float(at(r, c) * correction.at<float>(r, c) /
-                                                    std::max(n - regularised.tvWeight * curvature, 0.1 * n));
-            }
-        reference = updated;
-    }
+    const Mat reference = directRichardsonLucyTV(
+        blurred,
+        [&](const Mat& x) {
+            Mat y;
+            general.forward(x, y);
+            return y;
+        },
+        [&](const Mat& ratio) {
+            Mat x;
+            general.adjoint(ratio, x);
+            return x;
+        },
+        normalizer, start, iterations, regularised.tvWeight);
     RowBankOperator rows(bank, true);
     const Mat plain = restore(rows, regularised);
     /* Where Aᵀ1 is small (the frame's last rows, which only the lowest kernel reads) the TV divisor

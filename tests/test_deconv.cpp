@@ -723,12 +723,13 @@ void expectPackedAgrees(cv::dynblur::detail::BlurOperator& packed, cv::dynblur::
     EXPECT_LT(std::abs(lhs - rhs), adjointTolerance * std::abs(lhs)) << what << ": " << lhs << " vs " << rhs;
 }
 
-/* The 512-bit gathers do 128 columns per block and end a row with one masked block of 1 to 8
-   vectors: frame widths whose last block takes each of those; float against the general operator,
-   packed against float and against the widened kernels of a CPU without AVX512-BF16. */
+/* The 512-bit gathers do 128 columns per block and end a row with one masked block of 1 to 10
+   vectors (a remainder of up to 32 columns joins the block before it): frame widths whose last
+   block takes each of those, alone or after one or two blocks of 128; float against the general
+   operator, packed against float and against the widened kernels of a CPU without AVX512-BF16. */
 TEST(DeconvOperator, GathersAgreeForEveryWidthOfTheLastBlock)
 {
-    for (int width : {135, 150, 170, 185, 200, 215, 235, 250, 256})
+    for (int width : {20, 100, 135, 150, 170, 185, 200, 215, 235, 250, 256, 280, 300})
     {
         SCOPED_TRACE(format("width %d", width));
         const PsfBank bank = withSlantedKernel(rowBank(Size(width, 41), 8, 20), 2, Point(-3, 2));

@@ -434,21 +434,47 @@ void gatherPairInterior(float* __restrict out0, float* __restrict out1, const fl
     }
 }
 
-/* The masks of `Vectors` 16-column vectors from x: every lane, but those of the last vector past
-   `end` (end − x > 16 · (Vectors − 1)). */
-template <int Vectors>
-inline void columnMasks(int x, int end, uint16_t (&mask)[Vectors])
+/* The columns a gather takes at a time, across all rows of a block before the next chunk: a
+   chunk's ~60 source rows (~30 packed pairs) fit a 32 KiB L1, and the 512-bit kernels do it in one
+   block of sixteen sums (against 64 columns, tile-wise frames took 5–7 % less: half the calls,
+   twice the sums to hide the latency). A remainder of up to kGatherChunkSlack columns joins the
+   chunk before it, in blocks of up to 10 vectors: alone, its single vector per row waited on each
+   tap's multiply-add latency, and the adjoint of a tile bank's node columns, 123–143 columns wide
+   on the benchmark frame, took 1.10× as long. */
+constexpr int kGatherChunk = 128, kGatherChunkSlack = 32;
+
+//! Where the chunk of [x, end) that starts at x ends.
+inline int chunkEnd(int x, int end)
 {
-#pragma GCC unroll 16
-    for (int k = 0; k < Vectors; k++)
-    {
-        const int left = std::min(16, end - x - 16 * k);
-        mask[k] = uint16_t(left >= 16 ? 0xffffu : (1u << left) - 1u);
-    }
+    const int next = std::min(x + kGatherChunk, end);
+    return end - next <= kGatherChunkSlack ? end : next;
 }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define DYNBLUR_AVX512_TARGET __attribute__((target("avx512f,avx2,fma")))
+
+//! The lanes of the last of `Vectors` 16-column vectors from x that lie before `end` (end − x > 16 · (Vectors − 1)).
+template <int Vectors>
+inline __mmask16 lastVectorMask(int x, int end)
+{
+    return __mmask16(0xffffu >> (16 - (end - x - 16 * (Vectors - 1))));
+}
+
+//! The sums of a block of both output rows: full vectors, then the last one masked.
+template <int Vectors>
+DYNBLUR_AVX512_TARGET __attribute__((always_inline)) inline void
+storeBlock(float* __restrict out0, float* __restrict out1, int x, __mmask16 last, const __m512 (&a)[Vectors],
+           const __m512 (&b)[Vectors])
+{
+#pragma GCC unroll 16
+    for (int k = 0; k + 1 < Vectors; k++)
+    {
+        _mm512_storeu_ps(out0 + x + 16 * k, a[k]);
+        _mm512_storeu_ps(out1 + x + 16 * k, b[k]);
+    }
+    _mm512_mask_storeu_ps(out0 + x + 16 * (Vectors - 1), last, a[Vectors - 1]);
+    _mm512_mask_storeu_ps(out1 + x + 16 * (Vectors - 1), last, b[Vectors - 1]);
+}
 
 /* Up to Vectors × 16 columns of both output rows from x (the last vector cut by `end`), as
    gatherPackedBlockBf16 does it for packed sources. */
@@ -457,8 +483,7 @@ DYNBLUR_AVX512_TARGET __attribute__((always_inline)) inline void
 gatherPairBlockAvx512(float* __restrict out0, float* __restrict out1, const float* source, size_t sourceStep,
                       const RowBankOperator::PairTap* taps, int tapCount, int x, int end)
 {
-    __mmask16 mask[Vectors];
-    columnMasks(x, end, mask);
+    const __mmask16 last = lastVectorMask<Vectors>(x, end);
     __m512 a[Vectors], b[Vectors];
 #pragma GCC unroll 16
     for (int k = 0; k < Vectors; k++)
@@ -470,17 +495,12 @@ gatherPairBlockAvx512(float* __restrict out0, float* __restrict out1, const floa
 #pragma GCC unroll 16
         for (int k = 0; k < Vectors; k++)
         {
-            const __m512 l = _mm512_maskz_loadu_ps(mask[k], p + 16 * k);
+            const __m512 l = k + 1 < Vectors ? _mm512_loadu_ps(p + 16 * k) : _mm512_maskz_loadu_ps(last, p + 16 * k);
             a[k] = _mm512_fmadd_ps(w, l, a[k]);
             b[k] = _mm512_fmadd_ps(u, l, b[k]);
         }
     }
-#pragma GCC unroll 16
-    for (int k = 0; k < Vectors; k++)
-    {
-        _mm512_mask_storeu_ps(out0 + x + 16 * k, mask[k], a[k]);
-        _mm512_mask_storeu_ps(out1 + x + 16 * k, mask[k], b[k]);
-    }
+    storeBlock<Vectors>(out0, out1, x, last, a, b);
 }
 
 /* gatherPairInterior in 512-bit vectors: on an Intel Xeon a zmm FMA does 1.46× the multiply-adds
@@ -492,10 +512,12 @@ DYNBLUR_AVX512_TARGET void gatherPairInteriorAvx512(float* __restrict out0, floa
                                                     int tapCount, int begin, int end)
 {
     int x = begin;
-    for (; x + 128 <= end; x += 128)
-        gatherPairBlockAvx512<8>(out0, out1, source, sourceStep, taps, tapCount, x, end);
+    for (; end - x > kGatherChunk + kGatherChunkSlack; x += kGatherChunk)
+        gatherPairBlockAvx512<8>(out0, out1, source, sourceStep, taps, tapCount, x, x + kGatherChunk);
     switch ((end - x + 15) / 16)
     {
+    case 10: gatherPairBlockAvx512<10>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
+    case 9: gatherPairBlockAvx512<9>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
     case 8: gatherPairBlockAvx512<8>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
     case 7: gatherPairBlockAvx512<7>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
     case 6: gatherPairBlockAvx512<6>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
@@ -561,9 +583,6 @@ void gatherRowRange(const Mat& source, const RowBankOperator::Tap* t, int count,
 void gatherBlock(const Mat& source, const RowBankOperator::Gather& gather, const Range& rows, const Range& cols,
                  float* out, size_t outStep)
 {
-    /* Columns: ~60 source rows × 512 B, about a 32 KiB L1, and one block of the 512-bit kernel.
-       Against 64 columns, tile-wise frames took 6 % less, row-wise ones 1 % (float blurs). */
-    constexpr int kChunk = 128;
     int commonBegin = cols.start, commonEnd = cols.end;
     for (int r = rows.start; r < rows.end; r++)
     {
@@ -579,9 +598,9 @@ void gatherBlock(const Mat& source, const RowBankOperator::Gather& gather, const
         gatherInterior(out + size_t(r - rows.start) * outStep, base, step, gather.taps.data() + g.begin,
                        g.end - g.begin, begin, end);
     };
-    for (int x = commonBegin; x < commonEnd; x += kChunk)
+    for (int x = commonBegin, end; x < commonEnd; x = end)
     {
-        const int end = std::min(x + kChunk, commonEnd);
+        end = chunkEnd(x, commonEnd);
         int r = rows.start;
         if (r % 2 != 0)
             single(r++, x, end);
@@ -655,8 +674,9 @@ typedef void (*PackedPairKernel)(float* __restrict, float* __restrict, const uin
 #define DYNBLUR_BF16_TARGET __attribute__((target("avx512bf16,avx512vl,avx512f,avx2,fma")))
 
 /* Up to Vectors × 16 columns of both output rows from x (the last vector cut by `end`): one sum per
-   vector and row in a zmm register while all taps stream past. Masked loads read nothing past
-   `end`, so a support whose width is not a multiple of 16 needs no scalar tail. The loops over the
+   vector and row in a zmm register while all taps stream past. The last vector's masked load reads
+   nothing past `end`, so a support whose width is not a multiple of 16 needs no scalar tail; only
+   it is masked (a mask per vector would need more than the seven mask registers at 9 and 10). The loops over the
    vectors are unrolled by pragma: GCC otherwise unrolled them after giving the sums a place on the
    stack, and a row's last, masked block stored every sum there at every tap (the tile-wise frame
    took 4–10 % longer, alternating frame by frame). */
@@ -665,8 +685,7 @@ DYNBLUR_BF16_TARGET __attribute__((always_inline)) inline void
 gatherPackedBlockBf16(float* __restrict out0, float* __restrict out1, const uint32_t* source, size_t sourceStep,
                       const RowBankOperator::PackedTap* taps, int tapCount, int x, int end)
 {
-    __mmask16 mask[Vectors];
-    columnMasks(x, end, mask);
+    const __mmask16 last = lastVectorMask<Vectors>(x, end);
     __m512 a[Vectors], b[Vectors];
 #pragma GCC unroll 16
     for (int k = 0; k < Vectors; k++)
@@ -679,32 +698,30 @@ gatherPackedBlockBf16(float* __restrict out0, float* __restrict out1, const uint
 #pragma GCC unroll 16
         for (int k = 0; k < Vectors; k++)
         {
-            const __m512bh l = (__m512bh)_mm512_maskz_loadu_epi32(mask[k], p + 16 * k);
+            const __m512bh l = (__m512bh)(k + 1 < Vectors ? _mm512_loadu_si512(p + 16 * k)
+                                                          : _mm512_maskz_loadu_epi32(last, p + 16 * k));
             a[k] = _mm512_dpbf16_ps(a[k], l, w);
             b[k] = _mm512_dpbf16_ps(b[k], l, u);
         }
     }
-#pragma GCC unroll 16
-    for (int k = 0; k < Vectors; k++)
-    {
-        _mm512_mask_storeu_ps(out0 + x + 16 * k, mask[k], a[k]);
-        _mm512_mask_storeu_ps(out1 + x + 16 * k, mask[k], b[k]);
-    }
+    storeBlock<Vectors>(out0, out1, x, last, a, b);
 }
 
 /* out0[x], out1[x] = Σ_t dot(weight_t[k], packed(pair_t, x + col_t)) for x in [begin, end), every
    read inside: 128 columns at a time in sixteen 16-float sums (zmm: on an Intel Xeon a 512-bit
    vdpbf16ps does 1.44× the multiply-adds of a 256-bit one per cycle; where 512-bit work is
-   double-pumped, as on AMD Zen 4, as many), the rest in one narrower masked block. */
+   double-pumped, as on AMD Zen 4, as many), the last up to 160 in one block (kGatherChunkSlack). */
 DYNBLUR_BF16_TARGET void gatherPackedPairBf16(float* __restrict out0, float* __restrict out1, const uint32_t* source,
                                               size_t sourceStep, const RowBankOperator::PackedTap* taps, int tapCount,
                                               int begin, int end)
 {
     int x = begin;
-    for (; x + 128 <= end; x += 128)
-        gatherPackedBlockBf16<8>(out0, out1, source, sourceStep, taps, tapCount, x, end);
+    for (; end - x > kGatherChunk + kGatherChunkSlack; x += kGatherChunk)
+        gatherPackedBlockBf16<8>(out0, out1, source, sourceStep, taps, tapCount, x, x + kGatherChunk);
     switch ((end - x + 15) / 16)
     {
+    case 10: gatherPackedBlockBf16<10>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
+    case 9: gatherPackedBlockBf16<9>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
     case 8: gatherPackedBlockBf16<8>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
     case 7: gatherPackedBlockBf16<7>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
     case 6: gatherPackedBlockBf16<6>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
@@ -796,10 +813,6 @@ void gatherPackedBlock(const Mat& packed, const RowBankOperator::PackedGather& g
                        const Range& cols, float* out, size_t outStep)
 {
     const PackedPairKernel kernel = packedPairKernel();
-    /* Columns: ~30 packed source row pairs × 512 B fit a 32 KiB L1, and the 512-bit kernel does a
-       chunk in one block of sixteen sums. Against 64 columns, tile-wise frames took 5–7 % less
-       (half the calls, twice the sums to hide the latency), row-wise ones the same. */
-    constexpr int kChunk = 128;
     CV_DbgAssert(rows.start % 2 == 0);
     const int pairBegin = rows.start / 2, pairEnd = (rows.end + 1) / 2;
     std::vector<float> scratch(rows.size() % 2 ? size_t(cols.end) : 0);
@@ -817,9 +830,9 @@ void gatherPackedBlock(const Mat& packed, const RowBankOperator::PackedGather& g
     const uint32_t* base = packed.ptr<uint32_t>();
     const size_t step = packed.step1();
     float *o0, *o1;
-    for (int x = commonBegin; x < commonEnd; x += kChunk)
+    for (int x = commonBegin, end; x < commonEnd; x = end)
     {
-        const int end = std::min(x + kChunk, commonEnd);
+        end = chunkEnd(x, commonEnd);
         for (int k = pairBegin; k < pairEnd; k++)
         {
             const RowBankOperator::GatherRow& g = gather.pairs[size_t(k)];

@@ -243,8 +243,9 @@ blend is fixed, so for each node column the row's kernel is one tap list (the un
 rows' taps, mixed by the row's weights), gathered like RowBankOperator's over the columns that node
 column covers and added with the column's weight. The adjoint gathers too, from the frame weighted
 by each node column's weight, kept per node column with zero margins as wide as that column's own
-kernels reach, so every tap reads inside and no read strays into a neighbour column's share; it
-gathers only as far as they reach (a keystone's kernels slant more toward the frame's sides). Both
+kernels reach, so every tap reads inside and no read strays into a neighbour column's share; a block of
+latent rows gathers only as far as its own rows' taps reach (a keystone's kernels slant more toward
+the frame's sides, and their shifts move along the column). Both
 directions' tap lists are built once per bank.
 Domains and padding as BankBlurOperator. The bank is trusted (validated by the caller). */
 class CV_EXPORTS TileBankOperator CV_FINAL : public BlurOperator
@@ -288,7 +289,8 @@ private:
     };
 
     int nodeCols_ = 1;
-    std::vector<Reach> reach_;  // per node column: the adjoint writes only as far as its own kernels reach
+    std::vector<Reach> reach_;  // per node column: its kernels' column offsets (its weighted copy's margins)
+    std::vector<std::vector<Range>> adjointWritten_;  // per node column and latent row: the columns its adjoint writes
     /* Per node column i: rows[y] of forwardColumns_[i] is frame row y's gather (safe columns
        within the column's support); rows[l] of adjointColumns_[i] latent row l's, reading the
        weighted copy of node column i. */

@@ -739,6 +739,39 @@ TEST(DeconvOperator, GathersAgreeForEveryWidthOfTheLastBlock)
     }
 }
 
+/* The tile adjoint reads the same whether the packed frame came as a plane (prepareAdjointPacked)
+   or pair by pair (takePackedPair, as the RL loop hands its ratio over): after another frame's
+   plane, and on a fresh operator (its copies' margins zero from the start); an odd height, both
+   boundaries. */
+TEST(DeconvOperator, TilePackedPairsGiveThePlanesAdjoint)
+{
+    const PsfBank bank = withSlantedKernel(unevenTaps(tileBank(Size(151, 111), 5, 4, 41), 6), 7, Point(-6, 3));
+    for (bool pad : {true, false})
+    {
+        SCOPED_TRACE(pad ? "pad" : "zero");
+        cv::dynblur::detail::TileBankOperator planeFed(bank, pad, true), pairFed(bank, pad, true);
+        ASSERT_TRUE(pairFed.takesPackedPairs());
+        Mat y(planeFed.frameSize(), CV_32F), packed, other;
+        RNG(11).fill(y, RNG::UNIFORM, 0.1, 1);
+        cv::dynblur::detail::packPlane(y, packed);
+        cv::dynblur::detail::packPlane(Mat(y.size(), CV_32F, Scalar(0.5)), other);
+        const Range rows(0, planeFed.latentSize().height);
+        Mat expected(planeFed.latentSize(), CV_32F), fromPairs(planeFed.latentSize(), CV_32F);
+        planeFed.prepareAdjointPacked(packed);
+        planeFed.adjointPackedBlock(packed, rows, expected.ptr<float>(), expected.step1());
+        EXPECT_GT(norm(expected, NORM_L1), 0.0);
+        planeFed.prepareAdjointPacked(other);
+        for (cv::dynblur::detail::TileBankOperator* op : {&planeFed, &pairFed})
+        {
+            for (int k = 0; k < packed.rows; k++)
+                op->takePackedPair(k, packed.ptr<uint32_t>(k));
+            fromPairs.setTo(-1);
+            op->adjointPackedBlock(Mat(), rows, fromPairs.ptr<float>(), fromPairs.step1());
+            EXPECT_EQ(norm(expected, fromPairs, NORM_INF), 0.0) << (op == &pairFed ? "fresh operator" : "after a plane");
+        }
+    }
+}
+
 // Odd heights (a last row without a partner), slanted kernels and large shifts, both boundaries.
 TEST(DeconvOperator, PackedBfloat16GathersAgreeWithFloat)
 {

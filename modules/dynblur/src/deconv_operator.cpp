@@ -2050,6 +2050,14 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
     });
     forwardColumns_ = std::move(forwardParts);
     adjointColumns_ = std::move(adjointParts);
+    if (packed_)
+    {
+        // takePackedPair writes only the supports: the margins stay as zeroed here.
+        weighted_.resize(size_t(nodeCols_));
+        for (int i = 0; i < nodeCols_; i++)
+            weighted_[size_t(i)] = Mat::zeros((frame_.height + 1) / 2,
+                                              colSupport_[size_t(i)].size() + 2 * reach_[size_t(i)].margin(), CV_32SC1);
+    }
 }
 
 template <typename GatherColumn>
@@ -2175,6 +2183,16 @@ void TileBankOperator::prepareAdjointPacked(const Mat& packedFrame)
     weightColumns<uint32_t>(packedFrame, CV_32SC1, scalePackedRow);
 }
 
+void TileBankOperator::takePackedPair(int pair, const uint32_t* packedRow)
+{
+    for (int i = 0; i < nodeCols_; i++)
+    {
+        const Range cols = colSupport_[size_t(i)];
+        scalePackedRow(packedRow + cols.start, colWeight_[size_t(i)].data(), cols.size(),
+                       weighted_[size_t(i)].ptr<uint32_t>(pair) + reach_[size_t(i)].margin());
+    }
+}
+
 void TileBankOperator::adjointBlock(const Mat& /*frame: read through prepareAdjoint's weighted copies*/,
                                     const Range& latentRows, float* out, size_t outStep) const
 {
@@ -2183,7 +2201,7 @@ void TileBankOperator::adjointBlock(const Mat& /*frame: read through prepareAdjo
     });
 }
 
-void TileBankOperator::adjointPackedBlock(const Mat& /*packedFrame: read through prepareAdjointPacked's copies*/,
+void TileBankOperator::adjointPackedBlock(const Mat& /*packedFrame: read through the weighted copies*/,
                                           const Range& latentRows, float* out, size_t outStep) const
 {
     blocks(true, latentRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* part) {

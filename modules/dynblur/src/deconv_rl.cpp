@@ -441,6 +441,8 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
        to 2^-9 relative), so its adjoint gives Aᵀratio − Aᵀ1, and the update adds Aᵀ1 back. */
     const bool packed = op.gathersPackedRows();
     CV_Assert(!packed || !normalizer.empty());
+    // The packed ratio goes to the operator pair by pair, or as ws.packedRatio.
+    const bool takesPairs = packed && op.takesPackedPairs();
 
     const int bands = std::max(1, std::min(latentSize.height, 8 * getNumThreads()));
 
@@ -539,11 +541,13 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                 if (!packedReady)
                     packPlane(y, packedY);
                 Mat& packedRatio = ws.packedRatio;
-                packedRatio.create((frameSize.height + 1) / 2, frameSize.width, CV_32SC1);
+                if (!takesPairs)
+                    packedRatio.create((frameSize.height + 1) / 2, frameSize.width, CV_32SC1);
                 forBands(frameSize.height, bands, [&](int, const Range& rows) {
                     const int width = frameSize.width;
                     std::vector<float> buffer(size_t(width) * 2 * kBlockRows);
                     float *reblurredBlock = buffer.data(), *ratioBlock = reblurredBlock + size_t(width) * kBlockRows;
+                    std::vector<uint32_t> pairBuffer(takesPairs ? size_t(width) : 0);
                     for (int r = rows.start; r < rows.end; r += kBlockRows)
                     {
                         const Range block(r, std::min(r + kBlockRows, rows.end));
@@ -552,9 +556,14 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                             ratioRow(observed[c].ptr<float>(r + i), reblurredBlock + size_t(i) * size_t(width),
                                      ratioBlock + size_t(i) * size_t(width), width, scale, invThreshold);
                         for (int i = 0; i < block.size(); i += 2)
+                        {
+                            uint32_t* pair = takesPairs ? pairBuffer.data() : packedRatio.ptr<uint32_t>((r + i) / 2);
                             packRowPair(ratioBlock + size_t(i) * size_t(width),
                                         i + 1 < block.size() ? ratioBlock + size_t(i + 1) * size_t(width) : nullptr,
-                                        -1.f, width, packedRatio.ptr<uint32_t>((r + i) / 2));
+                                        -1.f, width, pair);
+                            if (takesPairs)
+                                op.takePackedPair((r + i) / 2, pair);
+                        }
                     }
                 });
             }
@@ -588,7 +597,10 @@ int iteratePlanes(BlurOperator& op, const std::vector<Mat>& observed, const Imag
                         std::memcpy(above + width, y.ptr<float>(rows.end), sizeof(float) * size_t(width));
                 }
             if (packed)
-                op.prepareAdjointPacked(ws.packedRatio);
+            {
+                if (!takesPairs)
+                    op.prepareAdjointPacked(ws.packedRatio);
+            }
             else if (fused)
                 op.prepareAdjoint(ratio);
             else

@@ -20,6 +20,7 @@ struct RLWorkspace
     Mat step;                   // the running plane's last RL step, bfloat16 (CV_16U)
     Mat ratio, reblurred, correction;  // shared by the planes
     Mat packedEstimate, packedRatio;   // packRowPair rows of the estimate and of ratio − 1, when the operator reads them
+                                       // (ratio: unless it takes the pairs as they come, takesPackedPairs)
     Mat normalizer, valid;
     //! Keep the iterations' planes after a call (for the next frame) instead of freeing them before the output is written.
     bool persistent = false;

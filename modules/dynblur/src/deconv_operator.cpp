@@ -450,6 +450,38 @@ inline int chunkEnd(int x, int end)
     return end - next <= kGatherChunkSlack ? end : next;
 }
 
+/* How a gather's sums go into its output rows: added to what the columns below `split` hold,
+   written from it on, each first times weight[x] (by output column) where `weight` is given. A tile
+   operator adds its node columns up this way (TileBankOperator::blocks); the default writes. */
+struct GatherFold
+{
+    const float* weight = nullptr;
+    int split = INT_MIN;
+    bool writes() const { return weight == nullptr && split == INT_MIN; }
+};
+
+/* out[x] for x in [begin, end) from sums[x], as `fold` says (the 512-bit gathers do it in
+   registers, alike). Cloned for the CPU's widest vectors: this file's own loops are built for the
+   baseline's SSE, and a node column's rows added up by them took the tile-wise frame 1.3–1.5 % longer. */
+DYNBLUR_SIMD_CLONES
+void foldRow(const float* __restrict sums, const GatherFold& fold, int begin, int end, float* __restrict out)
+{
+    const int split = std::min(std::max(fold.split, begin), end);
+    const float* __restrict weight = fold.weight;
+    if (weight)
+    {
+        for (int x = begin; x < split; x++)
+            out[x] += weight[x] * sums[x];
+        for (int x = split; x < end; x++)
+            out[x] = weight[x] * sums[x];
+        return;
+    }
+    for (int x = begin; x < split; x++)
+        out[x] += sums[x];
+    for (int x = split; x < end; x++)
+        out[x] = sums[x];
+}
+
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define DYNBLUR_AVX512_TARGET __attribute__((target("avx512f,avx2,fma")))
 
@@ -474,6 +506,48 @@ storeBlock(float* __restrict out0, float* __restrict out1, int x, __mmask16 last
     }
     _mm512_mask_storeu_ps(out0 + x + 16 * (Vectors - 1), last, a[Vectors - 1]);
     _mm512_mask_storeu_ps(out1 + x + 16 * (Vectors - 1), last, b[Vectors - 1]);
+}
+
+/* storeBlock as `fold` says: the added lanes as weight · sum + out in one rounding (foldRow's
+   loop, contracted to an FMA, gives the same), the written ones as weight · sum. */
+template <int Vectors>
+DYNBLUR_AVX512_TARGET __attribute__((always_inline)) inline void
+foldBlock(float* __restrict out0, float* __restrict out1, int x, __mmask16 last, const __m512 (&a)[Vectors],
+          const __m512 (&b)[Vectors], const GatherFold& fold)
+{
+    if (fold.writes())
+    {
+        storeBlock<Vectors>(out0, out1, x, last, a, b);
+        return;
+    }
+#pragma GCC unroll 16
+    for (int k = 0; k < Vectors; k++)
+    {
+        const int col = x + 16 * k;
+        const __mmask16 lanes = k + 1 < Vectors ? __mmask16(0xffffu) : last;
+        const int added = std::min(16, std::max(0, fold.split - col));
+        const __mmask16 add = lanes & __mmask16(added >= 16 ? 0xffffu : (1u << added) - 1u);
+        __m512 sa = a[k], sb = b[k];
+        if (fold.weight)
+        {
+            const __m512 w = _mm512_maskz_loadu_ps(lanes, fold.weight + col);
+            const __m512 wa = _mm512_mul_ps(w, sa), wb = _mm512_mul_ps(w, sb);
+            if (add)
+            {
+                sa = _mm512_mask_fmadd_ps(sa, add, w, _mm512_maskz_loadu_ps(add, out0 + col));
+                sb = _mm512_mask_fmadd_ps(sb, add, w, _mm512_maskz_loadu_ps(add, out1 + col));
+            }
+            sa = _mm512_mask_mov_ps(wa, add, sa);
+            sb = _mm512_mask_mov_ps(wb, add, sb);
+        }
+        else if (add)
+        {
+            sa = _mm512_mask_add_ps(sa, add, sa, _mm512_maskz_loadu_ps(add, out0 + col));
+            sb = _mm512_mask_add_ps(sb, add, sb, _mm512_maskz_loadu_ps(add, out1 + col));
+        }
+        _mm512_mask_storeu_ps(out0 + col, lanes, sa);
+        _mm512_mask_storeu_ps(out1 + col, lanes, sb);
+    }
 }
 
 /* Up to Vectors × 16 columns of both output rows from x (the last vector cut by `end`), as
@@ -668,7 +742,7 @@ void gatherPackedTail(float* __restrict out0, float* __restrict out1, const uint
 }
 
 typedef void (*PackedPairKernel)(float* __restrict, float* __restrict, const uint32_t*, size_t,
-                                 const RowBankOperator::PackedTap*, int, int, int);
+                                 const RowBankOperator::PackedTap*, int, int, int, const GatherFold&);
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define DYNBLUR_BF16_TARGET __attribute__((target("avx512bf16,avx512vl,avx512f,avx2,fma")))
@@ -683,7 +757,7 @@ typedef void (*PackedPairKernel)(float* __restrict, float* __restrict, const uin
 template <int Vectors>
 DYNBLUR_BF16_TARGET __attribute__((always_inline)) inline void
 gatherPackedBlockBf16(float* __restrict out0, float* __restrict out1, const uint32_t* source, size_t sourceStep,
-                      const RowBankOperator::PackedTap* taps, int tapCount, int x, int end)
+                      const RowBankOperator::PackedTap* taps, int tapCount, int x, int end, const GatherFold& fold)
 {
     const __mmask16 last = lastVectorMask<Vectors>(x, end);
     __m512 a[Vectors], b[Vectors];
@@ -704,7 +778,7 @@ gatherPackedBlockBf16(float* __restrict out0, float* __restrict out1, const uint
             b[k] = _mm512_dpbf16_ps(b[k], l, u);
         }
     }
-    storeBlock<Vectors>(out0, out1, x, last, a, b);
+    foldBlock<Vectors>(out0, out1, x, last, a, b, fold);
 }
 
 /* out0[x], out1[x] = Σ_t dot(weight_t[k], packed(pair_t, x + col_t)) for x in [begin, end), every
@@ -713,23 +787,23 @@ gatherPackedBlockBf16(float* __restrict out0, float* __restrict out1, const uint
    double-pumped, as on AMD Zen 4, as many), the last up to 160 in one block (kGatherChunkSlack). */
 DYNBLUR_BF16_TARGET void gatherPackedPairBf16(float* __restrict out0, float* __restrict out1, const uint32_t* source,
                                               size_t sourceStep, const RowBankOperator::PackedTap* taps, int tapCount,
-                                              int begin, int end)
+                                              int begin, int end, const GatherFold& fold)
 {
     int x = begin;
     for (; end - x > kGatherChunk + kGatherChunkSlack; x += kGatherChunk)
-        gatherPackedBlockBf16<8>(out0, out1, source, sourceStep, taps, tapCount, x, x + kGatherChunk);
+        gatherPackedBlockBf16<8>(out0, out1, source, sourceStep, taps, tapCount, x, x + kGatherChunk, fold);
     switch ((end - x + 15) / 16)
     {
-    case 10: gatherPackedBlockBf16<10>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 9: gatherPackedBlockBf16<9>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 8: gatherPackedBlockBf16<8>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 7: gatherPackedBlockBf16<7>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 6: gatherPackedBlockBf16<6>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 5: gatherPackedBlockBf16<5>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 4: gatherPackedBlockBf16<4>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 3: gatherPackedBlockBf16<3>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 2: gatherPackedBlockBf16<2>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 1: gatherPackedBlockBf16<1>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
+    case 10: gatherPackedBlockBf16<10>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 9: gatherPackedBlockBf16<9>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 8: gatherPackedBlockBf16<8>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 7: gatherPackedBlockBf16<7>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 6: gatherPackedBlockBf16<6>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 5: gatherPackedBlockBf16<5>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 4: gatherPackedBlockBf16<4>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 3: gatherPackedBlockBf16<3>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 2: gatherPackedBlockBf16<2>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 1: gatherPackedBlockBf16<1>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
     default: break;
     }
 }
@@ -740,8 +814,18 @@ DYNBLUR_BF16_TARGET void gatherPackedPairBf16(float* __restrict out0, float* __r
 DYNBLUR_SIMD_CLONES
 void gatherPackedPairWidened(float* __restrict out0, float* __restrict out1, const uint32_t* source,
                              size_t sourceStep, const RowBankOperator::PackedTap* taps, int tapCount, int begin,
-                             int end)
+                             int end, const GatherFold& fold)
 {
+    if (!fold.writes())
+    {
+        thread_local std::vector<float> sums;
+        sums.resize(std::max(sums.size(), 2 * size_t(end)));
+        gatherPackedPairWidened(sums.data(), sums.data() + end, source, sourceStep, taps, tapCount, begin, end,
+                                GatherFold());
+        foldRow(sums.data(), fold, begin, end, out0);
+        foldRow(sums.data() + end, fold, begin, end, out1);
+        return;
+    }
     typedef float v8 __attribute__((vector_size(32), aligned(4)));
     typedef uint32_t v8u __attribute__((vector_size(32), aligned(4)));
     int x = begin;
@@ -786,8 +870,19 @@ PackedPairKernel packedPairKernel()
 /* Columns [begin, end) of output rows 2k, 2k + 1 of a packed gather, reads outside the source
    skipped (border columns). */
 void gatherPackedRange(const Mat& packed, const RowBankOperator::PackedTap* taps, int count, int begin, int end,
-                       float* out0, float* out1)
+                       float* out0, float* out1, const GatherFold& fold)
 {
+    if (begin >= end)
+        return;
+    if (!fold.writes())
+    {
+        thread_local std::vector<float> sums;
+        sums.resize(std::max(sums.size(), 2 * size_t(end)));
+        gatherPackedRange(packed, taps, count, begin, end, sums.data(), sums.data() + end, GatherFold());
+        foldRow(sums.data(), fold, begin, end, out0);
+        foldRow(sums.data() + end, fold, begin, end, out1);
+        return;
+    }
     const uint32_t* base = packed.ptr<uint32_t>();
     const size_t step = packed.step1();
     for (int x = begin; x < end; x++)
@@ -810,7 +905,7 @@ void gatherPackedRange(const Mat& packed, const RowBankOperator::PackedTap* taps
 /* gatherBlock over a packed source: rows [rows.start, rows.end) (rows.start even) and columns
    `cols`, in the same column chunks; the second row of an odd last pair goes to a scratch row. */
 void gatherPackedBlock(const Mat& packed, const RowBankOperator::PackedGather& gather, const Range& rows,
-                       const Range& cols, float* out, size_t outStep)
+                       const Range& cols, float* out, size_t outStep, const GatherFold& fold = GatherFold())
 {
     const PackedPairKernel kernel = packedPairKernel();
     CV_DbgAssert(rows.start % 2 == 0);
@@ -837,15 +932,15 @@ void gatherPackedBlock(const Mat& packed, const RowBankOperator::PackedGather& g
         {
             const RowBankOperator::GatherRow& g = gather.pairs[size_t(k)];
             outputs(k, o0, o1);
-            kernel(o0, o1, base, step, gather.taps.data() + g.begin, g.end - g.begin, x, end);
+            kernel(o0, o1, base, step, gather.taps.data() + g.begin, g.end - g.begin, x, end, fold);
         }
     }
     for (int k = pairBegin; k < pairEnd; k++)
     {
         const RowBankOperator::GatherRow& g = gather.pairs[size_t(k)];
         outputs(k, o0, o1);
-        gatherPackedRange(packed, gather.taps.data() + g.begin, g.end - g.begin, cols.start, commonBegin, o0, o1);
-        gatherPackedRange(packed, gather.taps.data() + g.begin, g.end - g.begin, commonEnd, cols.end, o0, o1);
+        gatherPackedRange(packed, gather.taps.data() + g.begin, g.end - g.begin, cols.start, commonBegin, o0, o1, fold);
+        gatherPackedRange(packed, gather.taps.data() + g.begin, g.end - g.begin, commonEnd, cols.end, o0, o1, fold);
     }
 }
 
@@ -1639,16 +1734,6 @@ void RowBankOperator::adjointOfOnes(Mat& latent, Mat& ones)
 
 namespace {
 
-/* sum[x] += weight[x] · part[x]: a node column's gathered row into the tile output, in the CPU's
-   widest vectors as addRow (this file's own loops are built for the baseline's SSE; adding the
-   rows by these two took the tile-wise frame 1.3–1.5 % less, alternating frame by frame). */
-DYNBLUR_SIMD_CLONES
-void addProductRow(const float* __restrict weight, const float* __restrict part, int n, float* __restrict sum)
-{
-    for (int x = 0; x < n; x++)
-        sum[x] += weight[x] * part[x];
-}
-
 //! Rows a tile gather computes per node column before adding them up: a block's source stays in L1/L2.
 constexpr int kTileBlockRows = 8;
 
@@ -2061,14 +2146,16 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
 }
 
 template <typename GatherColumn>
-void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, size_t outStep,
+void TileBankOperator::blocks(bool adjoint, bool foldsInGather, const Range& outRows, float* out, size_t outStep,
                               const GatherColumn& gather) const
 {
     const int width = adjoint ? latent_.width : frame_.width;
-    /* One node column's gathered rows; each gather writes the columns its sum reads. Kept per
-       thread: allocating and zeroing it for every block of rows took 2 % of a tile-wise frame. */
+    /* One node column's gathered rows, where the gather does not fold them in itself; each gather
+       writes the columns its sum reads. Kept per thread: allocating and zeroing it for every block
+       of rows took 2 % of a tile-wise frame. */
     thread_local std::vector<float> part;
-    part.resize(std::max(part.size(), size_t(kTileBlockRows) * size_t(width)));
+    if (!foldsInGather)
+        part.resize(std::max(part.size(), size_t(kTileBlockRows) * size_t(width)));
     for (int start = outRows.start; start < outRows.end; start += kTileBlockRows)
     {
         const Range rows(start, std::min(start + kTileBlockRows, outRows.end));
@@ -2108,23 +2195,17 @@ void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, si
             if (cols.start > covered)
                 zero(covered, cols.start);
             covered = std::max(covered, cols.start);
-            const int split = std::min(covered, cols.end);  // added below it, written from it
-            gather(i, rows, cols, part.data());
-            const float* cw = colWeight_[size_t(i)].data() - support.start;
-            for (int y = rows.start; y < rows.end; y++)
+            // Added below the split, written from it; the forward's times the column's weight.
+            const GatherFold fold{adjoint ? nullptr : colWeight_[size_t(i)].data() - support.start,
+                                  std::min(covered, cols.end)};
+            if (foldsInGather)
+                gather(i, rows, cols, out + size_t(rows.start - outRows.start) * outStep, outStep, fold);
+            else
             {
-                float* o = out + size_t(y - outRows.start) * outStep;
-                const float* p = part.data() + size_t(y - rows.start) * size_t(width);
-                if (adjoint)
-                {
-                    addRow(p + cols.start, split - cols.start, o + cols.start);
-                    std::copy(p + split, p + cols.end, o + split);
-                }
-                else
-                {
-                    addProductRow(cw + cols.start, p + cols.start, split - cols.start, o + cols.start);
-                    multiplyInto(o + split, cw + split, p + split, cols.end - split);
-                }
+                gather(i, rows, cols, part.data(), size_t(width), GatherFold());
+                for (int y = rows.start; y < rows.end; y++)
+                    foldRow(part.data() + size_t(y - rows.start) * size_t(width), fold, cols.start, cols.end,
+                            out + size_t(y - outRows.start) * outStep);
             }
             covered = std::max(covered, cols.end);
         }
@@ -2135,17 +2216,19 @@ void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, si
 
 void TileBankOperator::forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const
 {
-    blocks(false, frameRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* part) {
-        gatherBlock(latent, forwardColumns_[size_t(i)], rows, cols, part, size_t(frame_.width));
-    });
+    blocks(false, false, frameRows, out, outStep,
+           [&](int i, const Range& rows, const Range& cols, float* part, size_t partStep, const GatherFold&) {
+               gatherBlock(latent, forwardColumns_[size_t(i)], rows, cols, part, partStep);
+           });
 }
 
 void TileBankOperator::forwardPackedBlock(const Mat& packedLatent, const Range& frameRows, float* out,
                                           size_t outStep) const
 {
-    blocks(false, frameRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* part) {
-        gatherPackedBlock(packedLatent, packedForwardColumns_[size_t(i)], rows, cols, part, size_t(frame_.width));
-    });
+    blocks(false, true, frameRows, out, outStep,
+           [&](int i, const Range& rows, const Range& cols, float* dst, size_t dstStep, const GatherFold& fold) {
+               gatherPackedBlock(packedLatent, packedForwardColumns_[size_t(i)], rows, cols, dst, dstStep, fold);
+           });
 }
 
 template <typename T, typename WeightRow>
@@ -2196,18 +2279,20 @@ void TileBankOperator::takePackedPair(int pair, const uint32_t* packedRow)
 void TileBankOperator::adjointBlock(const Mat& /*frame: read through prepareAdjoint's weighted copies*/,
                                     const Range& latentRows, float* out, size_t outStep) const
 {
-    blocks(true, latentRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* part) {
-        gatherBlock(weighted_[size_t(i)], adjointColumns_[size_t(i)], rows, cols, part, size_t(latent_.width));
-    });
+    blocks(true, false, latentRows, out, outStep,
+           [&](int i, const Range& rows, const Range& cols, float* part, size_t partStep, const GatherFold&) {
+               gatherBlock(weighted_[size_t(i)], adjointColumns_[size_t(i)], rows, cols, part, partStep);
+           });
 }
 
 void TileBankOperator::adjointPackedBlock(const Mat& /*packedFrame: read through the weighted copies*/,
                                           const Range& latentRows, float* out, size_t outStep) const
 {
-    blocks(true, latentRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* part) {
-        gatherPackedBlock(weighted_[size_t(i)], packedAdjointColumns_[size_t(i)], rows, cols, part,
-                          size_t(latent_.width));
-    });
+    blocks(true, true, latentRows, out, outStep,
+           [&](int i, const Range& rows, const Range& cols, float* dst, size_t dstStep, const GatherFold& fold) {
+               gatherPackedBlock(weighted_[size_t(i)], packedAdjointColumns_[size_t(i)], rows, cols, dst, dstStep,
+                                 fold);
+           });
 }
 
 std::unique_ptr<BlurOperator> createBankOperator(const PsfBank& bank, bool pad, bool packed)

@@ -315,6 +315,68 @@ void domain(Size frame, bool pad, int dxMin, int dxMax, int dyMin, int dyMax, Si
     }
 }
 
+/* The columns a gather takes at a time, across all rows of a block before the next chunk: a
+   chunk's ~60 source rows (~30 packed pairs) fit a 32 KiB L1, and the 512-bit kernels do it in one
+   block of sixteen sums (against 64 columns, tile-wise frames took 5–7 % less: half the calls,
+   twice the sums to hide the latency). A remainder of up to kGatherChunkSlack columns joins the
+   chunk before it, in blocks of up to 10 vectors: alone, its single vector per row waited on each
+   tap's multiply-add latency, and the adjoint of a tile bank's node columns, 123–143 columns wide
+   on the benchmark frame, took 1.10× as long. */
+constexpr int kGatherChunk = 128, kGatherChunkSlack = 32;
+
+//! Where the chunk of [x, end) that starts at x ends.
+inline int chunkEnd(int x, int end)
+{
+    const int next = std::min(x + kGatherChunk, end);
+    return end - next <= kGatherChunkSlack ? end : next;
+}
+
+/* How a gather's sums go into its output rows: added to what the columns below `split` hold,
+   written from it on, each first times weight[x] (by output column) where `weight` is given. A tile
+   operator adds its node columns up this way (TileBankOperator::blocks); the default writes. */
+struct GatherFold
+{
+    const float* weight = nullptr;
+    int split = INT_MIN;
+    bool writes() const { return weight == nullptr && split == INT_MIN; }
+};
+
+/* out[x] for x in [begin, end) from sums[x], as `fold` says (the 512-bit gathers do it in
+   registers, alike). Cloned for the CPU's widest vectors: this file's own loops are built for the
+   baseline's SSE, and a node column's rows added up by them took the tile-wise frame 1.3–1.5 % longer. */
+DYNBLUR_SIMD_CLONES
+void foldRow(const float* __restrict sums, const GatherFold& fold, int begin, int end, float* __restrict out)
+{
+    const int split = std::min(std::max(fold.split, begin), end);
+    const float* __restrict weight = fold.weight;
+    if (weight)
+    {
+        for (int x = begin; x < split; x++)
+            out[x] += weight[x] * sums[x];
+        for (int x = split; x < end; x++)
+            out[x] = weight[x] * sums[x];
+        return;
+    }
+    for (int x = begin; x < split; x++)
+        out[x] += sums[x];
+    for (int x = split; x < end; x++)
+        out[x] = sums[x];
+}
+
+/* For the gathers that cannot fold their sums in themselves: gather(sums0, sums1) writes columns
+   [begin, end) of two rows (the second may be unused) into a per-thread buffer, then both are
+   folded into out0 and out1 (out1 may be null). */
+template <typename Gather>
+void gatherThenFold(const GatherFold& fold, int begin, int end, float* out0, float* out1, const Gather& gather)
+{
+    thread_local std::vector<float> sums;
+    sums.resize(std::max(sums.size(), 2 * size_t(end)));
+    gather(sums.data(), sums.data() + end);
+    foldRow(sums.data(), fold, begin, end, out0);
+    if (out1)
+        foldRow(sums.data() + end, fold, begin, end, out1);
+}
+
 /* Blocks of `Vectors` × 8 columns of one gathered row from x while they fit before `end`, one FMA
    chain per vector; returns where it stopped. Inlined into each ISA clone of its caller, and fully
    unrolled there, so the sums stay in registers. */
@@ -377,8 +439,12 @@ void gatherInterior(float* __restrict out, const float* source, size_t sourceSte
    vectors per row keep 8 sums, 4 loads and 2 weights within AVX2's 16 registers. */
 DYNBLUR_SIMD_CLONES
 void gatherPairInterior(float* __restrict out0, float* __restrict out1, const float* source, size_t sourceStep,
-                        const RowBankOperator::PairTap* taps, int tapCount, int begin, int end)
+                        const RowBankOperator::PairTap* taps, int tapCount, int begin, int end, const GatherFold& fold)
 {
+    if (!fold.writes())
+        return gatherThenFold(fold, begin, end, out0, out1, [&](float* sums0, float* sums1) {
+            gatherPairInterior(sums0, sums1, source, sourceStep, taps, tapCount, begin, end, GatherFold());
+        });
     typedef float v8 __attribute__((vector_size(32), aligned(4)));
     int x = begin;
     for (; x + 32 <= end; x += 32)
@@ -432,54 +498,6 @@ void gatherPairInterior(float* __restrict out0, float* __restrict out1, const fl
         out0[x] = a;
         out1[x] = b;
     }
-}
-
-/* The columns a gather takes at a time, across all rows of a block before the next chunk: a
-   chunk's ~60 source rows (~30 packed pairs) fit a 32 KiB L1, and the 512-bit kernels do it in one
-   block of sixteen sums (against 64 columns, tile-wise frames took 5–7 % less: half the calls,
-   twice the sums to hide the latency). A remainder of up to kGatherChunkSlack columns joins the
-   chunk before it, in blocks of up to 10 vectors: alone, its single vector per row waited on each
-   tap's multiply-add latency, and the adjoint of a tile bank's node columns, 123–143 columns wide
-   on the benchmark frame, took 1.10× as long. */
-constexpr int kGatherChunk = 128, kGatherChunkSlack = 32;
-
-//! Where the chunk of [x, end) that starts at x ends.
-inline int chunkEnd(int x, int end)
-{
-    const int next = std::min(x + kGatherChunk, end);
-    return end - next <= kGatherChunkSlack ? end : next;
-}
-
-/* How a gather's sums go into its output rows: added to what the columns below `split` hold,
-   written from it on, each first times weight[x] (by output column) where `weight` is given. A tile
-   operator adds its node columns up this way (TileBankOperator::blocks); the default writes. */
-struct GatherFold
-{
-    const float* weight = nullptr;
-    int split = INT_MIN;
-    bool writes() const { return weight == nullptr && split == INT_MIN; }
-};
-
-/* out[x] for x in [begin, end) from sums[x], as `fold` says (the 512-bit gathers do it in
-   registers, alike). Cloned for the CPU's widest vectors: this file's own loops are built for the
-   baseline's SSE, and a node column's rows added up by them took the tile-wise frame 1.3–1.5 % longer. */
-DYNBLUR_SIMD_CLONES
-void foldRow(const float* __restrict sums, const GatherFold& fold, int begin, int end, float* __restrict out)
-{
-    const int split = std::min(std::max(fold.split, begin), end);
-    const float* __restrict weight = fold.weight;
-    if (weight)
-    {
-        for (int x = begin; x < split; x++)
-            out[x] += weight[x] * sums[x];
-        for (int x = split; x < end; x++)
-            out[x] = weight[x] * sums[x];
-        return;
-    }
-    for (int x = begin; x < split; x++)
-        out[x] += sums[x];
-    for (int x = split; x < end; x++)
-        out[x] = sums[x];
 }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -555,7 +573,7 @@ foldBlock(float* __restrict out0, float* __restrict out1, int x, __mmask16 last,
 template <int Vectors>
 DYNBLUR_AVX512_TARGET __attribute__((always_inline)) inline void
 gatherPairBlockAvx512(float* __restrict out0, float* __restrict out1, const float* source, size_t sourceStep,
-                      const RowBankOperator::PairTap* taps, int tapCount, int x, int end)
+                      const RowBankOperator::PairTap* taps, int tapCount, int x, int end, const GatherFold& fold)
 {
     const __mmask16 last = lastVectorMask<Vectors>(x, end);
     __m512 a[Vectors], b[Vectors];
@@ -574,7 +592,7 @@ gatherPairBlockAvx512(float* __restrict out0, float* __restrict out1, const floa
             b[k] = _mm512_fmadd_ps(u, l, b[k]);
         }
     }
-    storeBlock<Vectors>(out0, out1, x, last, a, b);
+    foldBlock<Vectors>(out0, out1, x, last, a, b, fold);
 }
 
 /* gatherPairInterior in 512-bit vectors: on an Intel Xeon a zmm FMA does 1.46× the multiply-adds
@@ -583,30 +601,30 @@ gatherPairBlockAvx512(float* __restrict out0, float* __restrict out1, const floa
    blurs). */
 DYNBLUR_AVX512_TARGET void gatherPairInteriorAvx512(float* __restrict out0, float* __restrict out1, const float* source,
                                                     size_t sourceStep, const RowBankOperator::PairTap* taps,
-                                                    int tapCount, int begin, int end)
+                                                    int tapCount, int begin, int end, const GatherFold& fold)
 {
     int x = begin;
     for (; end - x > kGatherChunk + kGatherChunkSlack; x += kGatherChunk)
-        gatherPairBlockAvx512<8>(out0, out1, source, sourceStep, taps, tapCount, x, x + kGatherChunk);
+        gatherPairBlockAvx512<8>(out0, out1, source, sourceStep, taps, tapCount, x, x + kGatherChunk, fold);
     switch ((end - x + 15) / 16)
     {
-    case 10: gatherPairBlockAvx512<10>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 9: gatherPairBlockAvx512<9>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 8: gatherPairBlockAvx512<8>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 7: gatherPairBlockAvx512<7>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 6: gatherPairBlockAvx512<6>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 5: gatherPairBlockAvx512<5>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 4: gatherPairBlockAvx512<4>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 3: gatherPairBlockAvx512<3>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 2: gatherPairBlockAvx512<2>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
-    case 1: gatherPairBlockAvx512<1>(out0, out1, source, sourceStep, taps, tapCount, x, end); break;
+    case 10: gatherPairBlockAvx512<10>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 9: gatherPairBlockAvx512<9>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 8: gatherPairBlockAvx512<8>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 7: gatherPairBlockAvx512<7>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 6: gatherPairBlockAvx512<6>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 5: gatherPairBlockAvx512<5>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 4: gatherPairBlockAvx512<4>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 3: gatherPairBlockAvx512<3>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 2: gatherPairBlockAvx512<2>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
+    case 1: gatherPairBlockAvx512<1>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
     default: break;
     }
 }
 #endif
 
 typedef void (*PairKernel)(float* __restrict, float* __restrict, const float*, size_t, const RowBankOperator::PairTap*,
-                           int, int, int);
+                           int, int, int, const GatherFold&);
 
 //! Gathers use the kernels of a CPU without AVX-512 (setPortableGathers).
 std::atomic<bool> portableGathers{false};
@@ -626,8 +644,14 @@ PairKernel pairKernel()
 
 //! Columns [begin, end) of one gathered row: where every tap reads inside, fast; elsewhere checked.
 void gatherRowRange(const Mat& source, const RowBankOperator::Tap* t, int count, const RowBankOperator::GatherRow& row,
-                    int begin, int end, float* out)
+                    int begin, int end, float* out, const GatherFold& fold = GatherFold())
 {
+    if (begin >= end)
+        return;
+    if (!fold.writes())
+        return gatherThenFold(fold, begin, end, out, nullptr, [&](float* sums, float*) {
+            gatherRowRange(source, t, count, row, begin, end, sums);
+        });
     const float* base = source.ptr<float>();
     const size_t step = source.step1();
     const int safeBegin = std::max(begin, row.safeBegin), safeEnd = std::min(end, row.safeEnd);
@@ -655,7 +679,7 @@ void gatherRowRange(const Mat& source, const RowBankOperator::Tap* t, int count,
    next chunk: neighbouring rows read nearly the same source rows, so a chunk's source stays in L1
    for the whole block instead of every row pulling its ~kernel-height source rows from L2 again. */
 void gatherBlock(const Mat& source, const RowBankOperator::Gather& gather, const Range& rows, const Range& cols,
-                 float* out, size_t outStep)
+                 float* out, size_t outStep, const GatherFold& fold = GatherFold())
 {
     int commonBegin = cols.start, commonEnd = cols.end;
     for (int r = rows.start; r < rows.end; r++)
@@ -669,8 +693,14 @@ void gatherBlock(const Mat& source, const RowBankOperator::Gather& gather, const
     const size_t step = source.step1();
     auto single = [&](int r, int begin, int end) {
         const RowBankOperator::GatherRow& g = gather.rows[size_t(r)];
-        gatherInterior(out + size_t(r - rows.start) * outStep, base, step, gather.taps.data() + g.begin,
-                       g.end - g.begin, begin, end);
+        float* o = out + size_t(r - rows.start) * outStep;
+        const auto row = [&](float* sums, float*) {
+            gatherInterior(sums, base, step, gather.taps.data() + g.begin, g.end - g.begin, begin, end);
+        };
+        if (fold.writes())
+            row(o, nullptr);
+        else
+            gatherThenFold(fold, begin, end, o, nullptr, row);
     };
     for (int x = commonBegin, end; x < commonEnd; x = end)
     {
@@ -682,7 +712,7 @@ void gatherBlock(const Mat& source, const RowBankOperator::Gather& gather, const
         {
             const RowBankOperator::GatherRow& g = gather.pairs[size_t(r / 2)];
             float* o = out + size_t(r - rows.start) * outStep;
-            kernel(o, o + outStep, base, step, gather.pairTaps.data() + g.begin, g.end - g.begin, x, end);
+            kernel(o, o + outStep, base, step, gather.pairTaps.data() + g.begin, g.end - g.begin, x, end, fold);
         }
         if (r < rows.end)
             single(r, x, end);
@@ -691,8 +721,8 @@ void gatherBlock(const Mat& source, const RowBankOperator::Gather& gather, const
     {
         const RowBankOperator::GatherRow& g = gather.rows[size_t(r)];
         float* o = out + size_t(r - rows.start) * outStep;
-        gatherRowRange(source, gather.taps.data() + g.begin, g.end - g.begin, g, cols.start, commonBegin, o);
-        gatherRowRange(source, gather.taps.data() + g.begin, g.end - g.begin, g, commonEnd, cols.end, o);
+        gatherRowRange(source, gather.taps.data() + g.begin, g.end - g.begin, g, cols.start, commonBegin, o, fold);
+        gatherRowRange(source, gather.taps.data() + g.begin, g.end - g.begin, g, commonEnd, cols.end, o, fold);
     }
 }
 
@@ -817,15 +847,9 @@ void gatherPackedPairWidened(float* __restrict out0, float* __restrict out1, con
                              int end, const GatherFold& fold)
 {
     if (!fold.writes())
-    {
-        thread_local std::vector<float> sums;
-        sums.resize(std::max(sums.size(), 2 * size_t(end)));
-        gatherPackedPairWidened(sums.data(), sums.data() + end, source, sourceStep, taps, tapCount, begin, end,
-                                GatherFold());
-        foldRow(sums.data(), fold, begin, end, out0);
-        foldRow(sums.data() + end, fold, begin, end, out1);
-        return;
-    }
+        return gatherThenFold(fold, begin, end, out0, out1, [&](float* sums0, float* sums1) {
+            gatherPackedPairWidened(sums0, sums1, source, sourceStep, taps, tapCount, begin, end, GatherFold());
+        });
     typedef float v8 __attribute__((vector_size(32), aligned(4)));
     typedef uint32_t v8u __attribute__((vector_size(32), aligned(4)));
     int x = begin;
@@ -875,14 +899,9 @@ void gatherPackedRange(const Mat& packed, const RowBankOperator::PackedTap* taps
     if (begin >= end)
         return;
     if (!fold.writes())
-    {
-        thread_local std::vector<float> sums;
-        sums.resize(std::max(sums.size(), 2 * size_t(end)));
-        gatherPackedRange(packed, taps, count, begin, end, sums.data(), sums.data() + end, GatherFold());
-        foldRow(sums.data(), fold, begin, end, out0);
-        foldRow(sums.data() + end, fold, begin, end, out1);
-        return;
-    }
+        return gatherThenFold(fold, begin, end, out0, out1, [&](float* sums0, float* sums1) {
+            gatherPackedRange(packed, taps, count, begin, end, sums0, sums1, GatherFold());
+        });
     const uint32_t* base = packed.ptr<uint32_t>();
     const size_t step = packed.step1();
     for (int x = begin; x < end; x++)
@@ -2146,16 +2165,10 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
 }
 
 template <typename GatherColumn>
-void TileBankOperator::blocks(bool adjoint, bool foldsInGather, const Range& outRows, float* out, size_t outStep,
+void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, size_t outStep,
                               const GatherColumn& gather) const
 {
     const int width = adjoint ? latent_.width : frame_.width;
-    /* One node column's gathered rows, where the gather does not fold them in itself; each gather
-       writes the columns its sum reads. Kept per thread: allocating and zeroing it for every block
-       of rows took 2 % of a tile-wise frame. */
-    thread_local std::vector<float> part;
-    if (!foldsInGather)
-        part.resize(std::max(part.size(), size_t(kTileBlockRows) * size_t(width)));
     for (int start = outRows.start; start < outRows.end; start += kTileBlockRows)
     {
         const Range rows(start, std::min(start + kTileBlockRows, outRows.end));
@@ -2198,15 +2211,7 @@ void TileBankOperator::blocks(bool adjoint, bool foldsInGather, const Range& out
             // Added below the split, written from it; the forward's times the column's weight.
             const GatherFold fold{adjoint ? nullptr : colWeight_[size_t(i)].data() - support.start,
                                   std::min(covered, cols.end)};
-            if (foldsInGather)
-                gather(i, rows, cols, out + size_t(rows.start - outRows.start) * outStep, outStep, fold);
-            else
-            {
-                gather(i, rows, cols, part.data(), size_t(width), GatherFold());
-                for (int y = rows.start; y < rows.end; y++)
-                    foldRow(part.data() + size_t(y - rows.start) * size_t(width), fold, cols.start, cols.end,
-                            out + size_t(y - outRows.start) * outStep);
-            }
+            gather(i, rows, cols, out + size_t(rows.start - outRows.start) * outStep, fold);
             covered = std::max(covered, cols.end);
         }
         if (covered < width)
@@ -2216,19 +2221,19 @@ void TileBankOperator::blocks(bool adjoint, bool foldsInGather, const Range& out
 
 void TileBankOperator::forwardBlock(const Mat& latent, const Range& frameRows, float* out, size_t outStep) const
 {
-    blocks(false, false, frameRows, out, outStep,
-           [&](int i, const Range& rows, const Range& cols, float* part, size_t partStep, const GatherFold&) {
-               gatherBlock(latent, forwardColumns_[size_t(i)], rows, cols, part, partStep);
-           });
+    blocks(false, frameRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* dst,
+                                               const GatherFold& fold) {
+        gatherBlock(latent, forwardColumns_[size_t(i)], rows, cols, dst, outStep, fold);
+    });
 }
 
 void TileBankOperator::forwardPackedBlock(const Mat& packedLatent, const Range& frameRows, float* out,
                                           size_t outStep) const
 {
-    blocks(false, true, frameRows, out, outStep,
-           [&](int i, const Range& rows, const Range& cols, float* dst, size_t dstStep, const GatherFold& fold) {
-               gatherPackedBlock(packedLatent, packedForwardColumns_[size_t(i)], rows, cols, dst, dstStep, fold);
-           });
+    blocks(false, frameRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* dst,
+                                               const GatherFold& fold) {
+        gatherPackedBlock(packedLatent, packedForwardColumns_[size_t(i)], rows, cols, dst, outStep, fold);
+    });
 }
 
 template <typename T, typename WeightRow>
@@ -2279,20 +2284,19 @@ void TileBankOperator::takePackedPair(int pair, const uint32_t* packedRow)
 void TileBankOperator::adjointBlock(const Mat& /*frame: read through prepareAdjoint's weighted copies*/,
                                     const Range& latentRows, float* out, size_t outStep) const
 {
-    blocks(true, false, latentRows, out, outStep,
-           [&](int i, const Range& rows, const Range& cols, float* part, size_t partStep, const GatherFold&) {
-               gatherBlock(weighted_[size_t(i)], adjointColumns_[size_t(i)], rows, cols, part, partStep);
-           });
+    blocks(true, latentRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* dst,
+                                               const GatherFold& fold) {
+        gatherBlock(weighted_[size_t(i)], adjointColumns_[size_t(i)], rows, cols, dst, outStep, fold);
+    });
 }
 
 void TileBankOperator::adjointPackedBlock(const Mat& /*packedFrame: read through the weighted copies*/,
                                           const Range& latentRows, float* out, size_t outStep) const
 {
-    blocks(true, true, latentRows, out, outStep,
-           [&](int i, const Range& rows, const Range& cols, float* dst, size_t dstStep, const GatherFold& fold) {
-               gatherPackedBlock(weighted_[size_t(i)], packedAdjointColumns_[size_t(i)], rows, cols, dst, dstStep,
-                                 fold);
-           });
+    blocks(true, latentRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* dst,
+                                              const GatherFold& fold) {
+        gatherPackedBlock(weighted_[size_t(i)], packedAdjointColumns_[size_t(i)], rows, cols, dst, outStep, fold);
+    });
 }
 
 std::unique_ptr<BlurOperator> createBankOperator(const PsfBank& bank, bool pad, bool packed)

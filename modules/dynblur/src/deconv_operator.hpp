@@ -285,12 +285,10 @@ private:
     typedef RowBankOperator::PackedGather PackedGather;
 
     /* Rows `outRows` of A · latent (or of Aᵀ · frame with `adjoint`), where gather(i, rows, cols,
-       dst, dstStep, fold) computes node column i's gathered rows, float or packed: into dst as
-       `fold` says where foldsInGather (the packed gathers), else written into a buffer that blocks
-       folds in. */
+       dst, fold) gathers node column i's rows, float or packed, into the output block at dst (step
+       outStep) as `fold` says. */
     template <typename GatherColumn>
-    void blocks(bool adjoint, bool foldsInGather, const Range& outRows, float* out, size_t outStep,
-                const GatherColumn& gather) const;
+    void blocks(bool adjoint, const Range& outRows, float* out, size_t outStep, const GatherColumn& gather) const;
     /* weighted_: per node column, `source` (frame rows, float or packed) times the column's weight,
        with zero margins; weightRow(src, weight, n, dst) weights one row's support. */
     template <typename T, typename WeightRow>

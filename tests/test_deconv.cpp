@@ -767,7 +767,8 @@ TEST(DeconvOperator, TilePackedPairsGiveThePlanesAdjoint)
                 op->takePackedPair(k, packed.ptr<uint32_t>(k));
             fromPairs.setTo(-1);
             op->adjointPackedBlock(Mat(), rows, fromPairs.ptr<float>(), fromPairs.step1());
-            EXPECT_EQ(norm(expected, fromPairs, NORM_INF), 0.0) << (op == &pairFed ? "fresh operator" : "after a plane");
+            EXPECT_EQ(norm(expected, fromPairs, NORM_INF), 0.0)
+                << (op == &pairFed ? "fresh operator" : "after a plane");
         }
     }
 }

@@ -503,7 +503,7 @@ void gatherPairInterior(float* __restrict out0, float* __restrict out1, const fl
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define DYNBLUR_AVX512_TARGET __attribute__((target("avx512f,avx2,fma")))
 
-//! The lanes of the last of `Vectors` 16-column vectors from x that lie before `end` (end − x > 16 · (Vectors − 1)).
+//! The lanes of the last of `Vectors` 16-column vectors from x before `end` (end − x > 16 · (Vectors − 1)).
 template <int Vectors>
 inline __mmask16 lastVectorMask(int x, int end)
 {
@@ -780,10 +780,10 @@ typedef void (*PackedPairKernel)(float* __restrict, float* __restrict, const uin
 /* Up to Vectors × 16 columns of both output rows from x (the last vector cut by `end`): one sum per
    vector and row in a zmm register while all taps stream past. The last vector's masked load reads
    nothing past `end`, so a support whose width is not a multiple of 16 needs no scalar tail; only
-   it is masked (a mask per vector would need more than the seven mask registers at 9 and 10). The loops over the
-   vectors are unrolled by pragma: GCC otherwise unrolled them after giving the sums a place on the
-   stack, and a row's last, masked block stored every sum there at every tap (the tile-wise frame
-   took 4–10 % longer, alternating frame by frame). */
+   it is masked (a mask per vector would need more than the seven mask registers at 9 and 10). The
+   loops over the vectors are unrolled by pragma: GCC otherwise unrolled them after giving the sums
+   a place on the stack, and a row's last, masked block stored every sum there at every tap (the
+   tile-wise frame took 4–10 % longer, alternating frame by frame). */
 template <int Vectors>
 DYNBLUR_BF16_TARGET __attribute__((always_inline)) inline void
 gatherPackedBlockBf16(float* __restrict out0, float* __restrict out1, const uint32_t* source, size_t sourceStep,
@@ -1753,7 +1753,7 @@ void RowBankOperator::adjointOfOnes(Mat& latent, Mat& ones)
 
 namespace {
 
-//! Rows a tile gather computes per node column before adding them up: a block's source stays in L1/L2.
+//! Rows a tile gather takes per node column before the next node column: a block's source stays in L1/L2.
 constexpr int kTileBlockRows = 8;
 
 /* One node column's kernels, read from the node table where they lie: each node row's taps in

@@ -2113,11 +2113,13 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
                 const PackedGather& adjoint = packedAdjointColumns_[size_t(i)];
                 std::vector<Range>& written = adjointWritten_[size_t(i)];
                 written.resize(size_t(latent_.height));
-                for (int l = 0; l < latent_.height; l++)
+                for (int l = 0; l < latent_.height; l += 2)  // both rows of a pair: its taps
                 {
                     const GatherRow& g = adjoint.pairs[size_t(l / 2)];
                     written[size_t(l)] = adjointWrites(adjoint.taps.data() + g.begin, g.end - g.begin, margin,
                                                        cols.size(), latent_.width);
+                    if (l + 1 < latent_.height)
+                        written[size_t(l + 1)] = written[size_t(l)];
                 }
                 continue;
             }

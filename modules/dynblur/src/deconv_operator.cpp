@@ -2238,39 +2238,36 @@ void TileBankOperator::forwardPackedBlock(const Mat& packedLatent, const Range& 
     });
 }
 
-template <typename T, typename WeightRow>
-void TileBankOperator::weightColumns(const Mat& source, int type, const WeightRow& weightRow)
+void TileBankOperator::prepareAdjoint(const Mat& frame)
 {
     weighted_.resize(size_t(nodeCols_));
     for (int i = 0; i < nodeCols_; i++)
-        weighted_[size_t(i)].create(source.rows, colSupport_[size_t(i)].size() + 2 * reach_[size_t(i)].margin(), type);
-    parallel_for_(Range(0, source.rows), [&](const Range& rows) {
+        weighted_[size_t(i)].create(frame.rows, colSupport_[size_t(i)].size() + 2 * reach_[size_t(i)].margin(),
+                                    CV_32FC1);
+    parallel_for_(Range(0, frame.rows), [&](const Range& rows) {
         for (int r = rows.start; r < rows.end; r++)
         {
-            const T* src = source.ptr<T>(r);
+            const float* src = frame.ptr<float>(r);
             for (int i = 0; i < nodeCols_; i++)
             {
                 const Range cols = colSupport_[size_t(i)];
                 const int margin = reach_[size_t(i)].margin();
-                T* w = weighted_[size_t(i)].ptr<T>(r);
-                std::fill(w, w + margin, T(0));
-                weightRow(src + cols.start, colWeight_[size_t(i)].data(), cols.size(), w + margin);
-                std::fill(w + margin + cols.size(), w + cols.size() + 2 * margin, T(0));
+                float* w = weighted_[size_t(i)].ptr<float>(r);
+                std::fill(w, w + margin, 0.f);
+                multiplyInto(w + margin, colWeight_[size_t(i)].data(), src + cols.start, cols.size());
+                std::fill(w + margin + cols.size(), w + cols.size() + 2 * margin, 0.f);
             }
         }
     });
 }
 
-void TileBankOperator::prepareAdjoint(const Mat& frame)
-{
-    weightColumns<float>(frame, CV_32FC1, [](const float* src, const float* weight, int n, float* dst) {
-        multiplyInto(dst, weight, src, n);
-    });
-}
-
 void TileBankOperator::prepareAdjointPacked(const Mat& packedFrame)
 {
-    weightColumns<uint32_t>(packedFrame, CV_32SC1, scalePackedRow);
+    // The packed copies and their zero margins are the constructor's: only the supports change.
+    parallel_for_(Range(0, packedFrame.rows), [&](const Range& rows) {
+        for (int pair = rows.start; pair < rows.end; pair++)
+            takePackedPair(pair, packedFrame.ptr<uint32_t>(pair));
+    });
 }
 
 void TileBankOperator::takePackedPair(int pair, const uint32_t* packedRow)

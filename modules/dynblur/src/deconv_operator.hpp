@@ -290,10 +290,6 @@ private:
        outStep) as `fold` says. */
     template <typename GatherColumn>
     void blocks(bool adjoint, const Range& outRows, float* out, size_t outStep, const GatherColumn& gather) const;
-    /* weighted_: per node column, `source` (frame rows, float or packed) times the column's weight,
-       with zero margins; weightRow(src, weight, n, dst) weights one row's support. */
-    template <typename T, typename WeightRow>
-    void weightColumns(const Mat& source, int type, const WeightRow& weightRow);
 
     //! A node column's column offsets (latent − frame), 0 included.
     struct Reach
@@ -313,7 +309,7 @@ private:
     std::vector<PackedGather> packedForwardColumns_, packedAdjointColumns_;  // packed mode
     std::vector<Range> colSupport_;                // frame columns each node column covers
     std::vector<std::vector<float>> colWeight_;    // per node column, over its support
-    std::vector<Mat> weighted_;                    // per node column: frame × its weight, with margins (packed: packed)
+    std::vector<Mat> weighted_;  // per node column: frame × its weight, zero margins (packed: built with the operator)
 };
 
 /** @brief packRowPair over every row pair of `plane` (CV_32FC1) into `packed` (CV_32SC1,

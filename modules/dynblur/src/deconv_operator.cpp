@@ -604,8 +604,8 @@ DYNBLUR_AVX512_TARGET void gatherPairInteriorAvx512(float* __restrict out0, floa
                                                     int tapCount, int begin, int end, const GatherFold& fold)
 {
     int x = begin;
-    for (; end - x > kGatherChunk + kGatherChunkSlack; x += kGatherChunk)
-        gatherPairBlockAvx512<8>(out0, out1, source, sourceStep, taps, tapCount, x, x + kGatherChunk, fold);
+    for (int stop; (stop = chunkEnd(x, end)) < end; x = stop)
+        gatherPairBlockAvx512<8>(out0, out1, source, sourceStep, taps, tapCount, x, stop, fold);
     switch ((end - x + 15) / 16)
     {
     case 10: gatherPairBlockAvx512<10>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;
@@ -820,8 +820,8 @@ DYNBLUR_BF16_TARGET void gatherPackedPairBf16(float* __restrict out0, float* __r
                                               int begin, int end, const GatherFold& fold)
 {
     int x = begin;
-    for (; end - x > kGatherChunk + kGatherChunkSlack; x += kGatherChunk)
-        gatherPackedBlockBf16<8>(out0, out1, source, sourceStep, taps, tapCount, x, x + kGatherChunk, fold);
+    for (int stop; (stop = chunkEnd(x, end)) < end; x = stop)
+        gatherPackedBlockBf16<8>(out0, out1, source, sourceStep, taps, tapCount, x, stop, fold);
     switch ((end - x + 15) / 16)
     {
     case 10: gatherPackedBlockBf16<10>(out0, out1, source, sourceStep, taps, tapCount, x, end, fold); break;

@@ -396,7 +396,29 @@ dtype; a window-IV frame comes back unchanged), or (restored, validMask) with re
         .def("getLastExposureWindow", &DynamicDeblurrer::getLastExposureWindow,
              "Exposure window of the last frame passed to deblur() (0 before the first).")
         .def("getLastPsfBank", &DynamicDeblurrer::getLastPsfBank, "Kernels used for the last frame.")
-        .def("getPsfGenerator", [](const DynamicDeblurrer& db) { return std::shared_ptr<PsfGenerator>(db.getPsfGenerator()); });
+        .def("getPsfGenerator", [](const DynamicDeblurrer& db) { return std::shared_ptr<PsfGenerator>(db.getPsfGenerator()); })
+        .def("getRefinement", &DynamicDeblurrer::getRefinement,
+             "MotionRefinement flags each frame's correction may change (default REFINE_ALL; runs while a reference "
+             "frame is set)")
+        .def("setRefinement", &DynamicDeblurrer::setRefinement, py::arg("flags"))
+        .def("setReferenceFrame",
+            [](DynamicDeblurrer& db, py::handle still, double angle) {
+                MatIn s = toMat(still, "still");
+                py::gil_scoped_release release;
+                db.setReferenceFrame(s.mat, angle);
+            },
+            py::arg("still"), py::arg("angle") = kNaN,
+            R"doc(The still frame the next frames are compared with (same stream: dtype and channels), taken at
+`angle` radians (NaN: each frame's schedule's initial resting angle).)doc")
+        .def("clearReferenceFrame", &DynamicDeblurrer::clearReferenceFrame)
+        .def("getLastCorrection", &DynamicDeblurrer::getLastCorrection,
+             "The MotionCorrection used for the last frame, its consistency, and whether it was applied.")
+        .def("getCalibration", &DynamicDeblurrer::getCalibration,
+             "The correction every frame starts from (a recording's calibrateTiming result).")
+        .def("setCalibration", &DynamicDeblurrer::setCalibration, py::arg("correction"))
+        .def("getConsistencyLimit", &DynamicDeblurrer::getConsistencyLimit,
+             "Frames whose consistency exceeds it are returned unchanged (default 3; inf: no check)")
+        .def("setConsistencyLimit", &DynamicDeblurrer::setConsistencyLimit, py::arg("limit"));
 }
 
 }  // namespace dynblur_py

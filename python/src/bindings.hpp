@@ -10,6 +10,7 @@ namespace dynblur_py {
 void bindMotion(py::module_& m);
 void bindImaging(py::module_& m);
 void bindCalibration(py::module_& m);
+void bindRefinement(py::module_& m);
 
 //! First exception raised by a Python callback (OdePlant rhs) during the current call on this thread.
 extern thread_local std::exception_ptr pendingCallbackError;

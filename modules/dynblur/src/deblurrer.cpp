@@ -2,6 +2,7 @@
 
 #include "deconv_rl.hpp"
 #include "half_colour.hpp"
+#include "motion_fit.hpp"
 
 namespace cv {
 namespace dynblur {
@@ -24,11 +25,14 @@ public:
         const Mat input = frame.getMat();
         checkFrame(input, shutter);
 
-        lastWindow_ = classifyExposure(plant_, schedule, shutter);
+        lastCorrection_ = correctMotion(input, schedule, shutter);
+        const Ptr<Plant> plant = lastCorrection_.correctPlant(plant_);
+        const RollingShutter corrected = lastCorrection_.correctShutter(shutter);
+        lastWindow_ = classifyExposure(plant, schedule, corrected);
         lastBank_ = PsfBank();
-        if (lastWindow_ == EXPOSURE_IV)
+        if (lastWindow_ == EXPOSURE_IV || !lastCorrection_.applied)
         {
-            // Still throughout: the frame already is a sharp global-shutter view.
+            // Still throughout, the frame already is a sharp global-shutter view; or no model explains it.
             input.copyTo(restored);
             if (validMask.needed())
             {
@@ -57,7 +61,7 @@ public:
             linear = linear_;
         }
 
-        lastBank_ = generator_->generate(psfModel_, schedule, shutter, thetaRef);
+        lastBank_ = generatorFor(plant)->generate(psfModel_, schedule, corrected, thetaRef);
         /* A frame without alpha is restored straight into the output (written last, after every
            read of the frame, so restoring in place works) when it is linear, or 8-bit with the
            colour at half resolution (encoded as it is written); others go through latent_. */
@@ -73,7 +77,8 @@ public:
         }
         else if (halfColour)
         {
-            restoreWithHalfColour(linear, schedule, shutter, thetaRef, target, direct ? input.depth() : CV_32F);
+            restoreWithHalfColour(linear, plant, schedule, corrected, thetaRef, target,
+                                  direct ? input.depth() : CV_32F);
         }
         else
         {
@@ -111,6 +116,56 @@ public:
         }
         if (validMask.needed())
             mask_.copyTo(validMask);
+    }
+
+    int getRefinement() const CV_OVERRIDE { return refinement_; }
+    void setRefinement(int flags) CV_OVERRIDE
+    {
+        if (flags < REFINE_NONE || flags > REFINE_ALL)
+            CV_Error(Error::StsOutOfRange,
+                     format("DynamicDeblurrer::setRefinement: flags = %d must combine REFINE_TIME_OFFSET (1), "
+                            "REFINE_LINE_DELAY (2) and REFINE_PLANT (4): a value in [0, 7]",
+                            flags));
+        refinement_ = flags;
+    }
+    void setReferenceFrame(InputArray still, double angle) CV_OVERRIDE
+    {
+        const char* fn = "DynamicDeblurrer::setReferenceFrame";
+        const Mat image = still.getMat();
+        detail::checkCameraFrame(image, *camera_, fn, "still");
+        if (!std::isnan(angle) && !(std::abs(angle) <= CV_PI / 2))
+            CV_Error(Error::StsOutOfRange,
+                     format("%s: angle = %g rad must be within [-pi/2, pi/2] (or NaN: the schedule's initial resting "
+                            "angle)",
+                            fn, angle));
+        reference_ = detail::buildPyramid(detail::linearLuminance(image), camera_, detail::kFitCoarseWidth, true);
+        referenceType_ = image.type();
+        referenceAngle_ = angle;
+    }
+    void clearReferenceFrame() CV_OVERRIDE
+    {
+        reference_ = detail::LuminancePyramid();
+        referenceType_ = -1;
+    }
+    MotionCorrection getLastCorrection() const CV_OVERRIDE { return lastCorrection_; }
+    MotionCorrection getCalibration() const CV_OVERRIDE { return calibration_; }
+    void setCalibration(const MotionCorrection& correction) CV_OVERRIDE
+    {
+        correction.validate();
+        calibration_ = MotionCorrection();
+        calibration_.timeOffset = correction.timeOffset;
+        calibration_.lineDelayScale = correction.lineDelayScale;
+        calibration_.naturalFreqScale = correction.naturalFreqScale;
+        calibration_.dampingScale = correction.dampingScale;
+        calibrated_ = true;
+    }
+    double getConsistencyLimit() const CV_OVERRIDE { return consistencyLimit_; }
+    void setConsistencyLimit(double limit) CV_OVERRIDE
+    {
+        if (!(limit > 1))
+            CV_Error(Error::StsOutOfRange,
+                     format("DynamicDeblurrer::setConsistencyLimit: limit = %g must be > 1 (or +inf: no check)", limit));
+        consistencyLimit_ = limit;
     }
 
     int getPsfModel() const CV_OVERRIDE { return psfModel_; }
@@ -165,15 +220,105 @@ private:
                params_.colorIterations < params_.iterations;
     }
 
+    /* The correction for this frame: the calibration, refined against the reference frame when
+       there is one and the frame moves, and refused (applied = false) when even the best
+       correction leaves the frame inconsistent with the reference. */
+    MotionCorrection correctMotion(const Mat& input, const SwitchSchedule& schedule, const RollingShutter& shutter)
+    {
+        MotionCorrection correction = calibration_;
+        if (reference_.levels() == 0)
+        {
+            correction.reason = "no reference frame: the model as told (with the calibration)";
+            return correction;
+        }
+        if (input.type() != referenceType_)
+            CV_Error(Error::StsUnmatchedFormats,
+                     format("DynamicDeblurrer::deblur: 'frame' is %s but the reference frame is %s; both must come "
+                            "from the same stream (or call clearReferenceFrame)",
+                            typeToString(input.type()).c_str(), typeToString(referenceType_).c_str()));
+        if (classifyExposure(correction.correctPlant(plant_), schedule, correction.correctShutter(shutter)) ==
+            EXPOSURE_IV)
+        {
+            correction.reason = "still frame: nothing to refine";
+            return correction;
+        }
+        detail::FitFrame fit;
+        fit.reference = &reference_;
+        fit.frame = detail::buildPyramid(detail::linearLuminance(input), camera_, detail::kFitCoarseWidth, false);
+        fit.schedule = schedule;
+        fit.shutter = shutter;
+        fit.referenceAngle =
+            std::isnan(referenceAngle_) ? plant_->restingAngle(schedule.initialLevel) : referenceAngle_;
+        const std::vector<detail::FitFrame> frames{fit};
+        if (refinement_ != REFINE_NONE)
+        {
+            detail::FitSettings settings;
+            settings.flags = refinement_;
+            // From a recording's calibration only the frame's jitter is left to find: the fine level's fit alone.
+            settings.coarse = !(refinement_ == REFINE_TIME_OFFSET && calibrated_);
+            settings.deviation = false;
+            const detail::FitResult result = detail::fitMotionCorrection(plant_, frames, correction, settings);
+            correction = result.correction;
+            correction.reason = format("refined against the reference frame (%d forward models; residual %.1f %% below "
+                                       "the model as told)",
+                                       result.evaluations, 100 * result.improvement);
+            if (result.unchanged)
+                correction.reason += "; the model as told explains the frame as well: kept";
+            else if (result.unobserved)
+                correction.reason += unobservedNote(result.unobserved);
+        }
+        else
+        {
+            correction.consistency = detail::frameConsistency(plant_, frames, correction, detail::kFitFineWidth)[0];
+            correction.reason = "checked against the reference frame";
+        }
+        if (!(correction.consistency <= consistencyLimit_))
+        {
+            correction.applied = false;
+            correction.reason =
+                std::isnan(correction.consistency)
+                    ? String("the frame and the reference frame observe no common pixel: returned unchanged")
+                    : format("consistency %.2f exceeds the limit %.2f: no correction explains the frame (another "
+                             "schedule, something moving, a bumped camera?); returned unchanged",
+                             correction.consistency, consistencyLimit_);
+        }
+        return correction;
+    }
+
+    //! Which parameters the frame did not determine, for MotionCorrection::reason.
+    static String unobservedNote(int flags)
+    {
+        String note = "; not determined by this frame, kept as told:";
+        if (flags & REFINE_TIME_OFFSET)
+            note += " time offset";
+        if (flags & REFINE_LINE_DELAY)
+            note += " line delay";
+        if (flags & REFINE_PLANT)
+            note += " plant";
+        return note + " (its moving rows see little the reference frame saw)";
+    }
+
+    //! A generator for `plant` with getPsfGenerator()'s settings (that generator itself for the nominal plant).
+    Ptr<PsfGenerator> generatorFor(const Ptr<Plant>& plant) const
+    {
+        if (plant == plant_)
+            return generator_;
+        Ptr<PsfGenerator> generator = PsfGenerator::create(plant, camera_);
+        generator->setMaxKernelSize(generator_->getMaxKernelSize());
+        generator->setBandRows(generator_->getBandRows());
+        generator->setTileGrid(generator_->getTileGrid());
+        return generator;
+    }
+
     /* DEBLUR_COLOR_HALF_RESOLUTION: the colour phase on the halved frame, with a half-size
        camera's kernels; the luminance with every iteration at full resolution; then one pass that
        upsamples the colour, scales it to the luminance and writes it in `depth` (CV_8U: sRGB).
        `frame` is CV_32FC3 (linear) or CV_8UC3 (sRGB). */
-    void restoreWithHalfColour(const Mat& frame, const SwitchSchedule& schedule, const RollingShutter& shutter,
-                               double thetaRef, const _OutputArray& target, int depth)
+    void restoreWithHalfColour(const Mat& frame, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
+                               const RollingShutter& shutter, double thetaRef, const _OutputArray& target, int depth)
     {
         const PsfBank halfBank =
-            halfGenerator()->generate(psfModel_, schedule, detail::halfResolutionShutter(shutter), thetaRef);
+            halfGenerator(plant)->generate(psfModel_, schedule, detail::halfResolutionShutter(shutter), thetaRef);
         // Both restorations run in place (restoreVariant writes its output after its last read of the frame).
         detail::halveAndAverageChannels(frame, halfColour_, luminance_);
         RLParams colourParams = params_;
@@ -189,17 +334,19 @@ private:
         detail::combineLuminanceAndHalfColour(luminance_, halfColour_, 1e-6f, depth, target);
     }
 
-    /* The generator of the half-size camera, with the settings of getPsfGenerator()'s, halved where
-       they count pixels. A tile grid takes half lastBank_'s columns, the same node spacing in its
-       own pixels, which is what the automatic rule gives at half the width below its cap of 16:
-       neighbouring kernels then differ by as many (half-size) pixels as at full resolution.
-       DeblurQuality measured 8 columns within 0.08 dB of 16 in window I, 4 columns 0.6 dB below. */
-    const Ptr<PsfGenerator>& halfGenerator()
+    /* The generator of the half-size camera for `plant`, with the settings of getPsfGenerator()'s,
+       halved where they count pixels. A tile grid takes half lastBank_'s columns, the same node
+       spacing in its own pixels, which is what the automatic rule gives at half the width below
+       its cap of 16: neighbouring kernels then differ by as many (half-size) pixels as at full
+       resolution. DeblurQuality measured 8 columns within 0.08 dB of 16 in window I, 4 columns 0.6 dB below. */
+    const Ptr<PsfGenerator>& halfGenerator(const Ptr<Plant>& plant)
     {
-        if (!halfGenerator_)
-        {
+        if (!halfCamera_)
             halfCamera_ = detail::halfResolutionCamera(*camera_);
-            halfGenerator_ = PsfGenerator::create(plant_, halfCamera_);
+        if (!halfGenerator_ || halfPlant_ != plant)
+        {
+            halfGenerator_ = PsfGenerator::create(plant, halfCamera_);
+            halfPlant_ = plant;
         }
         halfCamera_->setMountAxis(camera_->getMountAxis());  // the one setting a camera has after create()
         halfGenerator_->setMaxKernelSize(generator_->getMaxKernelSize());
@@ -212,38 +359,14 @@ private:
 
     void checkFrame(const Mat& input, const RollingShutter& shutter) const
     {
-        if (input.empty())
-            CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: 'frame' is empty");
-        if (input.depth() != CV_8U && input.depth() != CV_32F)
-            CV_Error(Error::StsUnsupportedFormat,
-                     format("DynamicDeblurrer::deblur: 'frame' depth %s is not supported; use CV_8U (sRGB) or "
-                            "CV_32F (linear, [0,1])", typeToString(input.type()).c_str()));
-        const int channels = input.channels();
-        if (channels != 1 && channels != 3 && channels != 4)
-            CV_Error(Error::StsUnsupportedFormat,
-                     format("DynamicDeblurrer::deblur: 'frame' has %d channels; 1, 3 or 4 are supported", channels));
-        const Size expected = camera_->getImageSize();
-        if (input.size() != expected)
-            CV_Error(Error::StsBadSize,
-                     format("DynamicDeblurrer::deblur: 'frame' is %dx%d but the camera model is %dx%d",
-                            input.cols, input.rows, expected.width, expected.height));
+        // Richardson–Lucy cannot take negative data, and a float frame scaled for another range
+        // than [0, 1] would be restored wrongly: checkCameraFrame refuses both.
+        detail::checkCameraFrame(input, *camera_, "DynamicDeblurrer::deblur", "frame");
         shutter.validate();
         if (shutter.rows != input.rows)
             CV_Error(Error::StsBadSize,
                      format("DynamicDeblurrer::deblur: shutter.rows = %d differs from the frame's height %d",
                             shutter.rows, input.rows));
-        // A float frame is linear intensity in [0, 1] (1 = full well), as a sensor delivers it:
-        // Richardson–Lucy cannot take negative data, and a frame scaled for another range would be
-        // restored wrongly. Only float round-off (a renderer's 1 + 1e-7) passes the bounds.
-        const float roundOff = 1e-4f;
-        float low = 0, high = 0;
-        if (input.depth() == CV_32F && !detail::finiteRange(input, low, high))
-            CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: 'frame' holds NaN or Inf values");
-        if (input.depth() == CV_32F && (low < -roundOff || high > 1 + roundOff))
-            CV_Error(Error::StsOutOfRange,
-                     format("DynamicDeblurrer::deblur: a CV_32F 'frame' must hold linear intensities in [0, 1] "
-                            "(clip noisy data first, as a sensor does); its values span [%g, %g]",
-                            low, high));
     }
 
     Ptr<Plant> plant_;
@@ -254,6 +377,14 @@ private:
     int colourResolution_ = DEBLUR_COLOR_FULL_RESOLUTION;
     Ptr<CameraModel> halfCamera_;  // created when first needed
     Ptr<PsfGenerator> halfGenerator_;
+    Ptr<Plant> halfPlant_;         // the plant halfGenerator_ was made for
+    int refinement_ = REFINE_ALL;
+    double consistencyLimit_ = 3.0;
+    MotionCorrection calibration_, lastCorrection_;
+    bool calibrated_ = false;  // setCalibration was called
+    detail::LuminancePyramid reference_;  // the reference frame's luminance, halved down to the fit's coarse width
+    int referenceType_ = -1;
+    double referenceAngle_ = std::numeric_limits<double>::quiet_NaN();
     double wienerNoiseToSignal_ = 1e-2;
     RLParams params_;
     // Kept between frames, so a stream of frames faults in no fresh memory.

@@ -27,6 +27,7 @@ RollingShutter → kernels from PsfGenerator → richardsonLucyVariant → resto
 #include "opencv2/dynblur/render.hpp"
 #include "opencv2/dynblur/psf.hpp"
 #include "opencv2/dynblur/deconv.hpp"
+#include "opencv2/dynblur/refinement.hpp"
 #include "opencv2/dynblur/deblurrer.hpp"
 #include "opencv2/dynblur/bus.hpp"
 

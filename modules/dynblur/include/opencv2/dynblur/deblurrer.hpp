@@ -3,6 +3,7 @@
 
 #include <opencv2/dynblur/deconv.hpp>
 #include <opencv2/dynblur/psf.hpp>
+#include <opencv2/dynblur/refinement.hpp>
 
 namespace cv {
 namespace dynblur {
@@ -36,9 +37,20 @@ enum DeblurColorResolution
 /** @brief Restores frames taken while the positioner moves: the blur of every pixel is predicted
 from the plant and the commands, then undone @cite DynblurSeed.
 
-deblur() follows one frame through the pipeline: the exposure window (classifyExposure), the
-kernels (PsfGenerator), the restoration (richardsonLucyVariant). The result is the
-global-shutter, motion-free view at θ_ref: rolling-shutter geometry and blur are undone together.
+deblur() follows one frame through the pipeline: the correction of the predicted motion (a
+calibration, refined per frame against a still reference frame), the exposure window
+(classifyExposure), the kernels (PsfGenerator), the restoration (richardsonLucyVariant). The result
+is the global-shutter, motion-free view at θ_ref: rolling-shutter geometry and blur are undone
+together.
+
+Real hardware is never exactly the model: the camera's clock is offset from the actuator's by an
+unknown latency, the line delay is nominal, and the plant's ωn and ζ drift. With a reference frame
+(setReferenceFrame: a still frame of the same stream, usually the one before the move), every frame
+is first explained by the reference carried through the predicted blur; the correction that
+explains it best (setRefinement) is used for the restoration, and a frame that no correction
+explains (consistency above setConsistencyLimit: a wrong schedule, something moving in the scene,
+a bumped camera) is returned unchanged rather than made worse. Without a reference the model is
+used as told (with setCalibration's correction).
 */
 class CV_EXPORTS_W DynamicDeblurrer : public Algorithm
 {
@@ -59,6 +71,35 @@ public:
     CV_WRAP virtual void deblur(InputArray frame, const SwitchSchedule& schedule, const RollingShutter& shutter,
                                 OutputArray restored, double thetaRef = std::numeric_limits<double>::quiet_NaN(),
                                 OutputArray validMask = noArray()) = 0;
+
+    /** @brief MotionRefinement flags: what each frame's correction may change (default REFINE_ALL).
+    It runs only while a reference frame is set; REFINE_NONE keeps the consistency check. */
+    CV_WRAP virtual int getRefinement() const = 0;
+    /** @param flags MotionRefinement flags, in [0, 7]. */
+    CV_WRAP virtual void setRefinement(int flags) = 0;
+    /** @brief Sets the still frame the next frames are compared with.
+    @param still a frame of the same stream (its type and channels) taken at rest, the camera's image size.
+    @param angle the angle it was taken at, radians, within [-π/2, π/2]; NaN: each frame's schedule's
+           initial resting angle (the frame before a move). */
+    CV_WRAP virtual void setReferenceFrame(InputArray still,
+                                           double angle = std::numeric_limits<double>::quiet_NaN()) = 0;
+    /** @brief Forgets the reference frame: frames are restored with the model as told. */
+    CV_WRAP virtual void clearReferenceFrame() = 0;
+    /** @brief The correction used for the last frame, its consistency, and whether it was applied. */
+    CV_WRAP virtual MotionCorrection getLastCorrection() const = 0;
+    /** @brief The correction every frame starts from (default none): a recording's calibration
+    (calibrateTiming), refined per frame from there. With a calibration and REFINE_TIME_OFFSET
+    alone, a frame's refinement looks for the frame's jitter only (a fraction of a millisecond
+    around the calibrated offset) and costs a few forward models. */
+    CV_WRAP virtual MotionCorrection getCalibration() const = 0;
+    /** @param correction the calibrated correction (its consistency, applied and reason are ignored). */
+    CV_WRAP virtual void setCalibration(const MotionCorrection& correction) = 0;
+    /** @brief Frames whose corrected model's MotionCorrection::consistency exceeds it are returned
+    unchanged (default 3, noise units: measured 0.5 to 2.3 where the model is right, 6.7 and above for
+    a wrong schedule or a moving object; +inf turns the check off). Needs a reference frame. */
+    CV_WRAP virtual double getConsistencyLimit() const = 0;
+    /** @param limit > 1, or +inf. */
+    CV_WRAP virtual void setConsistencyLimit(double limit) = 0;
 
     CV_WRAP virtual int getPsfModel() const = 0;            //!< PsfModel (default PSF_TILES, the most accurate)
     CV_WRAP virtual void setPsfModel(int model) = 0;

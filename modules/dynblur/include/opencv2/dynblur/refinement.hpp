@@ -1,0 +1,146 @@
+#ifndef OPENCV_DYNBLUR_REFINEMENT_HPP
+#define OPENCV_DYNBLUR_REFINEMENT_HPP
+
+#include <opencv2/dynblur/camera.hpp>
+#include <opencv2/dynblur/plant.hpp>
+#include <opencv2/dynblur/shutter.hpp>
+
+#include <limits>
+#include <vector>
+
+namespace cv {
+namespace dynblur {
+
+//! @addtogroup dynblur_restoration
+//! @{
+
+/** @brief What DynamicDeblurrer::setRefinement and calibrateTiming estimate from the frames
+(flags, combined with |). The schedule and the plant's gain are known exactly and never refined. */
+enum MotionRefinement
+{
+    REFINE_NONE = 0,         //!< use the model as told
+    REFINE_TIME_OFFSET = 1,  //!< the offset between the camera's clock and the actuator's
+    REFINE_LINE_DELAY = 2,   //!< the rolling shutter's line delay (ignored for a global shutter)
+    REFINE_PLANT = 4,        //!< the plant's natural frequency and damping ratio
+    REFINE_ALL = 7
+};
+
+/** @brief A correction of the predicted motion: the difference between the model a deblurrer is
+told and the one that moved the camera (DESIGN §2, "What is known on real hardware").
+
+The corrected shutter starts `timeOffset` later and reads its rows with `lineDelayScale` times the
+line delay; the corrected plant is the linear second-order plant with `naturalFreqScale` times the
+natural frequency and `dampingScale` times the damping ratio, and the same gain. */
+struct CV_EXPORTS_W_SIMPLE MotionCorrection
+{
+    CV_WRAP MotionCorrection();
+    CV_PROP_RW double timeOffset;        //!< seconds, added to the shutter's frameStart
+    CV_PROP_RW double lineDelayScale;    //!< × the shutter's lineDelay
+    CV_PROP_RW double naturalFreqScale;  //!< × the plant's natural frequency ωn
+    CV_PROP_RW double dampingScale;      //!< × the plant's damping ratio ζ
+    /** How well the corrected model explains the frame: the RMS of the frame minus the still
+        reference frame carried through the corrected blur, over the pixels both frames observe, in
+        units of the sensor noise's standard deviation (estimated on the reference). About 1 where the
+        model is right (up to √2 on rows that do not move, where both frames' noise adds); a wrong
+        schedule, a moving object or a bumped camera gives several. NaN when it was not measured
+        (no reference frame). */
+    CV_PROP_RW double consistency;
+    CV_PROP_RW bool applied;             //!< false: the frame was returned unrestored (see reason)
+    CV_PROP_RW String reason;            //!< why it was not applied, or how the correction was found
+
+    /** @brief The shutter as corrected: frameStart + timeOffset, lineDelay × lineDelayScale.
+    @param shutter the shutter as told. */
+    CV_WRAP RollingShutter correctShutter(const RollingShutter& shutter) const;
+    /** @brief The plant as corrected: `plant` itself when both scales are 1, otherwise
+    Plant::create(ωn·naturalFreqScale, ζ·dampingScale, gain) (a user-defined OdePlant is replaced
+    by the linear plant of its nominal parameters).
+    @param plant the plant as told. */
+    CV_WRAP Ptr<Plant> correctPlant(const Ptr<Plant>& plant) const;
+    /** @brief Throws cv::Exception naming the field when a value is not finite or a scale is not in
+    (0, 10). */
+    CV_WRAP void validate() const;
+};
+
+/** @brief The clock offset, line delay and plant of a recording, estimated jointly from several
+frames (calibrateTiming). */
+struct CV_EXPORTS_W_SIMPLE TimingCalibration
+{
+    CV_WRAP TimingCalibration();
+    CV_PROP_RW MotionCorrection correction;  //!< the common correction; consistency: over all frames
+    /** standard deviations of the four parameters (seconds, then dimensionless scales), from the
+        fit's curvature and its residual, treating pixel noise as independent (blur correlates
+        neighbouring residuals, so the true spread can be larger); 0 for a parameter not refined */
+    CV_PROP_RW double timeOffsetStd;
+    CV_PROP_RW double lineDelayScaleStd;    //!< see timeOffsetStd
+    CV_PROP_RW double naturalFreqScaleStd;  //!< see timeOffsetStd
+    CV_PROP_RW double dampingScaleStd;      //!< see timeOffsetStd
+    CV_PROP_RW std::vector<int> frameUsed;  //!< 1 for each input frame that entered the fit, else 0 (still, or inconsistent)
+    CV_PROP_RW std::vector<double> frameConsistency;  //!< MotionCorrection::consistency of each frame at the result
+    /** time offsets scanned around the result, seconds, and the objective (mean squared residual
+        in noise units over every used frame) at each, the other parameters at the result */
+    CV_PROP_RW std::vector<double> scanTimeOffsets;
+    CV_PROP_RW std::vector<double> scanObjective;  //!< see scanTimeOffsets
+
+    /** @brief Writes the calibration to a YAML/XML/JSON file (by extension), atomically (a
+    temporary file renamed over the target). @param filename output path. */
+    CV_WRAP void save(const String& filename) const;
+    /** @brief Reads a file written by save() (only the correction and the deviations are needed).
+    @param filename input path. */
+    CV_WRAP static TimingCalibration load(const String& filename);
+};
+
+/** @brief Estimates one clock offset, line delay (and optionally ωn, ζ) that hold for a whole
+recording, from several frames each paired with a still frame taken before it: the sensorless
+identification the seed's approach calls for @cite DynblurSeed, with no encoder, only frames.
+
+Each reference is carried through the blur the corrected model predicts for its frame (reduced
+resolution, row-wise kernels, only pixels both frames observe) and the parameters minimise the
+summed squared difference to the frames, in units of the noise: a scan of the offset, then
+Levenberg–Marquardt @cite Marquardt1963Algorithm, coarse to fine. Frames in window IV carry no
+information and are left out, and so are frames whose own consistency stays above
+`maxConsistency` at the joint result (a wrong schedule, something moving).
+
+@param plant the nominal plant.
+@param camera the camera (its image size is the frames').
+@param references still frames, one per frame, at `referenceAngles` (8-bit sRGB or CV_32F linear
+       [0, 1], 1, 3 or 4 channels, the camera's image size, the same type as their frame).
+@param frames the blurred frames.
+@param schedules each frame's command (on the actuator's clock).
+@param shutters each frame's timing as the camera reports it (on its own clock).
+@param flags MotionRefinement flags; REFINE_NONE is refused.
+@param referenceAngles each reference's angle, radians; empty: each schedule's initial resting angle.
+@param maxTimeOffset half-width of the offset scan, seconds, in (0, 1].
+@param maxConsistency frames above it at the result are left out of the final fit, > 1. */
+CV_EXPORTS_W TimingCalibration calibrateTiming(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera,
+                                               InputArrayOfArrays references, InputArrayOfArrays frames,
+                                               const std::vector<SwitchSchedule>& schedules,
+                                               const std::vector<RollingShutter>& shutters,
+                                               int flags = REFINE_TIME_OFFSET | REFINE_LINE_DELAY,
+                                               const std::vector<double>& referenceAngles = std::vector<double>(),
+                                               double maxTimeOffset = 0.02, double maxConsistency = 3.0);
+
+/** @brief The consistency (MotionCorrection::consistency) of candidate corrections with one frame:
+the objective calibrateTiming and DynamicDeblurrer minimise, for plots and diagnostics.
+@param plant the nominal plant.
+@param camera the camera.
+@param reference the still frame (see calibrateTiming).
+@param frame the blurred frame, the same type as reference.
+@param schedule the frame's command.
+@param shutter the frame's timing as reported.
+@param candidates corrections to evaluate.
+@param referenceAngle the reference's angle, radians; NaN: the schedule's initial resting angle.
+@param maxWidth the frames are halved (as cv::resize with INTER_AREA) until at most this wide, pixels, ≥ 16.
+@return one consistency per candidate. */
+CV_EXPORTS_W std::vector<double> motionConsistency(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera,
+                                                   InputArray reference, InputArray frame,
+                                                   const SwitchSchedule& schedule, const RollingShutter& shutter,
+                                                   const std::vector<MotionCorrection>& candidates,
+                                                   double referenceAngle = std::numeric_limits<double>::quiet_NaN(),
+                                                   int maxWidth = 320);
+
+//! @}
+
+}  // namespace dynblur
+}  // namespace cv
+
+#endif

@@ -1,0 +1,549 @@
+// Fitting a MotionCorrection: the reference carried through the predicted blur, compared with the frame.
+#include "precomp.hpp"
+
+#include "deconv_operator.hpp"
+#include "deconv_rl.hpp"
+#include "half_colour.hpp"
+#include "motion_fit.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+namespace cv {
+namespace dynblur {
+namespace detail {
+
+Mat linearLuminance(const Mat& frame)
+{
+    Mat linear = frame;
+    if (frame.depth() == CV_8U)
+        srgbToLinear(frame, linear);
+    if (linear.channels() == 1)
+        return linear;
+    Mat weights = Mat::zeros(1, linear.channels(), CV_32F);
+    weights.colRange(0, 3).setTo(1.0 / 3);  // colour only: alpha is coverage, not light
+    Mat luminance;
+    transform(linear, luminance, weights);
+    return luminance;
+}
+
+LuminancePyramid buildPyramid(const Mat& luminance, const Ptr<CameraModel>& camera, int coarsestWidth,
+                              bool estimateNoise)
+{
+    LuminancePyramid pyramid;
+    pyramid.images.push_back(luminance);
+    pyramid.cameras.push_back(camera);
+    while (pyramid.images.back().cols > coarsestWidth && pyramid.images.back().cols % 2 == 0 &&
+           pyramid.images.back().rows % 2 == 0)
+    {
+        Mat half;
+        resize(pyramid.images.back(), half, Size(), 0.5, 0.5, INTER_AREA);
+        pyramid.cameras.push_back(halfResolutionCamera(*pyramid.cameras.back()));
+        pyramid.images.push_back(half);
+    }
+    if (estimateNoise)
+    {
+        std::vector<Mat> pool;
+        for (const Mat& image : pyramid.images)
+            pyramid.noiseSigma.push_back(observeFrame(image, pool, true).noiseSigma);
+    }
+    return pyramid;
+}
+
+int levelAtMostWide(const LuminancePyramid& pyramid, int width)
+{
+    for (int level = 0; level < pyramid.levels(); level++)
+        if (pyramid.images[size_t(level)].cols <= width)
+            return level;
+    return pyramid.levels() - 1;
+}
+
+RollingShutter shutterAtLevel(const RollingShutter& shutter, int halvings)
+{
+    RollingShutter result = shutter;
+    for (int k = 0; k < halvings; k++)
+        result = halfResolutionShutter(result);
+    return result;
+}
+
+namespace {
+
+/* The parameters in the units the fit works in, chosen so that a unit step moves the image by
+   comparable amounts: the offset in milliseconds, the line delay and ωn in percent, ζ in tens of
+   percent (the blur is least sensitive to it). */
+const double kUnit[4] = {1e-3, 1e-2, 1e-2, 1e-1};
+const double kStep[4] = {0.1, 1, 1, 1};  // forward-difference steps, fit units
+const double kTolerance[4] = {0.01, 0.05, 0.05, 0.1};  // a step below these in every parameter ends a level
+// Scales are searched within these bounds, fit units (±15 % line delay, ±10 % ωn, ±50 % ζ).
+const double kScaleBound[4] = {0, 15, 10, 5};
+/* A weak prior toward the start, fit units: it decides only parameters that the frames do not
+   observe (a global shutter's line delay, ζ in a frame that sees no ringing). */
+const double kPriorDeviation[4] = {2, 10, 5, 3};
+/* A parameter whose standard deviation after the coarse fit exceeds this (fit units: 0.3 ms, 3 %,
+   2 %, 25 %) is not observed by the frames (their moving rows see content the reference never
+   saw, or the motion they see does not depend on it): it keeps its start value. */
+const double kObservable[4] = {0.3, 3, 2, 2.5};
+// ... unless resetting it raises the cost by more than this fraction.
+const double kUnobservedCostRise = 0.02;
+// The fit replaces the start only when it lowers the fine level's squared residual by more than this fraction.
+const double kSignificantImprovement = 0.01;
+// Local minima of the offset's scan the coarse fit starts from.
+const size_t kStartsTried = 2;
+// The scan's step of ωn when the plant is refined, fit units (percent).
+const double kScanFrequencyStep = 4;
+/* Pixel noise is never taken below this (linear intensity): an 8-bit frame's quantisation alone is
+   about this much, and a synthetic noise-free frame must not make every model inconsistent. */
+const double kNoiseFloor = 1e-3;
+/* Node columns of the fit's kernels. Tiles, not rows: a reference at another angle than the frame
+   is displaced by the whole move, and the projective rotation spreads that displacement across
+   the columns by several pixels, which one kernel per row smears (RefinementQuality: window I
+   against the still frame before the move kept 18 % of the gain with 4 columns). */
+const int kFitTileColumns = 8;
+// Light counted in a frame pixel from the reference, below which the pixel is left out.
+const float kMinCoverage = 0.98f;
+// Pixels at or above this (linear) may be clipped by the sensor: the linear model fails there.
+const float kSaturated = 0.99f;
+
+Vec4d toFitUnits(const MotionCorrection& c)
+{
+    return Vec4d(c.timeOffset / kUnit[0], (c.lineDelayScale - 1) / kUnit[1], (c.naturalFreqScale - 1) / kUnit[2],
+                 (c.dampingScale - 1) / kUnit[3]);
+}
+
+MotionCorrection fromFitUnits(const Vec4d& q, const MotionCorrection& like)
+{
+    MotionCorrection c = like;
+    c.timeOffset = q[0] * kUnit[0];
+    c.lineDelayScale = 1 + q[1] * kUnit[1];
+    c.naturalFreqScale = 1 + q[2] * kUnit[2];
+    c.dampingScale = 1 + q[3] * kUnit[3];
+    return c;
+}
+
+//! The frames' residuals at one pyramid level: (frame − predicted) / σ over each frame's fixed mask.
+class LevelResiduals
+{
+public:
+    LevelResiduals(const Ptr<Plant>& plant, const std::vector<FitFrame>& frames, int width)
+        : plant_(plant), frames_(frames)
+    {
+        for (const FitFrame& f : frames)
+        {
+            const int level = levelAtMostWide(*f.reference, width);
+            levels_.push_back(level);
+            sigma_.push_back(std::max(kNoiseFloor, f.reference->noiseSigma[size_t(level)]));
+        }
+    }
+
+    /* Fixes each frame's mask: pixels the reference fully covers under `c` (eroded by two pixels,
+       so the fit's steps do not move them across the edge), away from the border, not saturated. */
+    void fixMasks(const MotionCorrection& c)
+    {
+        masks_.assign(frames_.size(), Mat());
+        pixels_ = 0;
+        for (size_t i = 0; i < frames_.size(); i++)
+        {
+            Mat predicted, coverage;
+            predict(i, c, predicted, coverage);
+            const Mat& frame = frames_[i].frame.images[size_t(levels_[i])];
+            const Mat& reference = frames_[i].reference->images[size_t(levels_[i])];
+            Mat mask = (coverage >= kMinCoverage) & (frame < kSaturated) & (predicted < kSaturated);
+            mask.setTo(0, reference >= kSaturated);  // the reference's clipped pixels spread through the blur
+            erode(mask, mask, getStructuringElement(MORPH_RECT, Size(5, 5)), Point(-1, -1), 1, BORDER_CONSTANT,
+                  Scalar(0));
+            masks_[i] = mask;
+            pixels_ += size_t(countNonZero(mask));
+        }
+    }
+
+    size_t pixels() const { return pixels_; }
+    size_t frames() const { return frames_.size(); }
+    int evaluations() const { return evaluations_; }
+
+    /* Appends every frame's residuals under `c` to `out` (in mask order); `perFrame`, when given,
+       receives each frame's mean squared residual. */
+    void residuals(const MotionCorrection& c, std::vector<float>& out, std::vector<double>* perFrame = nullptr)
+    {
+        if (perFrame)
+            perFrame->assign(frames_.size(), 0.0);
+        for (size_t i = 0; i < frames_.size(); i++)
+        {
+            Mat predicted, coverage;
+            predict(i, c, predicted, coverage);
+            const Mat& frame = frames_[i].frame.images[size_t(levels_[i])];
+            const float inverseSigma = float(1.0 / sigma_[i]);
+            double sum = 0;
+            size_t count = 0;
+            for (int y = 0; y < frame.rows; y++)
+            {
+                const uchar* m = masks_[i].ptr<uchar>(y);
+                const float *b = frame.ptr<float>(y), *p = predicted.ptr<float>(y), *w = coverage.ptr<float>(y);
+                for (int x = 0; x < frame.cols; x++)
+                {
+                    if (!m[x])
+                        continue;
+                    // Light that fell outside the reference is made up from what fell inside.
+                    const float r = (b[x] - p[x] / std::max(w[x], 0.5f)) * inverseSigma;
+                    out.push_back(r);
+                    sum += double(r) * r;
+                    count++;
+                }
+            }
+            if (perFrame)
+                (*perFrame)[i] = count ? sum / double(count) : std::numeric_limits<double>::quiet_NaN();
+        }
+    }
+
+private:
+    void predict(size_t i, const MotionCorrection& c, Mat& predicted, Mat& coverage)
+    {
+        const FitFrame& f = frames_[i];
+        const int level = levels_[i];
+        const Ptr<CameraModel>& camera = f.reference->cameras[size_t(level)];
+        const Mat& reference = f.reference->images[size_t(level)];
+        const RollingShutter shutter = shutterAtLevel(c.correctShutter(f.shutter), level);
+        Ptr<PsfGenerator> generator = PsfGenerator::create(c.correctPlant(plant_), camera);
+        generator->setTileGrid(Size(kFitTileColumns, 0));
+        const PsfBank bank = generator->generate(PSF_TILES, f.schedule, shutter, f.referenceAngle);
+        std::unique_ptr<BlurOperator> op = createBankOperator(bank, false);
+        op->forward(reference, predicted);
+        if (ones_.size() != reference.size())
+            ones_ = Mat::ones(reference.size(), CV_32F);
+        op->forward(ones_, coverage);
+        evaluations_++;
+    }
+
+    Ptr<Plant> plant_;
+    const std::vector<FitFrame>& frames_;
+    std::vector<int> levels_;
+    std::vector<double> sigma_;
+    std::vector<Mat> masks_;
+    Mat ones_;
+    size_t pixels_ = 0;
+    int evaluations_ = 0;
+};
+
+double squaredNorm(const std::vector<float>& r, size_t count)
+{
+    double sum = 0;
+    for (size_t k = 0; k < count; k++)
+        sum += double(r[k]) * r[k];
+    return sum;
+}
+
+//! Levenberg–Marquardt over the active parameters of q at one level, with the prior toward `prior`.
+class LevelFit
+{
+public:
+    LevelFit(LevelResiduals& residuals, const std::vector<int>& active, const Vec4d& prior, const Vec4d& lower,
+             const Vec4d& upper, const MotionCorrection& like)
+        : r_(residuals), active_(active), prior_(prior), lower_(lower), upper_(upper), like_(like)
+    {
+    }
+
+    //! Data plus prior cost at q; `data` receives the residual vector.
+    double cost(const Vec4d& q, std::vector<float>& data)
+    {
+        data.clear();
+        r_.residuals(fromFitUnits(q, like_), data);
+        double total = squaredNorm(data, data.size());
+        for (int j : active_)
+        {
+            const double p = (q[j] - prior_[j]) / kPriorDeviation[j];
+            total += p * p;
+        }
+        return total;
+    }
+
+    /** Fits from q; `finalCost`, when given, receives the cost at the result; `covariance` is left
+        zero unless `wantCovariance` (it costs a Jacobian at the result). */
+    Vec4d run(Vec4d q, int maxIterations, Matx44d& covariance, double* finalCost = nullptr,
+              bool wantCovariance = true)
+    {
+        std::vector<float> current, shifted;
+        double currentCost = cost(q, current);
+        double lambda = 1e-3;
+        const int n = int(active_.size());
+        Mat jtj(n, n, CV_64F), jtr(n, 1, CV_64F);
+        for (int iteration = 0; iteration < maxIterations && n > 0; iteration++)
+        {
+            jacobianProducts(q, current, jtj, jtr);
+            bool accepted = false, converged = false;
+            for (int attempt = 0; attempt < 6 && !accepted; attempt++)
+            {
+                Mat damped = jtj.clone();
+                for (int a = 0; a < n; a++)
+                    damped.at<double>(a, a) += lambda * jtj.at<double>(a, a) + 1e-9;
+                Mat delta;
+                solve(damped, -jtr, delta, DECOMP_CHOLESKY);
+                Vec4d candidate = q;
+                converged = true;
+                for (int a = 0; a < n; a++)
+                {
+                    const int j = active_[size_t(a)];
+                    candidate[j] = std::min(upper_[j], std::max(lower_[j], q[j] + delta.at<double>(a)));
+                    converged = converged && std::abs(candidate[j] - q[j]) < kTolerance[j];
+                }
+                const double candidateCost = cost(candidate, shifted);
+                if (candidateCost < currentCost)
+                {
+                    q = candidate, currentCost = candidateCost, current.swap(shifted);
+                    lambda = std::max(1e-7, lambda / 4);
+                    accepted = true;
+                }
+                else
+                {
+                    lambda *= 8;
+                }
+            }
+            if (!accepted || converged)
+                break;
+        }
+        // Curvature at the result: the parameters' covariance for independent pixel noise.
+        covariance = Matx44d::zeros();
+        if (n > 0 && wantCovariance)
+        {
+            jacobianProducts(q, current, jtj, jtr);
+            const double dof = std::max(1.0, double(current.size()) - n);
+            const double variance = squaredNorm(current, current.size()) / dof;
+            Mat inverse = jtj.inv(DECOMP_SVD) * variance;
+            for (int a = 0; a < n; a++)
+                for (int b = 0; b < n; b++)
+                    covariance(active_[size_t(a)], active_[size_t(b)]) = inverse.at<double>(a, b);
+        }
+        if (finalCost)
+            *finalCost = currentCost;
+        return q;
+    }
+
+private:
+    // JᵀJ and Jᵀr of the data and the prior at q (forward differences; `at` holds the data at q).
+    void jacobianProducts(const Vec4d& q, const std::vector<float>& at, Mat& jtj, Mat& jtr)
+    {
+        const int n = int(active_.size());
+        std::vector<std::vector<float>> columns(static_cast<size_t>(n));
+        std::vector<float> shifted;
+        for (int a = 0; a < n; a++)
+        {
+            const int j = active_[size_t(a)];
+            Vec4d moved = q;
+            // Step inward at an upper bound, so the difference is taken inside the box.
+            const double h = q[j] + kStep[j] <= upper_[j] ? kStep[j] : -kStep[j];
+            moved[j] += h;
+            shifted.clear();
+            r_.residuals(fromFitUnits(moved, like_), shifted);
+            std::vector<float>& column = columns[size_t(a)];
+            column.resize(at.size());
+            for (size_t k = 0; k < at.size(); k++)
+                column[k] = float((shifted[k] - at[k]) / h);
+        }
+        for (int a = 0; a < n; a++)
+        {
+            const int j = active_[size_t(a)];
+            double g = 0;
+            for (size_t k = 0; k < at.size(); k++)
+                g += double(columns[size_t(a)][k]) * at[k];
+            jtr.at<double>(a) = g + (q[j] - prior_[j]) / (kPriorDeviation[j] * kPriorDeviation[j]);
+            for (int b = a; b < n; b++)
+            {
+                double s = 0;
+                for (size_t k = 0; k < at.size(); k++)
+                    s += double(columns[size_t(a)][k]) * columns[size_t(b)][k];
+                if (a == b)
+                    s += 1.0 / (kPriorDeviation[j] * kPriorDeviation[j]);
+                jtj.at<double>(a, b) = jtj.at<double>(b, a) = s;
+            }
+        }
+    }
+
+    LevelResiduals& r_;
+    std::vector<int> active_;
+    Vec4d prior_, lower_, upper_;
+    MotionCorrection like_;
+};
+
+/* The deepest local minima of the coarse objective over the offset's scan, deepest first, at most
+   `count`. With the plant refined the scan is repeated at ωn scaled by ±kScanFrequencyStep: an error
+   in ωn delays the end of a move by a growing amount, which the offset alone cannot match. */
+std::vector<Vec4d> scanStarts(LevelResiduals& coarse, const Vec4d& prior, const MotionCorrection& start,
+                              const FitSettings& settings, size_t count)
+{
+    const int steps = int(std::ceil(settings.maxTimeOffset / settings.scanStep));
+    std::vector<double> frequencies{prior[2]};
+    if (settings.flags & REFINE_PLANT)
+        frequencies = {prior[2] - kScanFrequencyStep, prior[2], prior[2] + kScanFrequencyStep};
+    std::vector<Vec4d> minima;
+    std::vector<double> minimumCosts;
+    std::vector<float> data;
+    for (double frequency : frequencies)
+    {
+        std::vector<Vec4d> candidates;
+        std::vector<double> costs;
+        for (int k = -steps; k <= steps; k++)
+        {
+            Vec4d candidate = prior;
+            candidate[0] = prior[0] + k * settings.scanStep / kUnit[0];
+            candidate[2] = frequency;
+            data.clear();
+            coarse.residuals(fromFitUnits(candidate, start), data);
+            candidates.push_back(candidate);
+            costs.push_back(squaredNorm(data, data.size()));
+        }
+        for (size_t k = 0; k < costs.size(); k++)
+            if ((k == 0 || costs[k] < costs[k - 1]) && (k + 1 == costs.size() || costs[k] <= costs[k + 1]))
+                minima.push_back(candidates[k]), minimumCosts.push_back(costs[k]);
+    }
+    std::vector<size_t> order(minima.size());
+    for (size_t k = 0; k < order.size(); k++)
+        order[k] = k;
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return minimumCosts[a] < minimumCosts[b]; });
+    std::vector<Vec4d> starts;
+    for (size_t k = 0; k < order.size() && k < count; k++)
+        starts.push_back(minima[order[k]]);
+    return starts;
+}
+
+}  // namespace
+
+FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFrame>& frames,
+                              const MotionCorrection& start, const FitSettings& settings)
+{
+    CV_Assert(!frames.empty());
+    bool rolling = false;
+    for (const FitFrame& f : frames)
+        rolling = rolling || f.shutter.lineDelay > 0;
+    std::vector<int> active;
+    if (settings.flags & REFINE_TIME_OFFSET)
+        active.push_back(0);
+    if ((settings.flags & REFINE_LINE_DELAY) && rolling)
+        active.push_back(1);
+    if (settings.flags & REFINE_PLANT)
+        active.push_back(2), active.push_back(3);
+
+    const Vec4d prior = toFitUnits(start);
+    Vec4d lower, upper;
+    lower[0] = prior[0] - settings.maxTimeOffset / kUnit[0];
+    upper[0] = prior[0] + settings.maxTimeOffset / kUnit[0];
+    for (int j = 1; j < 4; j++)
+        lower[j] = -kScaleBound[j], upper[j] = kScaleBound[j];
+
+    FitResult result;
+    Vec4d q = prior;
+    int evaluations = 0;
+    Matx44d covariance = Matx44d::zeros();
+
+    std::vector<int> observed = active;
+    Vec4d coarseDeviation;
+    std::vector<float> data;
+    if (settings.coarse)
+    {
+        LevelResiduals coarse(plant, frames, settings.coarseWidth);
+        coarse.fixMasks(start);
+        // Starts for the coarse fit: the offset's scan has one basin per few pixels of motion, and
+        // with the plant off as well the deepest basin at the nominal plant may not be the true one.
+        std::vector<Vec4d> starts{prior};
+        if (settings.scan && (settings.flags & REFINE_TIME_OFFSET))
+            starts = scanStarts(coarse, prior, start, settings, kStartsTried);
+        LevelFit coarseFit(coarse, active, prior, lower, upper, start);
+        double bestCost = std::numeric_limits<double>::infinity();
+        Matx44d startCovariance;
+        for (const Vec4d& candidate : starts)
+        {
+            double cost = 0;
+            const Vec4d fitted =
+                coarse.pixels() > 0 ? coarseFit.run(candidate, 8, startCovariance, &cost) : candidate;
+            if (cost < bestCost || starts.size() == 1)
+                bestCost = cost, q = fitted, covariance = startCovariance;
+        }
+        evaluations += coarse.evaluations();
+        /* A parameter the coarse fit leaves uncertain, and whose start value explains the frames
+           about as well, is not observed by them (their moving rows see content the reference never
+           saw): it keeps its start value rather than the noise's choice. */
+        observed.clear();
+        for (int j : active)
+        {
+            coarseDeviation[j] = coarse.pixels() > 0 ? std::sqrt(std::max(0.0, covariance(j, j)))
+                                                     : std::numeric_limits<double>::infinity();
+            bool keep = coarseDeviation[j] <= kObservable[j];
+            if (!keep && coarse.pixels() > 0)
+            {
+                Vec4d reset = q;
+                reset[j] = prior[j];
+                keep = coarseFit.cost(reset, data) > bestCost * (1 + kUnobservedCostRise);
+            }
+            if (keep)
+                observed.push_back(j);
+            else
+                q[j] = prior[j],
+                result.unobserved |= j == 0 ? REFINE_TIME_OFFSET : j == 1 ? REFINE_LINE_DELAY : REFINE_PLANT;
+        }
+    }
+    const std::vector<int> tried = active;
+    active.swap(observed);
+
+    LevelResiduals fine(plant, frames, settings.fineWidth);
+    fine.fixMasks(fromFitUnits(q, start));
+    if (fine.pixels() > 0)
+        q = LevelFit(fine, active, prior, lower, upper, start)
+                .run(q, settings.coarse ? 5 : 4, covariance, nullptr, settings.deviation);
+
+    /* The start stays unless the fit explains the frames clearly better: a change within what the
+       frames cannot tell apart would only move the restoration by the noise's whim. */
+    std::vector<double> perFrame, startPerFrame;
+    data.clear();
+    fine.residuals(start, data, &startPerFrame);
+    const double startCost = squaredNorm(data, data.size());
+    data.clear();
+    fine.residuals(fromFitUnits(q, start), data, &perFrame);
+    const double cost = squaredNorm(data, data.size());
+    result.improvement = startCost > 0 ? 1 - cost / startCost : 0;
+    result.unchanged = startCost <= cost * (1 + kSignificantImprovement);
+    if (result.unchanged)
+        q = prior, perFrame = startPerFrame;
+    result.correction = fromFitUnits(q, start);
+    for (double& meanSquare : perFrame)
+        result.frameConsistency.push_back(std::sqrt(meanSquare));
+    result.correction.consistency = data.empty() ? std::numeric_limits<double>::quiet_NaN()
+                                                 : std::sqrt(std::min(cost, startCost) / double(data.size()));
+    for (int j = 0; j < 4; j++)
+        result.deviation[j] = std::sqrt(std::max(0.0, covariance(j, j))) * kUnit[j];
+    for (int j : tried)
+        if (std::find(active.begin(), active.end(), j) == active.end())
+            result.deviation[j] = coarseDeviation[j] * kUnit[j];  // how little the frames say about it
+    result.evaluations = evaluations + fine.evaluations();
+    return result;
+}
+
+std::vector<double> frameConsistency(const Ptr<Plant>& plant, const std::vector<FitFrame>& frames,
+                                     const MotionCorrection& correction, int width)
+{
+    LevelResiduals level(plant, frames, width);
+    level.fixMasks(correction);
+    std::vector<float> data;
+    std::vector<double> perFrame;
+    level.residuals(correction, data, &perFrame);
+    for (double& c : perFrame)
+        c = std::sqrt(c);
+    return perFrame;
+}
+
+std::vector<double> meanSquaredResiduals(const Ptr<Plant>& plant, const std::vector<FitFrame>& frames,
+                                         const MotionCorrection& maskAt,
+                                         const std::vector<MotionCorrection>& candidates, int width)
+{
+    LevelResiduals level(plant, frames, width);
+    level.fixMasks(maskAt);
+    std::vector<double> objective;
+    std::vector<float> data;
+    for (const MotionCorrection& c : candidates)
+    {
+        data.clear();
+        level.residuals(c, data);
+        objective.push_back(data.empty() ? std::numeric_limits<double>::quiet_NaN()
+                                         : squaredNorm(data, data.size()) / double(data.size()));
+    }
+    return objective;
+}
+
+}  // namespace detail
+}  // namespace dynblur
+}  // namespace cv

@@ -1,0 +1,321 @@
+// MotionCorrection, TimingCalibration and the calls that estimate them (refinement.hpp).
+#include "precomp.hpp"
+
+#include "deconv_rl.hpp"
+#include "motion_fit.hpp"
+
+#include <cstdio>
+
+namespace cv {
+namespace dynblur {
+
+MotionCorrection::MotionCorrection()
+    : timeOffset(0), lineDelayScale(1), naturalFreqScale(1), dampingScale(1),
+      consistency(std::numeric_limits<double>::quiet_NaN()), applied(true)
+{
+}
+
+RollingShutter MotionCorrection::correctShutter(const RollingShutter& shutter) const
+{
+    RollingShutter corrected = shutter;
+    corrected.frameStart += timeOffset;
+    corrected.lineDelay *= lineDelayScale;
+    return corrected;
+}
+
+Ptr<Plant> MotionCorrection::correctPlant(const Ptr<Plant>& plant) const
+{
+    CV_Assert(!plant.empty() && "MotionCorrection::correctPlant: 'plant' is null");
+    if (naturalFreqScale == 1 && dampingScale == 1)
+        return plant;
+    return Plant::create(plant->getNaturalFreqHz() * naturalFreqScale, plant->getDampingRatio() * dampingScale,
+                         plant->getGain());
+}
+
+void MotionCorrection::validate() const
+{
+    if (!std::isfinite(timeOffset))
+        CV_Error(Error::StsOutOfRange, format("MotionCorrection: timeOffset = %g s must be finite", timeOffset));
+    const std::pair<const char*, double> scales[] = {
+        {"lineDelayScale", lineDelayScale}, {"naturalFreqScale", naturalFreqScale}, {"dampingScale", dampingScale}};
+    for (const auto& scale : scales)
+        if (!(scale.second > 0 && scale.second < 10))
+            CV_Error(Error::StsOutOfRange,
+                     format("MotionCorrection: %s = %g must be in (0, 10)", scale.first, scale.second));
+}
+
+TimingCalibration::TimingCalibration()
+    : timeOffsetStd(0), lineDelayScaleStd(0), naturalFreqScaleStd(0), dampingScaleStd(0)
+{
+}
+
+void TimingCalibration::save(const String& filename) const
+{
+    correction.validate();
+    // Written beside the target and renamed over it: a reader never sees half a file.
+    const size_t dot = filename.find_last_of('.');
+    const String temporary = filename + ".partial" + (dot == String::npos ? String(".yml") : filename.substr(dot));
+    {
+        FileStorage fs(temporary, FileStorage::WRITE);
+        if (!fs.isOpened())
+            CV_Error(Error::StsError, "TimingCalibration::save: cannot open '" + temporary + "' for writing");
+        fs.writeComment("dynblur timing calibration: the camera clock's offset to the actuator's (s), and scales of "
+                        "the nominal line delay, natural frequency and damping ratio");
+        fs << "timeOffset" << correction.timeOffset << "lineDelayScale" << correction.lineDelayScale
+           << "naturalFreqScale" << correction.naturalFreqScale << "dampingScale" << correction.dampingScale;
+        if (std::isfinite(correction.consistency))
+            fs << "consistency" << correction.consistency;
+        fs << "timeOffsetStd" << timeOffsetStd << "lineDelayScaleStd" << lineDelayScaleStd << "naturalFreqScaleStd"
+           << naturalFreqScaleStd << "dampingScaleStd" << dampingScaleStd;
+        // A frame left out (still) has no consistency: written as −1, which no consistency is.
+        std::vector<double> consistency = frameConsistency;
+        for (double& value : consistency)
+            value = std::isfinite(value) ? value : -1.0;
+        fs << "frameUsed" << frameUsed << "frameConsistency" << consistency;
+    }
+    if (std::rename(temporary.c_str(), filename.c_str()) != 0)
+    {
+        std::remove(temporary.c_str());
+        CV_Error(Error::StsError, "TimingCalibration::save: cannot write '" + filename + "'");
+    }
+}
+
+TimingCalibration TimingCalibration::load(const String& filename)
+{
+    const ParameterFile file = ParameterFile::load(filename, "TimingCalibration::load: timing file");
+    TimingCalibration calibration;
+    MotionCorrection& c = calibration.correction;
+    c.timeOffset = file.real("timeOffset");
+    c.lineDelayScale = file.real("lineDelayScale");
+    c.naturalFreqScale = file.real("naturalFreqScale");
+    c.dampingScale = file.real("dampingScale");
+    if (file.has("consistency"))
+        c.consistency = file.real("consistency");
+    const std::pair<const char*, double*> deviations[] = {{"timeOffsetStd", &calibration.timeOffsetStd},
+                                                          {"lineDelayScaleStd", &calibration.lineDelayScaleStd},
+                                                          {"naturalFreqScaleStd", &calibration.naturalFreqScaleStd},
+                                                          {"dampingScaleStd", &calibration.dampingScaleStd}};
+    for (const auto& d : deviations)
+        if (file.has(d.first))
+            *d.second = file.real(d.first);
+    if (file.has("frameUsed"))
+        calibration.frameUsed = file.integers("frameUsed");
+    if (file.has("frameConsistency"))
+        calibration.frameConsistency = file.reals("frameConsistency");
+    for (double& value : calibration.frameConsistency)
+        value = value < 0 ? std::numeric_limits<double>::quiet_NaN() : value;
+    try
+    {
+        c.validate();
+    }
+    catch (const cv::Exception& e)
+    {
+        CV_Error(Error::StsParseError, "TimingCalibration::load: '" + filename + "': " + e.err);
+    }
+    return calibration;
+}
+
+namespace detail {
+
+void checkCameraFrame(const Mat& image, const CameraModel& camera, const char* function, const char* name)
+{
+    if (image.empty())
+        CV_Error(Error::StsBadArg, format("%s: '%s' is empty", function, name));
+    if (image.depth() != CV_8U && image.depth() != CV_32F)
+        CV_Error(Error::StsUnsupportedFormat,
+                 format("%s: '%s' type %s is not supported; use CV_8U (sRGB) or CV_32F (linear, [0,1])", function,
+                        name, typeToString(image.type()).c_str()));
+    if (image.channels() != 1 && image.channels() != 3 && image.channels() != 4)
+        CV_Error(Error::StsUnsupportedFormat,
+                 format("%s: '%s' has %d channels; 1, 3 or 4 are supported", function, name, image.channels()));
+    const Size expected = camera.getImageSize();
+    if (image.size() != expected)
+        CV_Error(Error::StsBadSize, format("%s: '%s' is %dx%d but the camera model is %dx%d", function, name,
+                                           image.cols, image.rows, expected.width, expected.height));
+    if (image.depth() != CV_32F)
+        return;
+    // A float frame is linear intensity in [0, 1] (1 = full well), as a sensor delivers it. Only
+    // float round-off (a renderer's 1 + 1e-7) passes the bounds.
+    const float roundOff = 1e-4f;
+    float low = 0, high = 0;
+    if (!finiteRange(image, low, high))
+        CV_Error(Error::StsBadArg, format("%s: '%s' holds NaN or Inf values", function, name));
+    if (low < -roundOff || high > 1 + roundOff)
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: a CV_32F '%s' must hold linear intensities in [0, 1] (clip noisy data first, as a "
+                        "sensor does); its values span [%g, %g]",
+                        function, name, low, high));
+}
+
+}  // namespace detail
+
+namespace {
+
+const int kCoarseWidth = detail::kFitCoarseWidth, kFineWidth = detail::kFitFineWidth;
+
+//! The pyramids of one (reference, frame) pair, checked; `reference` must outlive the FitFrame.
+detail::FitFrame makeFitFrame(const Mat& reference, const Mat& frame, const Ptr<CameraModel>& camera,
+                              const Ptr<Plant>& plant, const SwitchSchedule& schedule, const RollingShutter& shutter,
+                              double referenceAngle, detail::LuminancePyramid& referencePyramid, const char* fn,
+                              int index, int coarsestWidth = kCoarseWidth)
+{
+    const String referenceName = index < 0 ? String("reference") : format("references[%d]", index);
+    const String frameName = index < 0 ? String("frame") : format("frames[%d]", index);
+    detail::checkCameraFrame(reference, *camera, fn, referenceName.c_str());
+    detail::checkCameraFrame(frame, *camera, fn, frameName.c_str());
+    if (reference.type() != frame.type())
+        CV_Error(Error::StsUnmatchedFormats,
+                 format("%s: '%s' is %s but '%s' is %s; a still frame must come from the same camera stream", fn,
+                        referenceName.c_str(), typeToString(reference.type()).c_str(), frameName.c_str(),
+                        typeToString(frame.type()).c_str()));
+    schedule.validate();
+    shutter.validate();
+    if (shutter.rows != frame.rows)
+        CV_Error(Error::StsBadSize, format("%s: the shutter of '%s' has %d rows but the frame has %d", fn,
+                                           frameName.c_str(), shutter.rows, frame.rows));
+    const double angle = std::isnan(referenceAngle) ? plant->restingAngle(schedule.initialLevel) : referenceAngle;
+    if (!std::isfinite(angle) || std::abs(angle) > CV_PI / 2)
+        CV_Error(Error::StsOutOfRange, format("%s: the angle of '%s' = %g rad must be finite and within [-pi/2, pi/2]",
+                                              fn, referenceName.c_str(), angle));
+    referencePyramid = detail::buildPyramid(detail::linearLuminance(reference), camera, coarsestWidth, true);
+    detail::FitFrame f;
+    f.reference = &referencePyramid;
+    f.frame = detail::buildPyramid(detail::linearLuminance(frame), camera, coarsestWidth, false);
+    f.schedule = schedule;
+    f.shutter = shutter;
+    f.referenceAngle = angle;
+    return f;
+}
+
+void checkFlags(int flags, const char* fn)
+{
+    if (flags <= REFINE_NONE || flags > REFINE_ALL)
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: flags = %d must combine REFINE_TIME_OFFSET (1), REFINE_LINE_DELAY (2) and REFINE_PLANT "
+                        "(4): a value in [1, 7]",
+                        fn, flags));
+}
+
+}  // namespace
+
+TimingCalibration calibrateTiming(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera,
+                                  InputArrayOfArrays references, InputArrayOfArrays frames,
+                                  const std::vector<SwitchSchedule>& schedules,
+                                  const std::vector<RollingShutter>& shutters, int flags,
+                                  const std::vector<double>& referenceAngles, double maxTimeOffset,
+                                  double maxConsistency)
+{
+    const char* fn = "calibrateTiming";
+    if (plant.empty() || camera.empty())
+        CV_Error(Error::StsNullPtr, format("%s: '%s' is null", fn, plant.empty() ? "plant" : "camera"));
+    checkFlags(flags, fn);
+    if (!(maxTimeOffset > 0 && maxTimeOffset <= 1))
+        CV_Error(Error::StsOutOfRange, format("%s: maxTimeOffset = %g s must be in (0, 1]", fn, maxTimeOffset));
+    if (!(maxConsistency > 1) || std::isnan(maxConsistency))
+        CV_Error(Error::StsOutOfRange, format("%s: maxConsistency = %g must be > 1", fn, maxConsistency));
+    std::vector<Mat> stills, blurred;
+    references.getMatVector(stills);
+    frames.getMatVector(blurred);
+    const size_t n = blurred.size();
+    if (stills.size() != n || schedules.size() != n || shutters.size() != n ||
+        (!referenceAngles.empty() && referenceAngles.size() != n))
+        CV_Error(Error::StsBadSize,
+                 format("%s: frames has %zu entries but references %zu, schedules %zu, shutters %zu and "
+                        "referenceAngles %zu (empty or one per frame)",
+                        fn, n, stills.size(), schedules.size(), shutters.size(), referenceAngles.size()));
+
+    std::vector<detail::LuminancePyramid> pyramids(n);
+    std::vector<detail::FitFrame> fit;
+    std::vector<size_t> index;
+    for (size_t i = 0; i < n; i++)
+    {
+        const double angle = referenceAngles.empty() ? std::numeric_limits<double>::quiet_NaN() : referenceAngles[i];
+        detail::FitFrame f = makeFitFrame(stills[i], blurred[i], camera, plant, schedules[i], shutters[i], angle,
+                                          pyramids[i], fn, int(i));
+        if (classifyExposure(plant, schedules[i], shutters[i]) == EXPOSURE_IV)
+            continue;  // a still frame says nothing about the motion
+        fit.push_back(std::move(f));
+        index.push_back(i);
+    }
+    if (fit.size() < 2)
+        CV_Error(Error::StsBadArg,
+                 format("%s: fewer than two usable frames: %zu of the %zu frames are taken during a move (the others "
+                        "are in window IV, still); give at least two moving frames",
+                        fn, fit.size(), n));
+
+    detail::FitSettings settings;
+    settings.flags = flags;
+    settings.maxTimeOffset = maxTimeOffset;
+    settings.coarseWidth = kCoarseWidth;
+    settings.fineWidth = kFineWidth;
+    detail::FitResult result = fitMotionCorrection(plant, fit, MotionCorrection(), settings);
+
+    // Frames the common model cannot explain (another schedule, something moving) leave the fit.
+    std::vector<detail::FitFrame> kept;
+    std::vector<size_t> keptIndex;
+    for (size_t k = 0; k < fit.size(); k++)
+        if (result.frameConsistency[k] <= maxConsistency)
+            kept.push_back(fit[k]), keptIndex.push_back(index[k]);
+    if (kept.size() < 2)
+        CV_Error(Error::StsBadArg,
+                 format("%s: fewer than two usable frames: at the best common correction only %zu of %zu moving "
+                        "frames have a consistency within maxConsistency = %g",
+                        fn, kept.size(), fit.size(), maxConsistency));
+    if (kept.size() < fit.size())
+    {
+        settings.scan = false;
+        result = fitMotionCorrection(plant, kept, result.correction, settings);
+    }
+
+    TimingCalibration calibration;
+    calibration.correction = result.correction;
+    calibration.correction.reason = format("calibrated over %zu frames", kept.size());
+    calibration.timeOffsetStd = result.deviation[0];
+    calibration.lineDelayScaleStd = result.deviation[1];
+    calibration.naturalFreqScaleStd = result.deviation[2];
+    calibration.dampingScaleStd = result.deviation[3];
+    calibration.frameUsed.assign(n, 0);
+    for (size_t i : keptIndex)
+        calibration.frameUsed[i] = 1;
+    calibration.frameConsistency.assign(n, std::numeric_limits<double>::quiet_NaN());
+    const std::vector<double> consistency = detail::frameConsistency(plant, fit, result.correction, kFineWidth);
+    for (size_t k = 0; k < fit.size(); k++)
+        calibration.frameConsistency[index[k]] = consistency[k];
+
+    std::vector<MotionCorrection> scan;
+    for (int k = -40; k <= 40; k++)
+    {
+        scan.push_back(result.correction);
+        scan.back().timeOffset += k * 1e-3 / 40;  // ±1 ms around the result
+        calibration.scanTimeOffsets.push_back(scan.back().timeOffset);
+    }
+    calibration.scanObjective = detail::meanSquaredResiduals(plant, kept, result.correction, scan, kFineWidth);
+    return calibration;
+}
+
+std::vector<double> motionConsistency(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera, InputArray reference,
+                                      InputArray frame, const SwitchSchedule& schedule, const RollingShutter& shutter,
+                                      const std::vector<MotionCorrection>& candidates, double referenceAngle,
+                                      int maxWidth)
+{
+    const char* fn = "motionConsistency";
+    if (plant.empty() || camera.empty())
+        CV_Error(Error::StsNullPtr, format("%s: '%s' is null", fn, plant.empty() ? "plant" : "camera"));
+    if (maxWidth < 16)
+        CV_Error(Error::StsOutOfRange, format("%s: maxWidth = %d px must be at least 16", fn, maxWidth));
+    for (const MotionCorrection& c : candidates)
+        c.validate();
+    detail::LuminancePyramid pyramid;
+    std::vector<detail::FitFrame> fit{makeFitFrame(reference.getMat(), frame.getMat(), camera, plant, schedule,
+                                                   shutter, referenceAngle, pyramid, fn, -1,
+                                                   std::min(kCoarseWidth, maxWidth))};
+    std::vector<double> values =
+        detail::meanSquaredResiduals(plant, fit, candidates.empty() ? MotionCorrection() : candidates[0], candidates,
+                                     maxWidth);
+    for (double& v : values)
+        v = std::sqrt(v);
+    return values;
+}
+
+}  // namespace dynblur
+}  // namespace cv

@@ -1,0 +1,142 @@
+// Bindings of refinement.hpp: MotionCorrection, TimingCalibration, calibrateTiming, motionConsistency.
+#include "bindings.hpp"
+
+#include <opencv2/dynblur/refinement.hpp>
+
+#include <limits>
+#include <memory>
+#include <sstream>
+
+namespace dynblur_py {
+
+using namespace cv::dynblur;
+
+namespace {
+
+std::string repr(const MotionCorrection& c)
+{
+    std::ostringstream o;
+    o << "MotionCorrection(timeOffset=" << c.timeOffset << ", lineDelayScale=" << c.lineDelayScale
+      << ", naturalFreqScale=" << c.naturalFreqScale << ", dampingScale=" << c.dampingScale
+      << ", consistency=" << c.consistency << ", applied=" << (c.applied ? "True" : "False") << ", reason='"
+      << c.reason << "')";
+    return o.str();
+}
+
+//! A list of frames → Mats that own no Python memory past the call (copied when needed).
+std::vector<cv::Mat> toMats(py::handle list, const char* name)
+{
+    std::vector<cv::Mat> mats;
+    size_t index = 0;
+    for (py::handle item : py::iter(list))
+    {
+        const std::string itemName = std::string(name) + "[" + std::to_string(index++) + "]";
+        mats.push_back(toMat(item, itemName.c_str(), true).mat);
+    }
+    return mats;
+}
+
+template <typename T>
+cv::Ptr<T> required(const std::shared_ptr<T>& p, const char* name)
+{
+    if (!p)
+        throw py::value_error(std::string("argument '") + name + "' is None");
+    return cv::Ptr<T>(p);
+}
+
+}  // namespace
+
+void bindRefinement(py::module_& m)
+{
+    m.attr("REFINE_NONE") = int(REFINE_NONE);
+    m.attr("REFINE_TIME_OFFSET") = int(REFINE_TIME_OFFSET);
+    m.attr("REFINE_LINE_DELAY") = int(REFINE_LINE_DELAY);
+    m.attr("REFINE_PLANT") = int(REFINE_PLANT);
+    m.attr("REFINE_ALL") = int(REFINE_ALL);
+
+    py::class_<MotionCorrection>(m, "MotionCorrection", R"doc(A correction of the predicted motion: the shutter
+starts timeOffset seconds later and reads its rows with lineDelayScale times the line delay; the
+plant has naturalFreqScale times ωn and dampingScale times ζ.)doc")
+        .def(py::init([](double timeOffset, double lineDelayScale, double naturalFreqScale, double dampingScale) {
+                 MotionCorrection c;
+                 c.timeOffset = timeOffset;
+                 c.lineDelayScale = lineDelayScale;
+                 c.naturalFreqScale = naturalFreqScale;
+                 c.dampingScale = dampingScale;
+                 return c;
+             }),
+             py::arg("timeOffset") = 0.0, py::arg("lineDelayScale") = 1.0, py::arg("naturalFreqScale") = 1.0,
+             py::arg("dampingScale") = 1.0)
+        .def_readwrite("timeOffset", &MotionCorrection::timeOffset, "seconds, added to the shutter's frameStart")
+        .def_readwrite("lineDelayScale", &MotionCorrection::lineDelayScale, "x the shutter's lineDelay")
+        .def_readwrite("naturalFreqScale", &MotionCorrection::naturalFreqScale, "x the plant's natural frequency")
+        .def_readwrite("dampingScale", &MotionCorrection::dampingScale, "x the plant's damping ratio")
+        .def_readwrite("consistency", &MotionCorrection::consistency,
+                       "RMS of the frame minus the reference carried through the corrected blur, in noise standard "
+                       "deviations (about 1 when the model is right; NaN: not measured)")
+        .def_readwrite("applied", &MotionCorrection::applied, "False: the frame was returned unrestored (see reason)")
+        .def_readwrite("reason", &MotionCorrection::reason, "why it was not applied, or how it was found")
+        .def("correctShutter", &MotionCorrection::correctShutter, py::arg("shutter"),
+             "The shutter as corrected: frameStart + timeOffset, lineDelay x lineDelayScale.")
+        .def("correctPlant",
+             [](const MotionCorrection& c, const std::shared_ptr<Plant>& plant) {
+                 return std::shared_ptr<Plant>(c.correctPlant(required(plant, "plant")));
+             },
+             py::arg("plant"), "The plant as corrected (itself when both scales are 1).")
+        .def("validate", &MotionCorrection::validate)
+        .def("__repr__", &repr);
+
+    py::class_<TimingCalibration>(m, "TimingCalibration",
+                                  "The clock offset, line delay and plant of a recording (calibrateTiming).")
+        .def(py::init<>())
+        .def_readwrite("correction", &TimingCalibration::correction, "the common MotionCorrection")
+        .def_readwrite("timeOffsetStd", &TimingCalibration::timeOffsetStd,
+                       "standard deviation of timeOffset, seconds (independent pixel noise: a lower bound)")
+        .def_readwrite("lineDelayScaleStd", &TimingCalibration::lineDelayScaleStd)
+        .def_readwrite("naturalFreqScaleStd", &TimingCalibration::naturalFreqScaleStd)
+        .def_readwrite("dampingScaleStd", &TimingCalibration::dampingScaleStd)
+        .def_readwrite("frameUsed", &TimingCalibration::frameUsed, "1 for each frame in the fit, else 0")
+        .def_readwrite("frameConsistency", &TimingCalibration::frameConsistency,
+                       "each frame's consistency at the result (NaN: a still frame)")
+        .def_readwrite("scanTimeOffsets", &TimingCalibration::scanTimeOffsets,
+                       "offsets scanned around the result, seconds")
+        .def_readwrite("scanObjective", &TimingCalibration::scanObjective,
+                       "mean squared residual (noise units) at each scanned offset")
+        .def("save", &TimingCalibration::save, py::arg("filename"),
+             "Writes the calibration (YAML/XML/JSON by extension), atomically.")
+        .def_static("load", &TimingCalibration::load, py::arg("filename"));
+
+    m.def("calibrateTiming",
+        [](const std::shared_ptr<Plant>& plant, const std::shared_ptr<CameraModel>& camera, py::handle references,
+           py::handle frames, const std::vector<SwitchSchedule>& schedules, const std::vector<RollingShutter>& shutters,
+           int flags, const std::vector<double>& referenceAngles, double maxTimeOffset, double maxConsistency) {
+            const std::vector<cv::Mat> stills = toMats(references, "references"), blurred = toMats(frames, "frames");
+            py::gil_scoped_release release;
+            return calibrateTiming(required(plant, "plant"), required(camera, "camera"), stills, blurred, schedules,
+                                   shutters, flags, referenceAngles, maxTimeOffset, maxConsistency);
+        },
+        py::arg("plant"), py::arg("camera"), py::arg("references"), py::arg("frames"), py::arg("schedules"),
+        py::arg("shutters"), py::arg("flags") = int(REFINE_TIME_OFFSET | REFINE_LINE_DELAY),
+        py::arg("referenceAngles") = std::vector<double>(), py::arg("maxTimeOffset") = 0.02,
+        py::arg("maxConsistency") = 3.0,
+        R"doc(One clock offset, line delay (and, with REFINE_PLANT, scales of wn and zeta) for a whole recording,
+from several frames each paired with a still frame (before the move for a frame that starts at rest,
+after it for one that ends at rest). referenceAngles: radians, empty = each schedule's initial
+resting angle. Returns a TimingCalibration.)doc");
+
+    m.def("motionConsistency",
+        [](const std::shared_ptr<Plant>& plant, const std::shared_ptr<CameraModel>& camera, py::handle reference,
+           py::handle frame, const SwitchSchedule& schedule, const RollingShutter& shutter,
+           const std::vector<MotionCorrection>& candidates, double referenceAngle, int maxWidth) {
+            MatIn still = toMat(reference, "reference"), blurred = toMat(frame, "frame");
+            py::gil_scoped_release release;
+            return motionConsistency(required(plant, "plant"), required(camera, "camera"), still.mat, blurred.mat,
+                                     schedule, shutter, candidates, referenceAngle, maxWidth);
+        },
+        py::arg("plant"), py::arg("camera"), py::arg("reference"), py::arg("frame"), py::arg("schedule"),
+        py::arg("shutter"), py::arg("candidates"), py::arg("referenceAngle") = std::numeric_limits<double>::quiet_NaN(),
+        py::arg("maxWidth") = 320,
+        "The consistency of each candidate MotionCorrection with one frame (for plots and diagnostics).");
+}
+
+}  // namespace dynblur_py

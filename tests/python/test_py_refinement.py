@@ -1,0 +1,104 @@
+"""Refinement of the predicted motion from Python: the issue's API names, a clock offset found
+against a reference frame, a calibration over frames, and bad input named."""
+import math
+
+import numpy as np
+import pytest
+
+from conftest import make_scene, window_start
+
+
+@pytest.fixture(scope="module")
+def tele(db):
+    """160x120 with fx = 300 px (a move spans many pixels), the seed plant, a 10 degree fast plan,
+    and a scene wide enough for the move."""
+    plant = db.Plant.create(naturalFreqHz=14.4, dampingRatio=0.12, gain=np.deg2rad(1.0))
+    sched = db.SwitchPlanner.create(plant, maxLevel=16).plan(0.0, np.deg2rad(10), startTime=0.0)
+    cam = db.CameraModel.create(300.0, 300.0, 79.5, 59.5, 160, 120)
+    scene = make_scene(120 + 2 * 64, 160 + 2 * 8, channels=1, seed=4)
+    return plant, sched, cam, scene
+
+
+def capture(db, tele, shutter, seed):
+    plant, sched, cam, scene = tele
+    blurred = db.renderBlurred(scene, plant, sched, cam, shutter)
+    return db.addSensorNoise(blurred, seed=seed)
+
+
+def test_enum_values_and_correction_fields(db):
+    assert (db.REFINE_NONE, db.REFINE_TIME_OFFSET, db.REFINE_LINE_DELAY, db.REFINE_PLANT, db.REFINE_ALL) == \
+        (0, 1, 2, 4, 7)
+    c = db.MotionCorrection(timeOffset=1e-3, naturalFreqScale=1.02)
+    assert c.timeOffset == 1e-3 and c.lineDelayScale == 1.0 and c.naturalFreqScale == 1.02
+    assert math.isnan(c.consistency) and c.applied and c.reason == ""
+    shutter = c.correctShutter(db.RollingShutter(frameStart=0.01, exposure=0.008, lineDelay=1e-4, rows=10))
+    assert shutter.frameStart == pytest.approx(0.011) and shutter.lineDelay == pytest.approx(1e-4)
+    plant = db.Plant.create(14.4, 0.12, 0.01)
+    assert c.correctPlant(plant).getNaturalFreqHz() == pytest.approx(14.4 * 1.02)
+    assert "MotionCorrection(timeOffset=0.001" in repr(c)
+
+
+def test_reference_frame_finds_the_clock_offset(db, tele):
+    plant, sched, cam, _ = tele
+    start = window_start(db, plant, sched, 120, 0.008, 1 / 30 / 120, db.EXPOSURE_III)
+    told = db.RollingShutter(frameStart=start, exposure=0.008, lineDelay=1 / 30 / 120, rows=120)
+    truth = db.RollingShutter(frameStart=start + 2e-3, exposure=0.008, lineDelay=1 / 30 / 120, rows=120)
+    frame = capture(db, tele, truth, 1)
+    still = capture(db, tele, db.RollingShutter(frameStart=1.0, exposure=0.008, lineDelay=1 / 30 / 120, rows=120), 2)
+    d = db.DynamicDeblurrer.create(plant, cam)
+    d.setPsfModel(db.PSF_ROWS)
+    assert d.getRefinement() == db.REFINE_ALL and d.getConsistencyLimit() == 3.0
+    d.setRefinement(db.REFINE_TIME_OFFSET)
+    d.setReferenceFrame(still, plant.restingAngle(sched.finalLevel()))
+    restored = d.deblur(frame, sched, told)
+    c = d.getLastCorrection()
+    assert restored.shape == frame.shape and c.applied, c.reason
+    assert c.timeOffset == pytest.approx(2e-3, abs=5e-4)
+    assert c.consistency < 2.0
+    # The objective the fit minimised is smaller at the found offset than as told.
+    values = db.motionConsistency(plant, cam, still, frame, sched, told,
+                                  [db.MotionCorrection(), db.MotionCorrection(timeOffset=c.timeOffset)],
+                                  plant.restingAngle(sched.finalLevel()))
+    assert values[1] < values[0]
+    d.setCalibration(db.MotionCorrection(timeOffset=2e-3))
+    assert d.getCalibration().timeOffset == 2e-3
+    d.clearReferenceFrame()
+    d.deblur(frame, sched, told)
+    assert math.isnan(d.getLastCorrection().consistency)
+
+
+def test_calibrate_timing_over_frames_and_file(db, tele, tmp_path):
+    plant, sched, cam, _ = tele
+    line_delay = 1 / 30 / 120
+    still_after = capture(db, tele, db.RollingShutter(frameStart=1.0, exposure=0.008, lineDelay=line_delay,
+                                                      rows=120), 7)
+    references, frames, shutters, moving = [], [], [], 0
+    for k, start in enumerate((0.004, 0.012, 0.020)):
+        told = db.RollingShutter(frameStart=start, exposure=0.008, lineDelay=line_delay, rows=120)
+        truth = db.RollingShutter(frameStart=start + 1.5e-3, exposure=0.008, lineDelay=line_delay, rows=120)
+        assert db.classifyExposure(plant, sched, told) != db.EXPOSURE_I
+        moving += db.classifyExposure(plant, sched, told) != db.EXPOSURE_IV
+        frames.append(capture(db, tele, truth, 10 + k))
+        references.append(still_after)
+        shutters.append(told)
+    angles = [plant.restingAngle(sched.finalLevel())] * 3
+    t = db.calibrateTiming(plant, cam, references, frames, [sched] * 3, shutters, db.REFINE_TIME_OFFSET, angles)
+    assert t.correction.timeOffset == pytest.approx(1.5e-3, abs=4e-4)
+    assert moving >= 2 and sum(t.frameUsed) == moving and len(t.scanObjective) == len(t.scanTimeOffsets) > 10
+    path = str(tmp_path / "timing.yml")
+    t.save(path)
+    assert db.TimingCalibration.load(path).correction.timeOffset == pytest.approx(t.correction.timeOffset)
+
+
+def test_bad_input_is_named(db, tele):
+    plant, sched, cam, _ = tele
+    d = db.DynamicDeblurrer.create(plant, cam)
+    with pytest.raises(db.error, match="'still' is 160x100"):
+        d.setReferenceFrame(np.full((100, 160), 0.5, np.float32))
+    with pytest.raises(db.error, match=r"angle = 2 rad must be within \[-pi/2, pi/2\]"):
+        d.setReferenceFrame(np.full((120, 160), 0.5, np.float32), 2.0)
+    with pytest.raises(db.error, match="flags = 9"):
+        d.setRefinement(9)
+    with pytest.raises(ValueError, match="references"):
+        db.calibrateTiming(plant, cam, [None], [np.zeros((120, 160), np.float32)], [sched], [
+            db.RollingShutter(frameStart=0.0, exposure=0.008, lineDelay=0.0, rows=120)])

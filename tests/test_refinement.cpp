@@ -1,0 +1,469 @@
+// Refinement of the predicted motion (refinement.hpp, DynamicDeblurrer::setReferenceFrame): frames
+// blurred by a truth that differs from what the deblurrer is told.
+#include "test_common.hpp"
+
+#include "image_metrics.hpp"
+#include "saccade_scene.hpp"
+
+#include <opencv2/dynblur.hpp>
+
+#include <cstdio>
+
+using namespace cv;
+using namespace cv::dynblur;
+using dynblur_samples::maskedPsnr;
+using dynblur_test::judgedPixels;
+using dynblur_test::kDeg;
+using dynblur_test::SaccadeScene;
+
+namespace {
+
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+//! How the hardware differs from the nominal model (the truth the frame is rendered with).
+struct Drift
+{
+    const char* name;
+    double timeOffset;        // s, added to the reported frame start
+    double lineDelayScale;
+    double naturalFreqScale;
+    double dampingScale;
+
+    Ptr<Plant> plant(const SaccadeScene& s) const
+    {
+        return Plant::create(s.plant->getNaturalFreqHz() * naturalFreqScale, s.plant->getDampingRatio() * dampingScale,
+                             s.plant->getGain());
+    }
+    RollingShutter shutter(const RollingShutter& told) const
+    {
+        return RollingShutter(told.frameStart + timeOffset, told.exposure, told.lineDelay * lineDelayScale, told.rows);
+    }
+};
+
+//! A frame of the scene in `window`, blurred by `drift`'s truth, and the still frame before the move.
+struct DriftedFrame
+{
+    RollingShutter told;
+    Mat frame, still;
+    double stillAngle = 0;  // radians
+};
+
+/* The still frame that saw what the frame's moving rows see: the one before the move for a frame
+   that starts at rest (window I), the one after it for a frame that ends at rest (III). */
+DriftedFrame captureDrifted(const SaccadeScene& s, int window, double lineDelay, const Drift& drift, uint64 seed)
+{
+    DriftedFrame d;
+    d.told = s.shutterInWindow(window, lineDelay);
+    d.frame = s.capture(drift.shutter(d.told), seed, drift.plant(s));
+    const bool after = window != EXPOSURE_I;
+    d.still = s.capture(RollingShutter(after ? 1.0 : -0.2, d.told.exposure, d.told.lineDelay, d.told.rows), seed + 1);
+    d.stillAngle = s.plant->restingAngle(after ? s.schedule.finalLevel() : s.schedule.initialLevel);
+    return d;
+}
+
+struct Outcome
+{
+    double blurred, truth, nominal, refined;
+    MotionCorrection correction;
+};
+
+//! PSNR of the blurred frame, and of its restorations told the truth, told the nominal model, and refined.
+Outcome restoreDrifted(const SaccadeScene& s, const DriftedFrame& d, const Drift& drift, int flags,
+                       const Range& rows)
+{
+    Outcome o;
+    Mat truthRestored, valid, restored;
+    Ptr<DynamicDeblurrer> told = DynamicDeblurrer::create(drift.plant(s), s.camera);
+    told->deblur(d.frame, s.schedule, drift.shutter(d.told), truthRestored, kNaN, valid);
+    const Mat judged = judgedPixels(valid, rows);
+    o.blurred = maskedPsnr(s.truth, d.frame, judged, 255);
+    o.truth = maskedPsnr(s.truth, truthRestored, judged, 255);
+
+    Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(s.plant, s.camera);
+    deblurrer->deblur(d.frame, s.schedule, d.told, restored);
+    o.nominal = maskedPsnr(s.truth, restored, judged, 255);
+    deblurrer->setReferenceFrame(d.still, d.stillAngle);
+    deblurrer->setRefinement(flags);
+    deblurrer->deblur(d.frame, s.schedule, d.told, restored);
+    o.refined = maskedPsnr(s.truth, restored, judged, 255);
+    o.correction = deblurrer->getLastCorrection();
+    return o;
+}
+
+struct WindowCase
+{
+    int window;
+    double lineDelay;  // s
+    const char* name;
+};
+
+const WindowCase kWindows[] = {{EXPOSURE_I, 1.0 / 30 / 480, "I"},
+                               {EXPOSURE_III, 1.0 / 30 / 480, "III"},
+                               {EXPOSURE_III, 0.0, "III global"}};
+
+// The ranges: δt within ±2 ms, ωn ±5 %, ζ ±20 %, line delay ±10 %, one at a time and combined.
+const Drift kDrifts[] = {{"none", 0, 1, 1, 1},
+                         {"dt +2 ms", 2e-3, 1, 1, 1},
+                         {"dt -2 ms", -2e-3, 1, 1, 1},
+                         {"dt +0.7 ms", 0.7e-3, 1, 1, 1},
+                         {"wn +5 %", 0, 1, 1.05, 1},
+                         {"wn -5 %", 0, 1, 0.95, 1},
+                         {"zeta +20 %", 0, 1, 1, 1.2},
+                         {"zeta -20 %", 0, 1, 1, 0.8},
+                         {"ld +10 %", 0, 1.1, 1, 1},
+                         {"ld -10 %", 0, 0.9, 1, 1},
+                         {"combined A", 1.2e-3, 0.93, 1.035, 1.15},
+                         {"combined B", -1.5e-3, 1.06, 0.96, 0.88}};
+
+//! Rows a window's figure is judged on: the most blurred third of a rolling window III frame, else all.
+Range judgedRows(const SaccadeScene& s, const WindowCase& w, const RollingShutter& told)
+{
+    return w.window == EXPOSURE_III && w.lineDelay > 0 ? s.mostBlurredRows(told, 480 / 3) : Range(0, 480);
+}
+
+class RefinementQuality : public testing::TestWithParam<std::string>
+{
+};
+
+}  // namespace
+
+/* The issue's figure: told the nominal model while the truth drifted, a deblurrer with a reference
+   frame keeps at least 90 % of the gain over the blurred frame that a deblurrer told the truth
+   reaches (mean per window), and recovers the parameters the frame determines. */
+TEST_P(RefinementQuality, WithAReferenceKeepsTheGainOfTheTruth)
+{
+    DYNBLUR_REQUIRE_DATA(path, GetParam());
+    SaccadeScene s(path);
+    for (const WindowCase& w : kWindows)
+    {
+        double keptSum = 0, nominalSum = 0;
+        int cases = 0;
+        for (const Drift& drift : kDrifts)
+        {
+            if (w.lineDelay == 0 && drift.lineDelayScale != 1 && drift.timeOffset == 0)
+                continue;  // a global shutter has no line delay to be wrong
+            const DriftedFrame d = captureDrifted(s, w.window, w.lineDelay, drift, 7);
+            const Outcome o = restoreDrifted(s, d, drift, REFINE_ALL, judgedRows(s, w, d.told));
+            const MotionCorrection& c = o.correction;
+            const double truthGain = o.truth - o.blurred;
+            const double kept = (o.refined - o.blurred) / truthGain;
+            std::printf("[ measured ] %s window %-10s %-10s: blurred %.2f dB, told the truth %.2f, nominal %.2f, "
+                        "refined %.2f (%.0f %% of the truth's gain) | dt %+.3f ms (true %+.3f), line delay x%.4f "
+                        "(%.4f), wn x%.4f (%.4f), zeta x%.3f (%.3f), consistency %.2f\n",
+                        GetParam().c_str(), w.name, drift.name, o.blurred, o.truth, o.nominal, o.refined, 100 * kept,
+                        c.timeOffset * 1e3, drift.timeOffset * 1e3, c.lineDelayScale, drift.lineDelayScale,
+                        c.naturalFreqScale, drift.naturalFreqScale, c.dampingScale, drift.dampingScale,
+                        c.consistency);
+            EXPECT_TRUE(c.applied) << drift.name << ": " << c.reason;
+            if (drift.timeOffset == 0 && drift.lineDelayScale == 1 && drift.naturalFreqScale == 1 &&
+                drift.dampingScale == 1)
+            {
+                /* Told the truth already, the fit still moves where the forward model's own error (the
+                   reference resampled, the path splatted) outweighs a few hundredths of a millisecond:
+                   up to 0.49 dB lost (fruits, window III), and gained on building. */
+                EXPECT_GE(o.refined, o.truth - 0.55) << w.name;
+                continue;  // not a drift: left out of the mean
+            }
+            keptSum += kept;
+            nominalSum += (o.nominal - o.blurred) / truthGain;
+            cases++;
+            if (w.window == EXPOSURE_III && w.lineDelay > 0)
+            {
+                /* A rolling window III frame against the still frame after the move determines the
+                   offset and the plant; its line delay only loosely (the hundred rows that move span
+                   a few milliseconds of readout): measured within 9.3 %, a sequence does better
+                   (CalibrateTiming). */
+                EXPECT_NEAR(c.timeOffset, drift.timeOffset, 0.2e-3) << w.name << " " << drift.name;
+                EXPECT_NEAR(c.naturalFreqScale, drift.naturalFreqScale, 0.01) << w.name << " " << drift.name;
+                EXPECT_NEAR(c.dampingScale, drift.dampingScale, 0.1) << w.name << " " << drift.name;
+                EXPECT_NEAR(c.lineDelayScale, drift.lineDelayScale, 0.1) << w.name << " " << drift.name;
+            }
+        }
+        const double meanKept = keptSum / cases;
+        std::printf("[ measured ] %s window %s: refined keeps %.1f %% of the truth's gain on average (floor 90 %%); the "
+                    "nominal model kept %.1f %%\n",
+                    GetParam().c_str(), w.name, 100 * meanKept, 100 * nominalSum / cases);
+        EXPECT_GE(meanKept, 0.9) << "window " << w.name;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(SharedImages, RefinementQuality, testing::Values("building.jpg", "fruits.jpg"),
+                         [](const testing::TestParamInfo<std::string>& info) {
+                             return info.param.substr(0, info.param.find('.'));
+                         });
+
+namespace {
+
+//! A frame in which something moves that the reference never saw: a bright bar streaked across it.
+Mat withMovingObject(const Mat& frame)
+{
+    Mat linear, streak = Mat::zeros(frame.size(), CV_32FC3);
+    srgbToLinear(frame, linear);
+    rectangle(streak, Rect(frame.cols / 3, frame.rows / 2, frame.cols / 4, frame.rows / 6), Scalar::all(0.9), FILLED);
+    blur(streak, streak, Size(41, 1));
+    Mat mask = streak > 0.0f;
+    linear = max(linear, streak);
+    Mat out;
+    linearToSrgb(linear, out, CV_8U);
+    return out;
+}
+
+}  // namespace
+
+/* A frame its model cannot explain (another move's schedule, one shifted by 10 ms, something moving
+   in the scene) is never returned worse than the blurred input by more than 0.1 dB. */
+TEST(RefinementRejection, AnInconsistentFrameIsNeverMadeWorse)
+{
+    DYNBLUR_REQUIRE_DATA(path, "building.jpg");
+    SaccadeScene s(path);
+    const Drift drift{"combined A", 1.2e-3, 0.93, 1.035, 1.15};
+    SwitchSchedule shifted = s.schedule;
+    for (double& t : shifted.times)
+        t += 0.010;
+    const SwitchSchedule another = SwitchPlanner::create(s.plant, 16)->plan(0.0, 6 * kDeg, 0.0);
+    int rejected = 0, cases = 0;
+    for (const WindowCase& w : kWindows)
+    {
+        const DriftedFrame d = captureDrifted(s, w.window, w.lineDelay, drift, 11);
+        struct Told { const char* name; SwitchSchedule schedule; Mat frame; };
+        const Told told[] = {{"shifted by 10 ms", shifted, d.frame},
+                             {"another move (6 deg)", another, d.frame},
+                             {"moving object", s.schedule, withMovingObject(d.frame)}};
+        for (const Told& t : told)
+        {
+            Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(s.plant, s.camera);
+            const bool after = w.window != EXPOSURE_I;
+            deblurrer->setReferenceFrame(
+                d.still, s.plant->restingAngle(after ? t.schedule.finalLevel() : t.schedule.initialLevel));
+            Mat restored, valid;
+            deblurrer->deblur(t.frame, t.schedule, d.told, restored, kNaN, valid);
+            const MotionCorrection c = deblurrer->getLastCorrection();
+            const Mat judged = judgedPixels(Mat(valid.size(), CV_8U, Scalar(255)), Range(0, 480));
+            const double blurred = maskedPsnr(s.truth, t.frame, judged, 255);
+            const double output = maskedPsnr(s.truth, restored, judged, 255);
+            std::printf("[ measured ] window %-10s told %-20s: blurred %.2f dB, output %.2f dB (floor %.2f), "
+                        "consistency %.2f, %s\n",
+                        w.name, t.name, blurred, output, blurred - 0.1, c.consistency,
+                        c.applied ? "restored" : "returned unchanged");
+            EXPECT_GE(output, blurred - 0.1) << w.name << ", " << t.name << ": " << c.reason;
+            rejected += c.applied ? 0 : 1;
+            cases++;
+        }
+    }
+    std::printf("[ measured ] %d of %d inconsistent frames returned unchanged\n", rejected, cases);
+}
+
+/* A recording's clock offset, line delay and plant from ten frames, each against its still frame:
+   the issue's figure is δt within 0.1 ms, line delay within 1 %, ωn within 0.5 %. */
+TEST(CalibrateTiming, TenFramesRecoverTheRecordingsTiming)
+{
+    DYNBLUR_REQUIRE_DATA(path, "building.jpg");
+    SaccadeScene s(path);
+    const Drift drift{"combined A", 1.2e-3, 0.93, 1.035, 1.15};
+    const double lineDelay = 1.0 / 30 / 480;
+    std::vector<Mat> references, frames;
+    std::vector<SwitchSchedule> schedules;
+    std::vector<RollingShutter> shutters;
+    std::vector<double> angles;
+    // Frames over the whole move: from a readout that starts at rest to one that ends at rest.
+    for (int k = 0; k < 10; k++)
+    {
+        const RollingShutter told(-0.030 + 0.0065 * k, 0.008, lineDelay, 480);
+        const int window = classifyExposure(s.plant, s.schedule, told);
+        const bool after = window != EXPOSURE_I;
+        frames.push_back(s.capture(drift.shutter(told), 100 + k, drift.plant(s)));
+        references.push_back(s.capture(RollingShutter(after ? 1.0 : -0.2, 0.008, lineDelay, 480), 200 + k));
+        angles.push_back(s.plant->restingAngle(after ? s.schedule.finalLevel() : s.schedule.initialLevel));
+        schedules.push_back(s.schedule);
+        shutters.push_back(told);
+    }
+    const int64 start = getTickCount();
+    const TimingCalibration t =
+        calibrateTiming(s.plant, s.camera, references, frames, schedules, shutters, REFINE_ALL, angles);
+    const double seconds = double(getTickCount() - start) / getTickFrequency();
+    const MotionCorrection& c = t.correction;
+    int used = 0;
+    for (int u : t.frameUsed)
+        used += u;
+    std::printf("[ measured ] calibrateTiming over %d frames (%.1f s): dt %+.4f ms (true %+.4f, sd %.4f), line delay "
+                "x%.4f (%.4f, sd %.4f), wn x%.4f (%.4f, sd %.4f), zeta x%.3f (%.3f, sd %.3f), consistency %.2f\n",
+                used, seconds, c.timeOffset * 1e3, drift.timeOffset * 1e3, t.timeOffsetStd * 1e3, c.lineDelayScale,
+                drift.lineDelayScale, t.lineDelayScaleStd, c.naturalFreqScale, drift.naturalFreqScale,
+                t.naturalFreqScaleStd, c.dampingScale, drift.dampingScale, t.dampingScaleStd, c.consistency);
+    EXPECT_GE(used, 8);
+    EXPECT_NEAR(c.timeOffset, drift.timeOffset, 0.1e-3);
+    EXPECT_NEAR(c.lineDelayScale, drift.lineDelayScale, 0.01);
+    EXPECT_NEAR(c.naturalFreqScale, drift.naturalFreqScale, 0.005);
+    EXPECT_NEAR(c.dampingScale, drift.dampingScale, 0.1);
+    // The scan around the result has its minimum there.
+    ASSERT_EQ(t.scanTimeOffsets.size(), t.scanObjective.size());
+    const size_t best = size_t(std::min_element(t.scanObjective.begin(), t.scanObjective.end()) - t.scanObjective.begin());
+    EXPECT_NEAR(t.scanTimeOffsets[best], c.timeOffset, 0.05e-3);
+
+    // Saved and read back, it sets a deblurrer's calibration.
+    const std::string file = testing::TempDir() + "dynblur_timing.yml";
+    t.save(file);
+    const TimingCalibration back = TimingCalibration::load(file);
+    EXPECT_DOUBLE_EQ(back.correction.timeOffset, c.timeOffset);
+    EXPECT_DOUBLE_EQ(back.correction.naturalFreqScale, c.naturalFreqScale);
+    EXPECT_DOUBLE_EQ(back.timeOffsetStd, t.timeOffsetStd);
+    std::remove(file.c_str());
+}
+
+namespace {
+
+//! A small scene (160x120, fx = 300 px: a telephoto's view, so a move is many pixels) with random texture, for the light tests.
+struct SmallScene
+{
+    Ptr<Plant> plant = Plant::create(14.4, 0.12, kDeg);
+    Ptr<CameraModel> camera = CameraModel::create(300.0, 300.0, 79.5, 59.5, 160, 120);
+    SwitchSchedule schedule = SwitchPlanner::create(plant, 16)->plan(0.0, 10 * kDeg, 0.0);
+    Mat scene;  // linear, the view at the final angle with a margin
+
+    SmallScene()
+    {
+        scene.create(120 + 2 * 64, 160 + 2 * 8, CV_32F);
+        RNG rng(3);
+        rng.fill(scene, RNG::UNIFORM, 0.1, 0.9);
+        GaussianBlur(scene, scene, Size(0, 0), 1.0);
+    }
+    Mat render(const RollingShutter& shutter, const Ptr<Plant>& truth, uint64 seed) const
+    {
+        Mat blurred, noisy;
+        renderBlurred(scene, truth, schedule, camera, shutter, blurred);
+        addSensorNoise(blurred, noisy, 4000.0, 8.0, 5.0, seed);
+        return noisy;
+    }
+};
+
+}  // namespace
+
+/* The whole path on a small frame (also under the sanitizers): a clock 2 ms late is found. At 160
+   pixels across a millisecond moves the image by about a pixel, so the offset is found only to
+   within a few tenths of a millisecond (the 640x480 figures are in RefinementQuality). */
+TEST(Refinement, SmallFrameFindsTheClockOffset)
+{
+    SmallScene s;
+    RollingShutter told(0.0, 0.008, 1.0 / 30 / 120, 120);
+    ASSERT_TRUE(dynblur_samples::frameStartInWindow(s.plant, s.schedule, told, EXPOSURE_III, told.frameStart));
+    const RollingShutter truth(told.frameStart + 2e-3, told.exposure, told.lineDelay, told.rows);
+    ASSERT_EQ(classifyExposure(s.plant, s.schedule, told), EXPOSURE_III);
+    const Mat frame = s.render(truth, s.plant, 1);
+    const Mat still = s.render(RollingShutter(1.0, 0.008, told.lineDelay, 120), s.plant, 2);
+    Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(s.plant, s.camera);
+    deblurrer->setPsfModel(PSF_ROWS);
+    EXPECT_EQ(deblurrer->getRefinement(), REFINE_ALL);
+    Mat restored;
+    deblurrer->deblur(frame, s.schedule, told, restored);
+    EXPECT_TRUE(std::isnan(deblurrer->getLastCorrection().consistency)) << "no reference: nothing measured";
+    deblurrer->setReferenceFrame(still, s.plant->restingAngle(s.schedule.finalLevel()));
+    deblurrer->setRefinement(REFINE_TIME_OFFSET);
+    deblurrer->deblur(frame, s.schedule, told, restored);
+    const MotionCorrection c = deblurrer->getLastCorrection();
+    std::printf("[ measured ] 160x120 window III, clock 2 ms late: found %+.3f ms, consistency %.2f (%s)\n",
+                c.timeOffset * 1e3, c.consistency, c.reason.c_str());
+    EXPECT_TRUE(c.applied) << c.reason;
+    EXPECT_NEAR(c.timeOffset, 2e-3, 0.5e-3);
+    EXPECT_EQ(c.lineDelayScale, 1.0);
+    EXPECT_EQ(c.naturalFreqScale, 1.0);
+    EXPECT_LT(c.consistency, 2.0);
+
+    // A calibration is where each frame starts from: told the offset, nothing is left to find.
+    MotionCorrection calibration;
+    calibration.timeOffset = 2e-3;
+    deblurrer->setCalibration(calibration);
+    deblurrer->setRefinement(REFINE_NONE);
+    deblurrer->deblur(frame, s.schedule, told, restored);
+    EXPECT_EQ(deblurrer->getLastCorrection().timeOffset, 2e-3);
+    EXPECT_TRUE(deblurrer->getLastCorrection().applied);
+
+    // Without its reference the frame is restored as told again.
+    deblurrer->clearReferenceFrame();
+    deblurrer->deblur(frame, s.schedule, told, restored);
+    EXPECT_TRUE(std::isnan(deblurrer->getLastCorrection().consistency));
+}
+
+TEST(RefinementBadInput, ArgumentsAreCheckedAndNamed)
+{
+    using dynblur_test::expectErrorNaming;
+    SmallScene s;
+    RollingShutter told(0.0, 0.008, 1.0 / 30 / 120, 120);
+    ASSERT_TRUE(dynblur_samples::frameStartInWindow(s.plant, s.schedule, told, EXPOSURE_III, told.frameStart));
+    Ptr<DynamicDeblurrer> d = DynamicDeblurrer::create(s.plant, s.camera);
+    const Mat still(120, 160, CV_32F, Scalar(0.5));
+    expectErrorNaming([&] { d->setReferenceFrame(Mat(100, 160, CV_32F, Scalar(0.5))); }, "'still' is 160x100");
+    expectErrorNaming([&] { d->setReferenceFrame(Mat(120, 160, CV_16U, Scalar(5))); }, "'still' type");
+    expectErrorNaming([&] { d->setReferenceFrame(Mat(120, 160, CV_32FC2, Scalar(0.5))); }, "'still' has 2 channels");
+    Mat withNan = still.clone();
+    withNan.at<float>(3, 3) = std::numeric_limits<float>::quiet_NaN();
+    expectErrorNaming([&] { d->setReferenceFrame(withNan); }, "'still' holds NaN");
+    expectErrorNaming([&] { d->setReferenceFrame(still, 2.0); }, "angle = 2 rad must be within [-pi/2, pi/2]");
+    expectErrorNaming([&] { d->setRefinement(8); }, "flags = 8");
+    expectErrorNaming([&] { d->setConsistencyLimit(0.5); }, "limit = 0.5 must be > 1");
+    MotionCorrection bad;
+    bad.naturalFreqScale = 0;
+    expectErrorNaming([&] { d->setCalibration(bad); }, "naturalFreqScale = 0 must be in (0, 10)");
+    bad = MotionCorrection();
+    bad.timeOffset = std::numeric_limits<double>::infinity();
+    expectErrorNaming([&] { d->setCalibration(bad); }, "timeOffset = inf s must be finite");
+
+    // A frame of another type than its reference.
+    d->setReferenceFrame(still);
+    Mat colour(120, 160, CV_8UC3, Scalar::all(100)), out;
+    expectErrorNaming([&] { d->deblur(colour, s.schedule, told, out); }, "'frame' is CV_8UC3 but the reference frame is CV_32FC1");
+
+    // calibrateTiming: counts, window IV only, flags, ranges.
+    const Mat frame = s.render(told, s.plant, 5);
+    const std::vector<Mat> one{still}, oneFrame{frame};
+    const std::vector<SwitchSchedule> schedules{s.schedule, s.schedule};
+    const std::vector<RollingShutter> shutters{told, told};
+    expectErrorNaming([&] { calibrateTiming(s.plant, s.camera, one, oneFrame, {s.schedule}, {told}); },
+                      "fewer than two usable frames: 1 of the 1 frames");
+    expectErrorNaming([&] { calibrateTiming(s.plant, s.camera, one, oneFrame, schedules, shutters); },
+                      "frames has 1 entries but references 1, schedules 2, shutters 2");
+    const RollingShutter still1(1.0, 0.008, told.lineDelay, 120), still2(2.0, 0.008, told.lineDelay, 120);
+    expectErrorNaming(
+        [&] {
+            calibrateTiming(s.plant, s.camera, std::vector<Mat>{still, still}, std::vector<Mat>{still, still},
+                            schedules, {still1, still2});
+        },
+        "0 of the 2 frames are taken during a move");
+    const std::vector<Mat> two{still, still}, twoFrames{frame, frame};
+    expectErrorNaming([&] { calibrateTiming(s.plant, s.camera, two, twoFrames, schedules, shutters, REFINE_NONE); },
+                      "flags = 0 must combine");
+    expectErrorNaming(
+        [&] { calibrateTiming(s.plant, s.camera, two, twoFrames, schedules, shutters, REFINE_ALL, {}, 0.0); },
+        "maxTimeOffset = 0 s must be in (0, 1]");
+    expectErrorNaming(
+        [&] { calibrateTiming(s.plant, s.camera, two, twoFrames, schedules, shutters, REFINE_ALL, {0.0}); },
+        "referenceAngles 1 (empty or one per frame)");
+    expectErrorNaming(
+        [&] {
+            calibrateTiming(s.plant, s.camera, std::vector<Mat>{still, Mat(120, 160, CV_8U, Scalar(3))}, twoFrames,
+                            schedules, shutters);
+        },
+        "'references[1]' is CV_8UC1 but 'frames[1]' is CV_32FC1");
+    expectErrorNaming(
+        [&] {
+            calibrateTiming(s.plant, s.camera, two, twoFrames, schedules,
+                            {told, RollingShutter(0.02, 0.008, told.lineDelay, 100)});
+        },
+        "the shutter of 'frames[1]' has 100 rows but the frame has 120");
+    expectErrorNaming(
+        [&] { motionConsistency(s.plant, s.camera, still, frame, s.schedule, told, {MotionCorrection()}, 0.0, 8); },
+        "maxWidth = 8 px must be at least 16");
+
+    // A timing file with a field missing, or a scale out of range, is refused by name.
+    const std::string file = testing::TempDir() + "dynblur_bad_timing.yml";
+    {
+        FileStorage fs(file, FileStorage::WRITE);
+        fs << "timeOffset" << 0.001 << "lineDelayScale" << 1.0 << "naturalFreqScale" << 1.0;
+    }
+    expectErrorNaming([&] { TimingCalibration::load(file); }, "dampingScale");
+    {
+        FileStorage fs(file, FileStorage::WRITE);
+        fs << "timeOffset" << 0.001 << "lineDelayScale" << -1.0 << "naturalFreqScale" << 1.0 << "dampingScale" << 1.0;
+    }
+    expectErrorNaming([&] { TimingCalibration::load(file); }, "lineDelayScale = -1 must be in (0, 10)");
+    std::remove(file.c_str());
+}

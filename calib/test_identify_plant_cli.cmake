@@ -4,14 +4,7 @@ file(REMOVE_RECURSE ${WORK}/plant)
 file(MAKE_DIRECTORY ${WORK}/plant)
 set(dir ${WORK}/plant)
 
-function(run expected)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  message(STATUS "$ ${ARGN}\n${out}${err}")
-  if(NOT rc EQUAL expected)
-    message(FATAL_ERROR "exit code ${rc}, expected ${expected}")
-  endif()
-  set(last_output "${out}${err}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/cli_test_run.cmake)
 
 # 11.3 Hz, zeta 0.08, 0.75 deg/level, step to level 5 logged at 37.3 ms but moving 12.3 ms later
 # (an unknown start), 0.02 deg noise.

@@ -1,0 +1,344 @@
+// dynblur_calibrate_timing: the offset between the camera's clock and the actuator's, the line delay
+// and (optionally) the plant's wn and zeta, from a recording (frames, frame log, command log; formats
+// in docs/recording-format.md), by calibrateTiming over frames taken during moves, each against the
+// still frame before or after its move.
+//
+//     dynblur_calibrate_timing --video rec/frame_%04d.png --frames rec/frames.csv
+//                              --commands rec/commands.csv --camera rec/camera.xml --plant rec/plant.yml
+//     dynblur_calibrate_timing --simulate rec --true-offset 0.0012      (a recording with a drifted truth)
+//
+// Writes the timing file (TimingCalibration::save, atomically) and a plot of the objective around
+// the result (TIMING_objective.png).
+#include "atomic_file.hpp"  // samples/common
+#include "cli_args.hpp"
+#include "plant_file.hpp"
+#include "plot.hpp"
+#include "recording.hpp"
+#include "scene.hpp"
+
+#include <opencv2/dynblur.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <iostream>
+#include <string>
+#include <sys/stat.h>
+#include <vector>
+
+using namespace cv;
+using namespace cv::dynblur;
+using namespace dynblur_samples;
+
+static const char* const kUsage =
+    "Usage: dynblur_calibrate_timing --video V --frames FRAMES.csv --commands COMMANDS.csv [options]\n"
+    "Estimates, from a recording, the offset between the camera's clock and the actuator's (s), the\n"
+    "line delay and optionally the plant's natural frequency and damping, as one correction for the\n"
+    "whole recording (calibrateTiming): frames taken during moves are compared with the still frame\n"
+    "before the move (a frame that starts at rest) or after it (a frame that ends at rest).\n"
+    "\n"
+    "  --video V            the frames: a video file or an image sequence (frame_%04d.png), as\n"
+    "                       cv::VideoCapture reads them\n"
+    "  --frames FILE.csv    frame log: frame,frame_start[,exposure,line_delay] (docs/recording-format.md)\n"
+    "  --commands FILE.csv  command log: t,level on the actuator's clock\n"
+    "  --camera FILE.xml    camera (ViSP XML; default calib/c270_nominal.xml beside this program's source)\n"
+    "  --plant FILE.yml     nominal plant file (default: 14.4 Hz, zeta 0.12, 1 deg per level)\n"
+    "  --exposure S         exposure (s) when the frame log has no exposure column\n"
+    "  --line-delay S       line delay (s) when the frame log has no line_delay column\n"
+    "  --refine LIST        what to estimate: offset, line-delay, plant, comma-separated (default\n"
+    "                       offset,line-delay)\n"
+    "  --max-frames N       moving frames used, at most (default 10)\n"
+    "  --max-offset S       the offset is searched within +-S seconds (default 0.02)\n"
+    "  --out FILE.yml       timing file to write (default timing.yml)\n"
+    "  --plot FILE.png      objective around the result (default: OUT_objective.png); --no-png: none\n"
+    "  --help               this help\n"
+    "Simulation (writes a recording and exits; nothing is calibrated):\n"
+    "  --simulate DIR       renders frame_%04d.png, frames.csv, commands.csv, camera.xml and plant.yml\n"
+    "                       into DIR: saccades between 0 and 10 deg seen by a 640x480 webcam at 30 fps\n"
+    "  --true-offset S --true-line-delay-scale X --true-hz-scale X --true-zeta-scale X --saccades N\n"
+    "                       the truth that moved the camera (defaults 0.0012, 0.95, 1.03, 1.1, 4)\n"
+    "Exit status: 0 calibrated (or simulated), 1 bad or unusable recording (the message says why),\n"
+    "2 bad usage.\n";
+
+static int usageError(const std::string& message)
+{
+    std::cerr << "error: " << message << "\n(see dynblur_calibrate_timing --help)\n";
+    return 2;
+}
+
+static const double kDeg = CV_PI / 180.0;
+
+// ---------------------------------------------------------------------------------------------
+// Simulation
+
+static int simulate(const CliArgs& args, const std::string& dir)
+{
+    const double trueOffset = args.num("true-offset", 0.0012);
+    const double lineDelayScale = args.num("true-line-delay-scale", 0.95);
+    const double hzScale = args.num("true-hz-scale", 1.03), zetaScale = args.num("true-zeta-scale", 1.1);
+    const int saccades = args.integer("saccades", 4);
+    if (!(std::abs(trueOffset) < 0.1) || !(lineDelayScale > 0.5 && lineDelayScale < 1.5) ||
+        !(hzScale > 0.5 && hzScale < 1.5) || !(zetaScale > 0.2 && zetaScale < 3) || saccades < 1 || saccades > 20)
+        return usageError("--true-offset within +-0.1 s, the scales within (0.5, 1.5) ((0.2, 3) for zeta), "
+                          "--saccades in [1, 20]");
+    ::mkdir(dir.c_str(), 0755);
+    const Ptr<Plant> nominal = Plant::create(14.4, 0.12, kDeg);
+    const Ptr<Plant> truth = Plant::create(14.4 * hzScale, 0.12 * zetaScale, kDeg);
+    const Ptr<CameraModel> camera = CameraModel::create(615.0, 615.0, 319.5, 239.5, 640, 480);
+    const double exposure = 0.008, lineDelay = 1.0 / 30 / 480;
+
+    // Saccades between 0 and 10 degrees, 0.6 s apart, planned on the nominal plant.
+    CommandLog commands;
+    commands.times.push_back(0.0);
+    commands.levels.push_back(0);
+    Ptr<SwitchPlanner> planner = SwitchPlanner::create(nominal, 16);
+    for (int k = 0; k < saccades; k++)
+    {
+        const double from = (k % 2) * 10 * kDeg, to = ((k + 1) % 2) * 10 * kDeg;
+        const SwitchSchedule move = planner->plan(from, to, 0.5 + 0.6 * k);
+        for (size_t i = 0; i < move.times.size(); i++)
+            commands.times.push_back(move.times[i]), commands.levels.push_back(move.levels[i]);
+    }
+    const SwitchSchedule all(commands.times, commands.levels, 0);
+
+    // The scene is the view at 5 degrees, wide enough for both ends of the moves.
+    const double thetaRef = 5 * kDeg;
+    const int marginY = int(std::ceil(615.0 * std::tan(6 * kDeg))) + 24;
+    // A webcam's lens is softer than the generated scene's finest stripes and text.
+    Mat scene;
+    srgbToLinear(makeScene(Size(640 + 48, 480 + 2 * marginY)), scene);
+    GaussianBlur(scene, scene, Size(0, 0), 1.0);
+    std::vector<FrameRecord> frames;
+    const int count = int(std::ceil((0.5 + 0.6 * saccades + 0.3) * 30));
+    for (int k = 0; k < count; k++)
+    {
+        FrameRecord f;
+        f.frame = k;
+        f.frameStart = k / 30.0;
+        f.exposure = exposure;
+        f.lineDelay = lineDelay;
+        const RollingShutter happened(f.frameStart + trueOffset, exposure, lineDelay * lineDelayScale, 480);
+        Mat blurred, noisy, frame;
+        renderBlurred(scene, truth, all, camera, happened, blurred, thetaRef);
+        addSensorNoise(blurred, noisy, 4000.0, 8.0, 5.0, 1000 + uint64(k));
+        linearToSrgb(noisy, frame, CV_8U);
+        char name[64];
+        std::snprintf(name, sizeof name, "/frame_%04d.png", k);
+        if (!imwrite(dir + name, frame))
+            CV_Error(Error::StsError, "cannot write '" + dir + name + "'");
+        frames.push_back(f);
+        std::printf("\rrendering frame %d of %d", k + 1, count);
+        std::fflush(stdout);
+    }
+    std::printf("\n");
+    writeFrameLog(dir + "/frames.csv", frames);
+    writeCommandLog(dir + "/commands.csv", commands);
+    camera->save(dir + "/camera.xml");
+    savePlantFile(dir + "/plant.yml", *nominal, 16, "the nominal plant the recording's commands were planned on");
+    std::printf("wrote %d frames, frames.csv, commands.csv, camera.xml and plant.yml to %s\n"
+                "truth: clock offset %+.4f ms, line delay x%.4f, wn x%.4f, zeta x%.4f\n",
+                count, dir.c_str(), trueOffset * 1e3, lineDelayScale, hzScale, zetaScale);
+    return 0;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Calibration
+
+static int parseRefine(const std::string& list, int& flags)
+{
+    flags = 0;
+    size_t start = 0;
+    while (start <= list.size())
+    {
+        const size_t end = std::min(list.find(',', start), list.size());
+        const std::string item = list.substr(start, end - start);
+        if (item == "offset")
+            flags |= REFINE_TIME_OFFSET;
+        else if (item == "line-delay")
+            flags |= REFINE_LINE_DELAY;
+        else if (item == "plant")
+            flags |= REFINE_PLANT;
+        else
+            return usageError("--refine takes offset, line-delay and plant, comma-separated; got '" + item + "'");
+        start = end + 1;
+    }
+    return 0;
+}
+
+//! A moving frame with what calibrateTiming needs of it; its reference is found later for II/III.
+struct MovingFrame
+{
+    Mat frame, reference;
+    SwitchSchedule schedule;
+    RollingShutter shutter;
+    double referenceAngle = 0;
+};
+
+int main(int argc, char** argv)
+{
+    try
+    {
+        CliArgs args(argc, argv,
+                     {"video", "frames", "commands", "camera", "plant", "exposure", "line-delay", "refine",
+                      "max-frames", "max-offset", "out", "plot", "simulate", "true-offset", "true-line-delay-scale",
+                      "true-hz-scale", "true-zeta-scale", "saccades"},
+                     {"help", "no-png"});
+        if (args.has("help"))
+        {
+            std::cout << kUsage;
+            return 0;
+        }
+        if (args.has("simulate"))
+            return simulate(args, args.str("simulate", ""));
+        for (const char* required : {"video", "frames", "commands"})
+            if (!args.has(required))
+                return usageError(std::string("--") + required + " is required");
+        int flags = 0;
+        if (const int status = parseRefine(args.str("refine", "offset,line-delay"), flags))
+            return status;
+        const int maxFrames = args.integer("max-frames", 10);
+        const double maxOffset = args.num("max-offset", 0.02);
+        if (maxFrames < 2 || !(maxOffset > 0 && maxOffset <= 1))
+            return usageError("--max-frames must be >= 2 and --max-offset in (0, 1] s");
+        const std::string out = args.str("out", "timing.yml");
+        const std::string plotPath = args.str("plot", pathStem(out) + "_objective.png");
+
+        const std::vector<FrameRecord> log = readFrameLog(args.str("frames", ""), args.num("exposure", NAN),
+                                                          args.num("line-delay", NAN));
+        const CommandLog commands = readCommandLog(args.str("commands", ""));
+        const Ptr<CameraModel> camera =
+            CameraModel::load(args.str("camera", std::string(DYNBLUR_CALIB_DIR) + "/c270_nominal.xml"));
+        const Ptr<Plant> plant =
+            args.has("plant") ? loadPlantFile(args.str("plant", "")).plant : Plant::create(14.4, 0.12, kDeg);
+        VideoCapture video(args.str("video", ""));
+        if (!video.isOpened())
+            CV_Error(Error::StsError, "--video: cannot open '" + args.str("video", "") + "'");
+
+        /* Stream the recording: a frame that starts at rest pairs with the last still frame, one
+           that ends at rest with the next one, unless another switch comes first. "Still" is what a
+           restoration cannot tell from still (the image moves less than a quarter pixel, and by
+           less than that during the exposure), with the clock off by as much as --max-offset
+           either way; a plant's slow residual vibration then does not count as a move. */
+        std::vector<MovingFrame> paired;
+        std::deque<MovingFrame> waiting;  // moving frames that need the next still frame
+        Mat lastStill;
+        double lastStillAngle = 0;
+        int position = 0, stills = 0;
+        const Size size = camera->getImageSize();
+        const double pixelAngle = 0.25 / camera->getFx();
+        for (size_t i = 0; i < log.size() && int(paired.size()) < maxFrames; i++)
+        {
+            const FrameRecord& f = log[i];
+            Mat image;
+            while (position <= f.frame)
+            {
+                if (!video.read(image))
+                    CV_Error(Error::StsBadArg, format("--frames: line for frame %d, but the video ends after %d frames",
+                                                      f.frame, position));
+                position++;
+            }
+            if (image.size() != size)
+                CV_Error(Error::StsBadSize, format("--video: frame %d is %dx%d but the camera is %dx%d", f.frame,
+                                                   image.cols, image.rows, size.width, size.height));
+            const RollingShutter shutter(f.frameStart, f.exposure, f.lineDelay, size.height);
+            const Vec2d readout = shutter.readoutInterval();
+            const SwitchSchedule schedule = commands.scheduleAround(readout[0] - maxOffset, readout[1] + maxOffset);
+            const auto stillWith = [&](double shift) {
+                RollingShutter shifted = shutter;
+                shifted.frameStart += shift;
+                return classifyExposure(plant, schedule, shifted, pixelAngle, pixelAngle / f.exposure) == EXPOSURE_IV;
+            };
+            if (stillWith(-maxOffset) && stillWith(0) && stillWith(maxOffset))
+            {
+                lastStill = image;
+                lastStillAngle = plant->restingAngle(schedule.levelAt(readout[0]));
+                stills++;
+                for (MovingFrame& m : waiting)
+                {
+                    // The still frame shows where this frame's move ended only if no switch came between.
+                    const Vec2d moving = m.shutter.readoutInterval();
+                    const auto next = std::upper_bound(commands.times.begin(), commands.times.end(), moving[1] + maxOffset);
+                    if (next != commands.times.end() && *next < readout[0] - maxOffset)
+                        continue;
+                    m.reference = lastStill, m.referenceAngle = lastStillAngle;
+                    if (int(paired.size()) < maxFrames)
+                        paired.push_back(m);
+                }
+                waiting.clear();
+            }
+            else
+            {
+                const int window = classifyExposure(plant, schedule, shutter);
+                MovingFrame m{image, Mat(), schedule, shutter, 0};
+                if (window == EXPOSURE_I && !lastStill.empty())
+                    m.reference = lastStill, m.referenceAngle = lastStillAngle, paired.push_back(m);
+                else if (window != EXPOSURE_I && waiting.size() < 64)
+                    waiting.push_back(m);
+            }
+            std::printf("\rreading frame %d of %zu: %d still, %zu moving frames paired", f.frame + 1, log.size(),
+                        stills, paired.size());
+            std::fflush(stdout);
+        }
+        std::printf("\n");
+        if (paired.size() < 2)
+            CV_Error(Error::StsBadArg,
+                     format("the recording has %zu moving frames with a still frame before or after their move; "
+                            "calibration needs at least two",
+                            paired.size()));
+
+        std::vector<Mat> references, frames;
+        std::vector<SwitchSchedule> schedules;
+        std::vector<RollingShutter> shutters;
+        std::vector<double> angles;
+        for (const MovingFrame& m : paired)
+        {
+            references.push_back(m.reference);
+            frames.push_back(m.frame);
+            schedules.push_back(m.schedule);
+            shutters.push_back(m.shutter);
+            angles.push_back(m.referenceAngle);
+        }
+        std::printf("calibrating over %zu frames ...\n", paired.size());
+        const TimingCalibration t =
+            calibrateTiming(plant, camera, references, frames, schedules, shutters, flags, angles, maxOffset);
+        t.save(out);
+        const MotionCorrection& c = t.correction;
+        std::printf("clock offset      %+.4f ms (sd %.4f)\nline delay        x%.4f (sd %.4f)\n"
+                    "natural frequency x%.4f (sd %.4f)\ndamping ratio     x%.4f (sd %.4f)\n"
+                    "consistency       %.2f (noise units; about 1 when the model explains the frames)\n"
+                    "wrote %s\n",
+                    c.timeOffset * 1e3, t.timeOffsetStd * 1e3, c.lineDelayScale, t.lineDelayScaleStd,
+                    c.naturalFreqScale, t.naturalFreqScaleStd, c.dampingScale, t.dampingScaleStd, c.consistency,
+                    out.c_str());
+        if (!args.has("no-png"))
+        {
+            std::vector<double> ms;
+            for (double offset : t.scanTimeOffsets)
+                ms.push_back(offset * 1e3);
+            dynblur_plot::Figure figure(900, "Timing calibration: objective around the result");
+            figure.addPanel("", "mean squared residual (noise^2)")
+                .line(ms, t.scanObjective, "objective over the clock offset")
+                .hLine(*std::min_element(t.scanObjective.begin(), t.scanObjective.end()));
+            figure.xLabel("clock offset (ms)");
+            const std::string temporary = temporaryPathFor(plotPath);
+            if (!figure.save(temporary))
+                CV_Error(Error::StsError, "cannot write '" + plotPath + "'");
+            renameIntoPlace(temporary, plotPath);
+            std::printf("wrote %s\n", plotPath.c_str());
+        }
+        return 0;
+    }
+    catch (const std::runtime_error& e)
+    {
+        return usageError(e.what());
+    }
+    catch (const cv::Exception& e)
+    {
+        std::cerr << "error: " << e.err << "\n";
+        return 1;
+    }
+}

@@ -1,0 +1,224 @@
+#include "recording.hpp"
+
+#include "atomic_file.hpp"
+#include "csv_fields.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+
+namespace dynblur_samples {
+
+using namespace csv;
+
+namespace {
+
+/* After this long the seed's plant (ζ ωn = 10.9 /s) has come to rest from any earlier switch to
+   within e^-30 of the move: older commands are left out of a frame's schedule. */
+const double kSettleSeconds = 3.0;
+
+//! A CSV log as rows of fields, with the columns named in its header found by (lower-case) name.
+struct Table
+{
+    std::map<std::string, size_t> column;
+    std::vector<std::vector<std::string>> rows;
+    std::vector<size_t> lines;  // 1-based line of each row
+};
+
+Table parseTable(const std::string& text, const std::string& source)
+{
+    Table table;
+    std::istringstream in(text);
+    std::string line;
+    size_t number = 0;
+    bool header = true;
+    while (std::getline(in, line))
+    {
+        number++;
+        const std::string content = trim(line);
+        if (content.empty() || content[0] == '#')
+            continue;
+        const std::vector<std::string> fields = splitFields(content);
+        if (header)
+        {
+            for (size_t i = 0; i < fields.size(); i++)
+                table.column[lower(fields[i])] = i;
+            header = false;
+            continue;
+        }
+        if (fields.size() != table.column.size())
+            parseError(source, number,
+                       "expected " + std::to_string(table.column.size()) + " fields as in the header, found " +
+                           std::to_string(fields.size()));
+        table.rows.push_back(fields);
+        table.lines.push_back(number);
+    }
+    if (header)
+        parseError(source, number, "no header line (the column names)");
+    return table;
+}
+
+double number(const Table& t, size_t row, const std::string& name, const std::string& source)
+{
+    double value = 0;
+    if (!toDouble(t.rows[row][t.column.at(name)], value))
+        parseError(source, t.lines[row], "'" + name + "' is not a finite number: '" + t.rows[row][t.column.at(name)] + "'");
+    return value;
+}
+
+int integer(const Table& t, size_t row, const std::string& name, const std::string& source)
+{
+    const double value = number(t, row, name, source);
+    if (value != std::floor(value) || std::abs(value) > 1e9)
+        parseError(source, t.lines[row], "'" + name + "' must be an integer");
+    return static_cast<int>(value);
+}
+
+void requireColumn(const Table& t, const std::string& name, const std::string& source, const std::string& why)
+{
+    if (!t.column.count(name))
+        CV_Error(cv::Error::StsParseError, source + ": the header has no column '" + name + "' (" + why + ")");
+}
+
+std::string readText(const std::string& path, const char* what)
+{
+    std::ifstream in(path, std::ios::binary);
+    if (!in)
+        CV_Error(cv::Error::StsError, std::string("cannot read the ") + what + " '" + path + "'");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+void writeText(const std::string& path, const std::string& text)
+{
+    const std::string temporary = temporaryPathFor(path);
+    {
+        std::ofstream out(temporary, std::ios::binary);
+        out << text;
+        if (!out)
+        {
+            std::remove(temporary.c_str());
+            CV_Error(cv::Error::StsError, "cannot write '" + path + "'");
+        }
+    }
+    renameIntoPlace(temporary, path);
+}
+
+}  // namespace
+
+std::vector<FrameRecord> parseFrameLog(const std::string& text, const std::string& source, double exposure,
+                                       double lineDelay)
+{
+    const Table t = parseTable(text, source);
+    requireColumn(t, "frame", source, "index of the frame in the video");
+    requireColumn(t, "frame_start", source, "start of row 0's exposure, seconds");
+    if (std::isnan(exposure))
+        requireColumn(t, "exposure", source, "or give the exposure for every frame");
+    if (std::isnan(lineDelay))
+        requireColumn(t, "line_delay", source, "or give the line delay for every frame");
+    std::vector<FrameRecord> frames;
+    for (size_t r = 0; r < t.rows.size(); r++)
+    {
+        FrameRecord f;
+        f.frame = integer(t, r, "frame", source);
+        f.frameStart = number(t, r, "frame_start", source);
+        f.exposure = t.column.count("exposure") ? number(t, r, "exposure", source) : exposure;
+        f.lineDelay = t.column.count("line_delay") ? number(t, r, "line_delay", source) : lineDelay;
+        if (f.frame < 0 || (!frames.empty() && f.frame <= frames.back().frame))
+            parseError(source, t.lines[r], "'frame' must be >= 0 and increase from line to line");
+        if (!frames.empty() && f.frameStart <= frames.back().frameStart)
+            parseError(source, t.lines[r], "'frame_start' must increase from line to line");
+        if (!(f.exposure > 0 && f.exposure < 10))
+            parseError(source, t.lines[r], "'exposure' must be in (0, 10) s");
+        if (!(f.lineDelay >= 0 && f.lineDelay < 0.01))
+            parseError(source, t.lines[r], "'line_delay' must be in [0, 0.01) s");
+        frames.push_back(f);
+    }
+    if (frames.empty())
+        CV_Error(cv::Error::StsParseError, source + ": no frames");
+    return frames;
+}
+
+std::vector<FrameRecord> readFrameLog(const std::string& path, double exposure, double lineDelay)
+{
+    return parseFrameLog(readText(path, "frame log"), path, exposure, lineDelay);
+}
+
+void writeFrameLog(const std::string& path, const std::vector<FrameRecord>& frames)
+{
+    std::ostringstream out;
+    out << "# dynblur frame log: frame index in the video, start of row 0's exposure (s, camera clock),\n"
+           "# exposure of one row (s), row-to-row readout delay (s)\nframe,frame_start,exposure,line_delay\n";
+    char line[160];
+    for (const FrameRecord& f : frames)
+    {
+        std::snprintf(line, sizeof line, "%d,%.9f,%.9g,%.9g\n", f.frame, f.frameStart, f.exposure, f.lineDelay);
+        out << line;
+    }
+    writeText(path, out.str());
+}
+
+cv::dynblur::SwitchSchedule CommandLog::scheduleAround(double from, double to) const
+{
+    CV_Assert(!times.empty());
+    size_t first = 0;
+    while (first + 1 < times.size() && times[first + 1] <= from - kSettleSeconds)
+        first++;  // the last switch at or before the settle horizon sets the level in force
+    cv::dynblur::SwitchSchedule schedule;
+    schedule.initialLevel = levels[first];
+    for (size_t i = first; i < times.size() && times[i] <= to; i++)
+    {
+        schedule.times.push_back(times[i]);
+        schedule.levels.push_back(levels[i]);
+    }
+    if (schedule.times.empty())  // everything starts after the interval: the plant rests at the first level
+    {
+        schedule.times.push_back(times[0]);
+        schedule.levels.push_back(levels[0]);
+    }
+    return schedule;
+}
+
+CommandLog parseCommandLog(const std::string& text, const std::string& source)
+{
+    const Table t = parseTable(text, source);
+    requireColumn(t, "t", source, "switching instant, seconds, actuator clock");
+    requireColumn(t, "level", source, "level switched on, integer cells");
+    CommandLog log;
+    for (size_t r = 0; r < t.rows.size(); r++)
+    {
+        const double time = number(t, r, "t", source);
+        if (!log.times.empty() && time <= log.times.back())
+            parseError(source, t.lines[r], "'t' must increase from line to line");
+        log.times.push_back(time);
+        log.levels.push_back(integer(t, r, "level", source));
+    }
+    if (log.times.empty())
+        CV_Error(cv::Error::StsParseError, source + ": no commands");
+    return log;
+}
+
+CommandLog readCommandLog(const std::string& path)
+{
+    return parseCommandLog(readText(path, "command log"), path);
+}
+
+void writeCommandLog(const std::string& path, const CommandLog& log)
+{
+    std::ostringstream out;
+    out << "# dynblur command log: from t (s, actuator clock) on, the level (cells); before the first line the\n"
+           "# plant rests at the first line's level\nt,level\n";
+    char line[96];
+    for (size_t i = 0; i < log.times.size(); i++)
+    {
+        std::snprintf(line, sizeof line, "%.9f,%d\n", log.times[i], log.levels[i]);
+        out << line;
+    }
+    writeText(path, out.str());
+}
+
+}  // namespace dynblur_samples

@@ -24,7 +24,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <deque>
 #include <iostream>
 #include <string>
 #include <sys/stat.h>
@@ -58,7 +57,8 @@ static const char* const kUsage =
     "  --help               this help\n"
     "Simulation (writes a recording and exits; nothing is calibrated):\n"
     "  --simulate DIR       renders frame_%04d.png, frames.csv, commands.csv, camera.xml and plant.yml\n"
-    "                       into DIR: saccades between 0 and 10 deg seen by a 640x480 webcam at 30 fps\n"
+    "                       into DIR: saccades between 0 and 10 deg seen by a 640x480 webcam at 30 fps;\n"
+    "                       with --as-video the frames go to frames.avi (MJPG, as a C270 streams them)\n"
     "  --true-offset S --true-line-delay-scale X --true-hz-scale X --true-zeta-scale X --saccades N\n"
     "                       the truth that moved the camera (defaults 0.0012, 0.95, 1.03, 1.1, 4)\n"
     "Exit status: 0 calibrated (or simulated), 1 bad or unusable recording (the message says why),\n"
@@ -91,7 +91,7 @@ static int simulate(const CliArgs& args, const std::string& dir)
     const Ptr<CameraModel> camera = CameraModel::create(615.0, 615.0, 319.5, 239.5, 640, 480);
     const double exposure = 0.008, lineDelay = 1.0 / 30 / 480;
 
-    // Saccades between 0 and 10 degrees, 0.6 s apart, planned on the nominal plant.
+    // Saccades between 0 and 10 degrees, about 0.6 s apart, planned on the nominal plant.
     CommandLog commands;
     commands.times.push_back(0.0);
     commands.levels.push_back(0);
@@ -99,7 +99,8 @@ static int simulate(const CliArgs& args, const std::string& dir)
     for (int k = 0; k < saccades; k++)
     {
         const double from = (k % 2) * 10 * kDeg, to = ((k + 1) % 2) * 10 * kDeg;
-        const SwitchSchedule move = planner->plan(from, to, 0.5 + 0.6 * k);
+        // Each move starts 7 ms later in the frame period than the one before: the frames see every phase.
+        const SwitchSchedule move = planner->plan(from, to, 0.5 + 0.6 * k + 0.007 * k);
         for (size_t i = 0; i < move.times.size(); i++)
             commands.times.push_back(move.times[i]), commands.levels.push_back(move.levels[i]);
     }
@@ -114,6 +115,11 @@ static int simulate(const CliArgs& args, const std::string& dir)
     GaussianBlur(scene, scene, Size(0, 0), 1.0);
     std::vector<FrameRecord> frames;
     const int count = int(std::ceil((0.5 + 0.6 * saccades + 0.3) * 30));
+    // A webcam's MJPG stream (as a C270 delivers it), or lossless PNG frames.
+    const bool asVideo = args.has("as-video");
+    VideoWriter writer;
+    if (asVideo && !writer.open(dir + "/frames.avi", VideoWriter::fourcc('M', 'J', 'P', 'G'), 30.0, Size(640, 480)))
+        CV_Error(Error::StsError, "cannot write '" + dir + "/frames.avi'");
     for (int k = 0; k < count; k++)
     {
         FrameRecord f;
@@ -126,22 +132,30 @@ static int simulate(const CliArgs& args, const std::string& dir)
         renderBlurred(scene, truth, all, camera, happened, blurred, thetaRef);
         addSensorNoise(blurred, noisy, 4000.0, 8.0, 5.0, 1000 + uint64(k));
         linearToSrgb(noisy, frame, CV_8U);
-        char name[64];
-        std::snprintf(name, sizeof name, "/frame_%04d.png", k);
-        if (!imwrite(dir + name, frame))
-            CV_Error(Error::StsError, "cannot write '" + dir + name + "'");
+        if (asVideo)
+        {
+            writer.write(frame);
+        }
+        else
+        {
+            char name[64];
+            std::snprintf(name, sizeof name, "/frame_%04d.png", k);
+            if (!imwrite(dir + name, frame))
+                CV_Error(Error::StsError, "cannot write '" + dir + name + "'");
+        }
         frames.push_back(f);
         std::printf("\rrendering frame %d of %d", k + 1, count);
         std::fflush(stdout);
     }
     std::printf("\n");
+    writer.release();
     writeFrameLog(dir + "/frames.csv", frames);
     writeCommandLog(dir + "/commands.csv", commands);
     camera->save(dir + "/camera.xml");
     savePlantFile(dir + "/plant.yml", *nominal, 16, "the nominal plant the recording's commands were planned on");
-    std::printf("wrote %d frames, frames.csv, commands.csv, camera.xml and plant.yml to %s\n"
+    std::printf("wrote %d frames (%s), frames.csv, commands.csv, camera.xml and plant.yml to %s\n"
                 "truth: clock offset %+.4f ms, line delay x%.4f, wn x%.4f, zeta x%.4f\n",
-                count, dir.c_str(), trueOffset * 1e3, lineDelayScale, hzScale, zetaScale);
+                count, asVideo ? "frames.avi" : "frame_%04d.png", dir.c_str(), trueOffset * 1e3, lineDelayScale, hzScale, zetaScale);
     return 0;
 }
 
@@ -169,15 +183,6 @@ static int parseRefine(const std::string& list, int& flags)
     return 0;
 }
 
-//! A moving frame with what calibrateTiming needs of it; its reference is found later for II/III.
-struct MovingFrame
-{
-    Mat frame, reference;
-    SwitchSchedule schedule;
-    RollingShutter shutter;
-    double referenceAngle = 0;
-};
-
 int main(int argc, char** argv)
 {
     try
@@ -186,7 +191,7 @@ int main(int argc, char** argv)
                      {"video", "frames", "commands", "camera", "plant", "exposure", "line-delay", "refine",
                       "max-frames", "max-offset", "out", "plot", "simulate", "true-offset", "true-line-delay-scale",
                       "true-hz-scale", "true-zeta-scale", "saccades"},
-                     {"help", "no-png"});
+                     {"help", "no-png", "as-video"});
         if (args.has("help"))
         {
             std::cout << kUsage;
@@ -218,18 +223,17 @@ int main(int argc, char** argv)
         if (!video.isOpened())
             CV_Error(Error::StsError, "--video: cannot open '" + args.str("video", "") + "'");
 
-        /* Stream the recording: a frame that starts at rest pairs with the last still frame, one
-           that ends at rest with the next one, unless another switch comes first. "Still" is what a
-           restoration cannot tell from still (the image moves less than a quarter pixel, and by
-           less than that during the exposure), with the clock off by as much as --max-offset
-           either way; a plant's slow residual vibration then does not count as a move. */
-        std::vector<MovingFrame> paired;
-        std::deque<MovingFrame> waiting;  // moving frames that need the next still frame
-        Mat lastStill;
-        double lastStillAngle = 0;
-        int position = 0, stills = 0;
+        // Stream the recording, pairing each moving frame with the still frame that saw its content.
+        ReferencePairing pairing(plant, camera, commands, MotionCorrection(), maxOffset);
+        std::vector<ReferencePairing::Item> paired;
+        const auto take = [&](const std::vector<ReferencePairing::Item>& ready) {
+            for (const ReferencePairing::Item& item : ready)
+                if (!item.still && !item.reference.empty() && item.window != EXPOSURE_IV &&
+                    int(paired.size()) < maxFrames)
+                    paired.push_back(item);
+        };
+        int position = 0;
         const Size size = camera->getImageSize();
-        const double pixelAngle = 0.25 / camera->getFx();
         for (size_t i = 0; i < log.size() && int(paired.size()) < maxFrames; i++)
         {
             const FrameRecord& f = log[i];
@@ -244,45 +248,12 @@ int main(int argc, char** argv)
             if (image.size() != size)
                 CV_Error(Error::StsBadSize, format("--video: frame %d is %dx%d but the camera is %dx%d", f.frame,
                                                    image.cols, image.rows, size.width, size.height));
-            const RollingShutter shutter(f.frameStart, f.exposure, f.lineDelay, size.height);
-            const Vec2d readout = shutter.readoutInterval();
-            const SwitchSchedule schedule = commands.scheduleAround(readout[0] - maxOffset, readout[1] + maxOffset);
-            const auto stillWith = [&](double shift) {
-                RollingShutter shifted = shutter;
-                shifted.frameStart += shift;
-                return classifyExposure(plant, schedule, shifted, pixelAngle, pixelAngle / f.exposure) == EXPOSURE_IV;
-            };
-            if (stillWith(-maxOffset) && stillWith(0) && stillWith(maxOffset))
-            {
-                lastStill = image;
-                lastStillAngle = plant->restingAngle(schedule.levelAt(readout[0]));
-                stills++;
-                for (MovingFrame& m : waiting)
-                {
-                    // The still frame shows where this frame's move ended only if no switch came between.
-                    const Vec2d moving = m.shutter.readoutInterval();
-                    const auto next = std::upper_bound(commands.times.begin(), commands.times.end(), moving[1] + maxOffset);
-                    if (next != commands.times.end() && *next < readout[0] - maxOffset)
-                        continue;
-                    m.reference = lastStill, m.referenceAngle = lastStillAngle;
-                    if (int(paired.size()) < maxFrames)
-                        paired.push_back(m);
-                }
-                waiting.clear();
-            }
-            else
-            {
-                const int window = classifyExposure(plant, schedule, shutter);
-                MovingFrame m{image, Mat(), schedule, shutter, 0};
-                if (window == EXPOSURE_I && !lastStill.empty())
-                    m.reference = lastStill, m.referenceAngle = lastStillAngle, paired.push_back(m);
-                else if (window != EXPOSURE_I && waiting.size() < 64)
-                    waiting.push_back(m);
-            }
-            std::printf("\rreading frame %d of %zu: %d still, %zu moving frames paired", f.frame + 1, log.size(),
-                        stills, paired.size());
+            take(pairing.push(f, image));
+            std::printf("\rreading frame %d of %zu: %zu moving frames paired with a still frame", f.frame + 1,
+                        log.size(), paired.size());
             std::fflush(stdout);
         }
+        take(pairing.finish());
         std::printf("\n");
         if (paired.size() < 2)
             CV_Error(Error::StsBadArg,
@@ -294,10 +265,10 @@ int main(int argc, char** argv)
         std::vector<SwitchSchedule> schedules;
         std::vector<RollingShutter> shutters;
         std::vector<double> angles;
-        for (const MovingFrame& m : paired)
+        for (const ReferencePairing::Item& m : paired)
         {
             references.push_back(m.reference);
-            frames.push_back(m.frame);
+            frames.push_back(m.image);
             schedules.push_back(m.schedule);
             shutters.push_back(m.shutter);
             angles.push_back(m.referenceAngle);

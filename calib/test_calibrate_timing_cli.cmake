@@ -1,6 +1,7 @@
 # CTest script: simulate a recording whose clock runs late, calibrate its timing with the CLI, check
-# the exit codes, the timing file and the plot; and the CLI's refusals of bad logs and videos.
-# -DTOOL=dynblur_calibrate_timing -DWORK=scratch folder
+# the exit codes, the timing file and the plot, restore the recording with dynblur_restore_video;
+# and both programs' refusals of bad logs and videos.
+# -DTOOL=dynblur_calibrate_timing -DRESTORE=dynblur_restore_video -DWORK=scratch folder
 set(dir ${WORK}/timing)
 file(REMOVE_RECURSE ${dir})
 file(MAKE_DIRECTORY ${dir})
@@ -61,4 +62,35 @@ if(NOT last_output MATCHES "cannot open")
 endif()
 if(EXISTS ${dir}/bad.yml)
   message(FATAL_ERROR "a refused calibration left a timing file behind")
+endif()
+
+# The video restorer on the same recording, with the timing file: every frame written, each moving
+# frame restored (the CSV says so), and the same refusals.
+run(0 ${RESTORE} ${rec} --timing ${dir}/timing.yml --out ${dir}/restored.avi)
+foreach(f restored.avi restored.csv)
+  if(NOT EXISTS ${dir}/${f})
+    message(FATAL_ERROR "${f} was not written")
+  endif()
+endforeach()
+file(STRINGS ${dir}/restored.csv rows)
+list(LENGTH rows count)
+file(STRINGS ${dir}/rec/frames.csv frameLines REGEX "^[0-9]")
+list(LENGTH frameLines frames)
+math(EXPR expected "${frames} + 1")
+if(NOT count EQUAL expected)
+  message(FATAL_ERROR "restored.csv has ${count} lines for ${frames} frames")
+endif()
+list(FILTER rows INCLUDE REGEX "^[0-9]+,(I|II|III),1,")
+list(LENGTH rows restoredFrames)
+if(restoredFrames LESS 2)
+  message(FATAL_ERROR "fewer than two moving frames were restored")
+endif()
+run(1 ${RESTORE} ${rec} --video ${dir}/missing.avi --out ${dir}/bad.avi)
+run(1 ${RESTORE} ${rec} --frames ${dir}/beyond.csv --out ${dir}/bad.avi)
+if(NOT last_output MATCHES "frame 5000, but the video ends after")
+  message(FATAL_ERROR "a frame beyond the video is not named")
+endif()
+file(GLOB leftovers ${dir}/bad*)
+if(leftovers)
+  message(FATAL_ERROR "a refused restoration left ${leftovers} behind")
 endif()

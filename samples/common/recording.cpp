@@ -3,6 +3,7 @@
 #include "atomic_file.hpp"
 #include "csv_fields.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -219,6 +220,81 @@ void writeCommandLog(const std::string& path, const CommandLog& log)
         out << line;
     }
     writeText(path, out.str());
+}
+
+ReferencePairing::ReferencePairing(const cv::Ptr<cv::dynblur::Plant>& plant,
+                                   const cv::Ptr<cv::dynblur::CameraModel>& camera, const CommandLog& commands,
+                                   const cv::dynblur::MotionCorrection& correction, double maxOffset, size_t maxPending)
+    : plant_(plant), correctedPlant_(correction.correctPlant(plant)), camera_(camera), commands_(commands),
+      correction_(correction), maxOffset_(maxOffset), maxPending_(maxPending)
+{
+}
+
+std::vector<ReferencePairing::Item> ReferencePairing::push(const FrameRecord& record, const cv::Mat& image)
+{
+    using namespace cv::dynblur;
+    Item item;
+    item.record = record;
+    item.image = image;
+    item.shutter = RollingShutter(record.frameStart, record.exposure, record.lineDelay, image.rows);
+    const cv::Vec2d readout = correction_.correctShutter(item.shutter).readoutInterval();
+    item.schedule = commands_.scheduleAround(readout[0] - maxOffset_, readout[1] + maxOffset_);
+    const double pixelAngle = 0.25 / camera_->getFx();
+    const auto stillWith = [&](double shift) {
+        RollingShutter shifted = correction_.correctShutter(item.shutter);
+        shifted.frameStart += shift;
+        return classifyExposure(correctedPlant_, item.schedule, shifted, pixelAngle, pixelAngle / record.exposure) ==
+               EXPOSURE_IV;
+    };
+    item.window = classifyExposure(correctedPlant_, item.schedule, correction_.correctShutter(item.shutter));
+    item.still = stillWith(-maxOffset_) && stillWith(0) && stillWith(maxOffset_);
+
+    std::vector<Item> ready;
+    if (item.still)
+    {
+        const double angle = plant_->restingAngle(item.schedule.levelAt(readout[0]));
+        release(ready, image, angle, readout[0]);
+        lastStill_ = image;
+        lastStillAngle_ = angle;
+        ready.push_back(item);
+    }
+    else if (item.window == EXPOSURE_I && waiting_.empty())
+    {
+        item.reference = lastStill_, item.referenceAngle = lastStillAngle_;
+        ready.push_back(item);
+    }
+    else
+    {
+        waiting_.push_back(item);
+        if (waiting_.size() > maxPending_)
+            release(ready, cv::Mat(), 0, 0);
+    }
+    return ready;
+}
+
+std::vector<ReferencePairing::Item> ReferencePairing::finish()
+{
+    std::vector<Item> ready;
+    release(ready, cv::Mat(), 0, 0);
+    return ready;
+}
+
+/* Hands out every waiting frame: a frame that starts at rest with the still frame before it, one that
+   ends at rest with `reference` (the still frame starting at `stillStart`) when no switch comes
+   between, else with the still frame before it. */
+void ReferencePairing::release(std::vector<Item>& ready, const cv::Mat& reference, double angle, double stillStart)
+{
+    for (Item& w : waiting_)
+    {
+        const double end = correction_.correctShutter(w.shutter).readoutInterval()[1];
+        const auto next = std::upper_bound(commands_.times.begin(), commands_.times.end(), end + maxOffset_);
+        const bool after = !reference.empty() && w.window != cv::dynblur::EXPOSURE_I &&
+                           (next == commands_.times.end() || *next >= stillStart - maxOffset_);
+        w.reference = after ? reference : lastStill_;
+        w.referenceAngle = after ? angle : lastStillAngle_;
+        ready.push_back(w);
+    }
+    waiting_.clear();
 }
 
 }  // namespace dynblur_samples

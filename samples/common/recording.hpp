@@ -56,6 +56,56 @@ CommandLog readCommandLog(const std::string& path);
 //! Writes a command log atomically.
 void writeCommandLog(const std::string& path, const CommandLog& log);
 
+/** @brief Streams a recording's frames and pairs each frame taken during a move with the still frame
+that saw what its moving rows see: the last still frame before it when the frame starts at rest
+(window I), the first still frame after it otherwise, unless another switch comes between (then,
+and when more than `maxPending` frames wait, the last still frame before it). Frames come back in
+their order, as soon as their reference is known: memory holds at most `maxPending` frames.
+
+"Still" is what a restoration cannot tell from still: the image moves by less than a quarter pixel
+(and by less than that during the exposure), with the clock off by as much as `maxOffset` either
+way, so a plant's slow residual vibration is not a move. */
+class ReferencePairing
+{
+public:
+    struct Item
+    {
+        FrameRecord record;
+        cv::Mat image;
+        cv::dynblur::SwitchSchedule schedule;  //!< the commands around the frame
+        cv::dynblur::RollingShutter shutter;   //!< as the frame log reports it
+        int window = 0;                        //!< exposure window under the model as given
+        bool still = false;
+        cv::Mat reference;                     //!< the moving frame's still frame (empty: none known)
+        double referenceAngle = 0;             //!< its angle, radians
+    };
+
+    /** @param plant the nominal plant. @param camera the camera. @param commands the command log.
+    @param correction the model's correction (a calibration; MotionCorrection() for none).
+    @param maxOffset how far off the clock may be, seconds. @param maxPending frames held at most. */
+    ReferencePairing(const cv::Ptr<cv::dynblur::Plant>& plant, const cv::Ptr<cv::dynblur::CameraModel>& camera,
+                     const CommandLog& commands, const cv::dynblur::MotionCorrection& correction, double maxOffset,
+                     size_t maxPending = 32);
+
+    //! Takes the next frame; returns the frames whose reference is now known, in order.
+    std::vector<Item> push(const FrameRecord& record, const cv::Mat& image);
+    //! At the end of the recording: the frames still waiting (with the last still frame before them).
+    std::vector<Item> finish();
+
+private:
+    void release(std::vector<Item>& ready, const cv::Mat& reference, double angle, double stillStart);
+
+    cv::Ptr<cv::dynblur::Plant> plant_, correctedPlant_;
+    cv::Ptr<cv::dynblur::CameraModel> camera_;
+    const CommandLog& commands_;
+    cv::dynblur::MotionCorrection correction_;
+    double maxOffset_;
+    size_t maxPending_;
+    std::vector<Item> waiting_;
+    cv::Mat lastStill_;
+    double lastStillAngle_ = 0;
+};
+
 }  // namespace dynblur_samples
 
 #endif

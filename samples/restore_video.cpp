@@ -1,0 +1,236 @@
+// dynblur_restore_video: restores a recording (frames, frame log, command log; docs/recording-format.md)
+// frame by frame, streaming: each frame taken during a move is refined against the still frame that
+// saw its content and restored; still frames pass through. Writes the restored video and a CSV of
+// each frame's window, correction and consistency.
+//
+//     dynblur_restore_video --video rec/frame_%04d.png --frames rec/frames.csv --commands rec/commands.csv
+//                           --camera rec/camera.xml --plant rec/plant.yml --timing rec/timing.yml
+#include "atomic_file.hpp"  // samples/common
+#include "cli_args.hpp"
+#include "plant_file.hpp"
+#include "recording.hpp"
+
+#include <opencv2/core/utility.hpp>
+#include <opencv2/dynblur.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <string>
+
+using namespace cv;
+using namespace cv::dynblur;
+using namespace dynblur_samples;
+
+static const char* const kUsage =
+    "Usage: dynblur_restore_video --video V --frames FRAMES.csv --commands COMMANDS.csv [options]\n"
+    "Restores the frames of a recording that a move blurred, with the blur predicted from the plant and\n"
+    "the commands, corrected per frame against the still frame before the move (a frame that starts at\n"
+    "rest) or after it (one that ends at rest). A frame no correction explains is written unchanged.\n"
+    "\n"
+    "  --video V            the frames: a video file or an image sequence (frame_%04d.png)\n"
+    "  --frames FILE.csv    frame log: frame,frame_start[,exposure,line_delay] (docs/recording-format.md)\n"
+    "  --commands FILE.csv  command log: t,level on the actuator's clock\n"
+    "  --camera FILE.xml    camera (ViSP XML); default calib/c270_nominal.xml\n"
+    "  --plant FILE.yml     nominal plant file (default: 14.4 Hz, zeta 0.12, 1 deg per level)\n"
+    "  --timing FILE.yml    the recording's calibration (dynblur_calibrate_timing); each frame then refines\n"
+    "                       its clock's jitter only, unless --refine says otherwise\n"
+    "  --exposure S, --line-delay S   when the frame log lacks those columns\n"
+    "  --refine LIST        offset, line-delay, plant, all or none, comma-separated (default: offset with\n"
+    "                       --timing, all without)\n"
+    "  --model NAME         rows (default, the frame-rate setting: 10 iterations) or tiles (20 iterations)\n"
+    "  --out FILE           restored video (default restored.avi; MJPG at the frame log's rate)\n"
+    "  --csv FILE           per-frame log (default: OUT's name with .csv)\n"
+    "  --help               this help\n"
+    "Output is written to temporary files and renamed into place only when the whole recording is done.\n"
+    "Exit status: 0 restored, 1 bad or unusable recording (the message says why), 2 bad usage.\n";
+
+static int usageError(const std::string& message)
+{
+    std::cerr << "error: " << message << "\n(see dynblur_restore_video --help)\n";
+    return 2;
+}
+
+static bool parseRefine(const std::string& list, int& flags)
+{
+    flags = 0;
+    for (size_t start = 0; start <= list.size();)
+    {
+        const size_t end = std::min(list.find(',', start), list.size());
+        const std::string item = list.substr(start, end - start);
+        start = end + 1;
+        if (item == "offset")
+            flags |= REFINE_TIME_OFFSET;
+        else if (item == "line-delay")
+            flags |= REFINE_LINE_DELAY;
+        else if (item == "plant")
+            flags |= REFINE_PLANT;
+        else if (item == "all")
+            flags |= REFINE_ALL;
+        else if (item != "none")
+            return false;
+    }
+    return true;
+}
+
+static const char* windowName(int window)
+{
+    static const char* names[] = {"?", "I", "II", "III", "IV"};
+    return names[window >= 1 && window <= 4 ? window : 0];
+}
+
+int main(int argc, char** argv)
+{
+    std::string videoOut, csvOut, videoTemporary, csvTemporary;
+    try
+    {
+        CliArgs args(argc, argv,
+                     {"video", "frames", "commands", "camera", "plant", "timing", "exposure", "line-delay", "refine",
+                      "model", "out", "csv"},
+                     {"help"});
+        if (args.has("help"))
+        {
+            std::cout << kUsage;
+            return 0;
+        }
+        for (const char* required : {"video", "frames", "commands"})
+            if (!args.has(required))
+                return usageError(std::string("--") + required + " is required");
+        int flags = 0;
+        if (!parseRefine(args.str("refine", args.has("timing") ? "offset" : "all"), flags))
+            return usageError("--refine takes offset, line-delay, plant, all or none, comma-separated");
+        const std::string model = args.str("model", "rows");
+        if (model != "rows" && model != "tiles")
+            return usageError("--model must be rows or tiles");
+        videoOut = args.str("out", "restored.avi");
+        csvOut = args.str("csv", pathStem(videoOut) + ".csv");
+
+        const std::vector<FrameRecord> log = readFrameLog(args.str("frames", ""), args.num("exposure", NAN),
+                                                          args.num("line-delay", NAN));
+        const CommandLog commands = readCommandLog(args.str("commands", ""));
+        const Ptr<CameraModel> camera =
+            CameraModel::load(args.str("camera", std::string(DYNBLUR_CALIB_DIR) + "/c270_nominal.xml"));
+        const Ptr<Plant> plant =
+            args.has("plant") ? loadPlantFile(args.str("plant", "")).plant : Plant::create(14.4, 0.12, CV_PI / 180);
+        const MotionCorrection calibration =
+            args.has("timing") ? TimingCalibration::load(args.str("timing", "")).correction : MotionCorrection();
+        VideoCapture video(args.str("video", ""));
+        if (!video.isOpened())
+            CV_Error(Error::StsError, "--video: cannot open '" + args.str("video", "") + "'");
+
+        Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
+        if (model == "rows")
+        {
+            // The frame-rate setting (DeblurQuality checks its quality).
+            deblurrer->setPsfModel(PSF_ROWS);
+            RLParams params = deblurrer->getRLParams();
+            params.iterations = 10;
+            params.colorIterations = 3;
+            params.blurPrecision = RL_BLUR_BFLOAT16;
+            deblurrer->setRLParams(params);
+            deblurrer->setColorResolution(DEBLUR_COLOR_HALF_RESOLUTION);
+        }
+        deblurrer->setRefinement(flags);
+        if (args.has("timing"))
+            deblurrer->setCalibration(calibration);
+
+        const Size size = camera->getImageSize();
+        const double fps = log.size() > 1 ? (log.size() - 1) / (log.back().frameStart - log.front().frameStart) : 30.0;
+        videoTemporary = temporaryPathFor(videoOut);
+        csvTemporary = temporaryPathFor(csvOut);
+        VideoWriter writer(videoTemporary, VideoWriter::fourcc('M', 'J', 'P', 'G'), fps, size, true);
+        if (!writer.isOpened())
+            CV_Error(Error::StsError, "--out: cannot write a video to '" + videoOut + "'");
+        std::ofstream csv(csvTemporary);
+        if (!csv)
+            CV_Error(Error::StsError, "--csv: cannot write '" + csvOut + "'");
+        csv << "frame,window,restored,time_offset,line_delay_scale,natural_freq_scale,damping_scale,consistency,"
+               "reason\n";
+
+        ReferencePairing pairing(plant, camera, commands, calibration, 0.005);
+        Mat lastReference, restored;
+        int written = 0;
+        TickMeter clock;
+        clock.start();
+        const auto restoreAndWrite = [&](const std::vector<ReferencePairing::Item>& ready) {
+            for (const ReferencePairing::Item& item : ready)
+            {
+                MotionCorrection c;
+                Mat out = item.image;
+                if (!item.still)
+                {
+                    if (item.reference.empty())
+                        deblurrer->clearReferenceFrame();
+                    else if (item.reference.data != lastReference.data)
+                        deblurrer->setReferenceFrame(item.reference, item.referenceAngle);
+                    lastReference = item.reference;
+                    deblurrer->deblur(item.image, item.schedule, item.shutter, restored);
+                    c = deblurrer->getLastCorrection();
+                    out = restored;
+                }
+                Mat colour = out;
+                if (out.channels() == 1)
+                    cvtColor(out, colour, COLOR_GRAY2BGR);
+                writer.write(colour);
+                std::string reason = item.still ? std::string("still") : c.reason;
+                for (char& ch : reason)
+                    ch = ch == ',' || ch == '"' ? ';' : ch;
+                csv << format("%d,%s,%d,%.9f,%.6f,%.6f,%.6f,%.4f,%s\n", item.record.frame,
+                              item.still ? "still" : windowName(deblurrer->getLastExposureWindow()),
+                              int(!item.still && c.applied), c.timeOffset, c.lineDelayScale, c.naturalFreqScale,
+                              c.dampingScale, c.consistency, reason.c_str());
+                written++;
+            }
+            clock.stop();
+            const double rate = written / std::max(1e-9, clock.getTimeSec());
+            std::printf("\rframe %d of %zu, %.1f fps, ETA %.0f s   ", written, log.size(), rate,
+                        (log.size() - written) / std::max(rate, 1e-9));
+            std::fflush(stdout);
+            clock.start();
+        };
+
+        int position = 0;
+        for (const FrameRecord& f : log)
+        {
+            Mat image;
+            while (position <= f.frame)
+            {
+                if (!video.read(image))
+                    CV_Error(Error::StsBadArg, format("--frames: line for frame %d, but the video ends after %d frames",
+                                                      f.frame, position));
+                position++;
+            }
+            if (image.size() != size)
+                CV_Error(Error::StsBadSize, format("--video: frame %d is %dx%d but the camera is %dx%d", f.frame,
+                                                   image.cols, image.rows, size.width, size.height));
+            restoreAndWrite(pairing.push(f, image.clone()));
+        }
+        restoreAndWrite(pairing.finish());
+        std::printf("\n");
+        writer.release();
+        csv.close();
+        if (!csv)
+            CV_Error(Error::StsError, "--csv: cannot write '" + csvOut + "'");
+        renameIntoPlace(videoTemporary, videoOut);
+        renameIntoPlace(csvTemporary, csvOut);
+        std::printf("wrote %s and %s\n", videoOut.c_str(), csvOut.c_str());
+        return 0;
+    }
+    catch (const std::runtime_error& e)
+    {
+        return usageError(e.what());
+    }
+    catch (const cv::Exception& e)
+    {
+        // Nothing half-written stays behind.
+        if (!videoTemporary.empty())
+            std::remove(videoTemporary.c_str());
+        if (!csvTemporary.empty())
+            std::remove(csvTemporary.c_str());
+        std::cerr << "\nerror: " << e.err << "\n";
+        return 1;
+    }
+}

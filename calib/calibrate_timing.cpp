@@ -35,11 +35,14 @@ using namespace dynblur_samples;
 
 static const char* const kUsage =
     "Usage: dynblur_calibrate_timing --video V --frames FRAMES.csv --commands COMMANDS.csv [options]\n"
+    "       dynblur_calibrate_timing --recording DIR [options]\n"
     "Estimates, from a recording, the offset between the camera's clock and the actuator's (s), the\n"
     "line delay and optionally the plant's natural frequency and damping, as one correction for the\n"
     "whole recording (calibrateTiming): frames taken during moves are compared with the still frame\n"
     "before the move (a frame that starts at rest) or after it (a frame that ends at rest).\n"
     "\n"
+    "  --recording DIR      a recording folder (frames.avi or frame_%04d.png, frames.csv, commands.csv,\n"
+    "                       camera.xml, plant.yml); the timing file goes to DIR/timing.yml\n"
     "  --video V            the frames: a video file or an image sequence (frame_%04d.png), as\n"
     "                       cv::VideoCapture reads them\n"
     "  --frames FILE.csv    frame log: frame,frame_start[,exposure,line_delay] (docs/recording-format.md)\n"
@@ -188,7 +191,7 @@ int main(int argc, char** argv)
     try
     {
         CliArgs args(argc, argv,
-                     {"video", "frames", "commands", "camera", "plant", "exposure", "line-delay", "refine",
+                     {"recording", "video", "frames", "commands", "camera", "plant", "exposure", "line-delay", "refine",
                       "max-frames", "max-offset", "out", "plot", "simulate", "true-offset", "true-line-delay-scale",
                       "true-hz-scale", "true-zeta-scale", "saccades"},
                      {"help", "no-png", "as-video"});
@@ -199,9 +202,12 @@ int main(int argc, char** argv)
         }
         if (args.has("simulate"))
             return simulate(args, args.str("simulate", ""));
+        // --recording DIR stands for the files the folder holds; an option given as well wins.
+        const RecordingFolder folder = args.has("recording") ? findRecording(args.str("recording", "")) : RecordingFolder();
+        const auto path = [&](const char* option, const std::string& fromFolder) { return args.str(option, fromFolder); };
         for (const char* required : {"video", "frames", "commands"})
-            if (!args.has(required))
-                return usageError(std::string("--") + required + " is required");
+            if (!args.has(required) && !args.has("recording"))
+                return usageError(std::string("--") + required + " (or --recording) is required");
         int flags = 0;
         if (const int status = parseRefine(args.str("refine", "offset,line-delay"), flags))
             return status;
@@ -209,19 +215,22 @@ int main(int argc, char** argv)
         const double maxOffset = args.num("max-offset", 0.02);
         if (maxFrames < 2 || !(maxOffset > 0 && maxOffset <= 1))
             return usageError("--max-frames must be >= 2 and --max-offset in (0, 1] s");
-        const std::string out = args.str("out", "timing.yml");
+        const std::string out = args.str("out", args.has("recording") ? args.str("recording", "") + "/timing.yml"
+                                                                        : std::string("timing.yml"));
         const std::string plotPath = args.str("plot", pathStem(out) + "_objective.png");
 
-        const std::vector<FrameRecord> log = readFrameLog(args.str("frames", ""), args.num("exposure", NAN),
-                                                          args.num("line-delay", NAN));
-        const CommandLog commands = readCommandLog(args.str("commands", ""));
-        const Ptr<CameraModel> camera =
-            CameraModel::load(args.str("camera", std::string(DYNBLUR_CALIB_DIR) + "/c270_nominal.xml"));
-        const Ptr<Plant> plant =
-            args.has("plant") ? loadPlantFile(args.str("plant", "")).plant : Plant::create(14.4, 0.12, kDeg);
-        VideoCapture video(args.str("video", ""));
+        const std::vector<FrameRecord> log =
+            readFrameLog(path("frames", folder.frames), args.num("exposure", NAN), args.num("line-delay", NAN));
+        const CommandLog commands = readCommandLog(path("commands", folder.commands));
+        const std::string cameraPath = path("camera", folder.camera);
+        const Ptr<CameraModel> camera = CameraModel::load(
+            cameraPath.empty() ? std::string(DYNBLUR_CALIB_DIR) + "/c270_nominal.xml" : cameraPath);
+        const std::string plantPath = path("plant", folder.plant);
+        const Ptr<Plant> plant = plantPath.empty() ? Plant::create(14.4, 0.12, kDeg) : loadPlantFile(plantPath).plant;
+        const std::string videoPath = path("video", folder.video);
+        VideoCapture video(videoPath);
         if (!video.isOpened())
-            CV_Error(Error::StsError, "--video: cannot open '" + args.str("video", "") + "'");
+            CV_Error(Error::StsError, "--video: cannot open '" + videoPath + "'");
 
         // Stream the recording, pairing each moving frame with the still frame that saw its content.
         ReferencePairing pairing(plant, camera, commands, MotionCorrection(), maxOffset);

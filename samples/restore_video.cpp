@@ -12,6 +12,7 @@
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/dynblur.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
@@ -27,10 +28,14 @@ using namespace dynblur_samples;
 
 static const char* const kUsage =
     "Usage: dynblur_restore_video --video V --frames FRAMES.csv --commands COMMANDS.csv [options]\n"
+    "       dynblur_restore_video --recording DIR [options]\n"
     "Restores the frames of a recording that a move blurred, with the blur predicted from the plant and\n"
     "the commands, corrected per frame against the still frame before the move (a frame that starts at\n"
     "rest) or after it (one that ends at rest). A frame no correction explains is written unchanged.\n"
+    "Each frame is restored to the view at the angle of its middle row's mid-exposure.\n"
     "\n"
+    "  --recording DIR      a recording folder (frames.avi or frame_%04d.png, frames.csv, commands.csv,\n"
+    "                       camera.xml, plant.yml, and timing.yml when calibrated)\n"
     "  --video V            the frames: a video file or an image sequence (frame_%04d.png)\n"
     "  --frames FILE.csv    frame log: frame,frame_start[,exposure,line_delay] (docs/recording-format.md)\n"
     "  --commands FILE.csv  command log: t,level on the actuator's clock\n"
@@ -82,13 +87,37 @@ static const char* windowName(int window)
     return names[window >= 1 && window <= 4 ? window : 0];
 }
 
+const size_t kSheetRows = 6;
+
+//! One row of the contact sheet: the frame and its restoration, 480 px wide each, labelled.
+static Mat sheetRow(const Mat& blurred, const Mat& restored, int frame, const MotionCorrection& c)
+{
+    const auto cell = [](const Mat& image, const std::string& text) {
+        Mat small, colour;
+        resize(image, small, Size(480, image.rows * 480 / image.cols), 0, 0, INTER_AREA);
+        colour = small;
+        if (small.channels() == 1)
+            cvtColor(small, colour, COLOR_GRAY2BGR);
+        rectangle(colour, Rect(0, 0, colour.cols, 22), Scalar(0, 0, 0), FILLED);
+        putText(colour, text, Point(5, 16), FONT_HERSHEY_SIMPLEX, 0.45, Scalar(255, 255, 255), 1, LINE_AA);
+        return colour;
+    };
+    Mat row;
+    hconcat(cell(blurred, format("frame %d: as recorded", frame)),
+            cell(restored, c.applied ? format("restored (clock %+.2f ms, consistency %.2f)", c.timeOffset * 1e3,
+                                              c.consistency)
+                                     : format("left unchanged (consistency %.2f)", c.consistency)),
+            row);
+    return row;
+}
+
 int main(int argc, char** argv)
 {
-    std::string videoOut, csvOut, videoTemporary, csvTemporary;
+    std::string videoOut, csvOut, videoTemporary, csvTemporary, sheetTemporary;
     try
     {
         CliArgs args(argc, argv,
-                     {"video", "frames", "commands", "camera", "plant", "timing", "exposure", "line-delay", "refine",
+                     {"recording", "video", "frames", "commands", "camera", "plant", "timing", "exposure", "line-delay", "refine",
                       "model", "out", "csv"},
                      {"help"});
         if (args.has("help"))
@@ -96,11 +125,15 @@ int main(int argc, char** argv)
             std::cout << kUsage;
             return 0;
         }
+        // --recording DIR stands for the files the folder holds; an option given as well wins.
+        const RecordingFolder folder = args.has("recording") ? findRecording(args.str("recording", "")) : RecordingFolder();
+        const auto path = [&](const char* option, const std::string& fromFolder) { return args.str(option, fromFolder); };
         for (const char* required : {"video", "frames", "commands"})
-            if (!args.has(required))
-                return usageError(std::string("--") + required + " is required");
+            if (!args.has(required) && !args.has("recording"))
+                return usageError(std::string("--") + required + " (or --recording) is required");
+        const std::string timingPath = path("timing", folder.timing);
         int flags = 0;
-        if (!parseRefine(args.str("refine", args.has("timing") ? "offset" : "all"), flags))
+        if (!parseRefine(args.str("refine", timingPath.empty() ? "all" : "offset"), flags))
             return usageError("--refine takes offset, line-delay, plant, all or none, comma-separated");
         const std::string model = args.str("model", "rows");
         if (model != "rows" && model != "tiles")
@@ -108,19 +141,23 @@ int main(int argc, char** argv)
         videoOut = args.str("out", "restored.avi");
         csvOut = args.str("csv", pathStem(videoOut) + ".csv");
 
-        const std::vector<FrameRecord> log = readFrameLog(args.str("frames", ""), args.num("exposure", NAN),
-                                                          args.num("line-delay", NAN));
-        const CommandLog commands = readCommandLog(args.str("commands", ""));
-        const Ptr<CameraModel> camera =
-            CameraModel::load(args.str("camera", std::string(DYNBLUR_CALIB_DIR) + "/c270_nominal.xml"));
+        const std::vector<FrameRecord> log =
+            readFrameLog(path("frames", folder.frames), args.num("exposure", NAN), args.num("line-delay", NAN));
+        const CommandLog commands = readCommandLog(path("commands", folder.commands));
+        const std::string cameraPath = path("camera", folder.camera);
+        const Ptr<CameraModel> camera = CameraModel::load(
+            cameraPath.empty() ? std::string(DYNBLUR_CALIB_DIR) + "/c270_nominal.xml" : cameraPath);
+        const std::string plantPath = path("plant", folder.plant);
         const Ptr<Plant> plant =
-            args.has("plant") ? loadPlantFile(args.str("plant", "")).plant : Plant::create(14.4, 0.12, CV_PI / 180);
+            plantPath.empty() ? Plant::create(14.4, 0.12, CV_PI / 180) : loadPlantFile(plantPath).plant;
         const MotionCorrection calibration =
-            args.has("timing") ? TimingCalibration::load(args.str("timing", "")).correction : MotionCorrection();
-        VideoCapture video(args.str("video", ""));
+            timingPath.empty() ? MotionCorrection() : TimingCalibration::load(timingPath).correction;
+        const std::string videoPath = path("video", folder.video);
+        VideoCapture video(videoPath);
         if (!video.isOpened())
-            CV_Error(Error::StsError, "--video: cannot open '" + args.str("video", "") + "'");
+            CV_Error(Error::StsError, "--video: cannot open '" + videoPath + "'");
 
+        const Ptr<Plant> correctedPlant = calibration.correctPlant(plant);
         Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
         if (model == "rows")
         {
@@ -134,7 +171,7 @@ int main(int argc, char** argv)
             deblurrer->setColorResolution(DEBLUR_COLOR_HALF_RESOLUTION);
         }
         deblurrer->setRefinement(flags);
-        if (args.has("timing"))
+        if (!timingPath.empty())
             deblurrer->setCalibration(calibration);
 
         const Size size = camera->getImageSize();
@@ -151,6 +188,7 @@ int main(int argc, char** argv)
                "reason\n";
 
         ReferencePairing pairing(plant, camera, commands, calibration, 0.005);
+        std::vector<Mat> sheetRows;  // the first moving frames, blurred beside restored, for a look
         Mat lastReference, restored;
         int written = 0;
         TickMeter clock;
@@ -167,9 +205,17 @@ int main(int argc, char** argv)
                     else if (item.reference.data != lastReference.data)
                         deblurrer->setReferenceFrame(item.reference, item.referenceAngle);
                     lastReference = item.reference;
-                    deblurrer->deblur(item.image, item.schedule, item.shutter, restored);
+                    /* Each frame is restored to the view the camera had at its middle row's mid-exposure
+                       (the video does not jump to where a move will end, and the frame saw most of
+                       that view), on the calibrated clock and plant. */
+                    const Vec2d middle = calibration.correctShutter(item.shutter).rowInterval(item.shutter.rows / 2);
+                    Mat t(1, 1, CV_64F, Scalar((middle[0] + middle[1]) / 2)), theta;
+                    correctedPlant->response(item.schedule, t, theta);
+                    deblurrer->deblur(item.image, item.schedule, item.shutter, restored, theta.at<double>(0));
                     c = deblurrer->getLastCorrection();
                     out = restored;
+                    if (sheetRows.size() < kSheetRows && deblurrer->getLastExposureWindow() != EXPOSURE_IV)
+                        sheetRows.push_back(sheetRow(item.image, restored, item.record.frame, c));
                 }
                 Mat colour = out;
                 if (out.channels() == 1)
@@ -214,9 +260,21 @@ int main(int argc, char** argv)
         csv.close();
         if (!csv)
             CV_Error(Error::StsError, "--csv: cannot write '" + csvOut + "'");
+        const std::string sheetPath = pathStem(videoOut) + "_frames.png";
+        if (!sheetRows.empty())
+        {
+            Mat sheet;
+            vconcat(sheetRows, sheet);
+            sheetTemporary = temporaryPathFor(sheetPath);
+            if (!imwrite(sheetTemporary, sheet))
+                CV_Error(Error::StsError, "cannot write '" + sheetPath + "'");
+        }
         renameIntoPlace(videoTemporary, videoOut);
         renameIntoPlace(csvTemporary, csvOut);
-        std::printf("wrote %s and %s\n", videoOut.c_str(), csvOut.c_str());
+        if (!sheetTemporary.empty())
+            renameIntoPlace(sheetTemporary, sheetPath);
+        std::printf("wrote %s, %s%s\n", videoOut.c_str(), csvOut.c_str(),
+                    sheetRows.empty() ? "" : (" and " + sheetPath + " (moving frames: blurred | restored)").c_str());
         return 0;
     }
     catch (const std::runtime_error& e)
@@ -230,6 +288,8 @@ int main(int argc, char** argv)
             std::remove(videoTemporary.c_str());
         if (!csvTemporary.empty())
             std::remove(csvTemporary.c_str());
+        if (!sheetTemporary.empty())
+            std::remove(sheetTemporary.c_str());
         std::cerr << "\nerror: " << e.err << "\n";
         return 1;
     }

@@ -111,6 +111,27 @@ void writeText(const std::string& path, const std::string& text)
 
 }  // namespace
 
+RecordingFolder findRecording(const std::string& folder)
+{
+    const auto present = [&](const std::string& name) {
+        const std::string path = folder + "/" + name;
+        return std::ifstream(path).good() ? path : std::string();
+    };
+    RecordingFolder r;
+    r.video = present("frames.avi");
+    if (r.video.empty() && !present("frame_0000.png").empty())
+        r.video = folder + "/frame_%04d.png";
+    r.frames = present("frames.csv");
+    r.commands = present("commands.csv");
+    r.camera = present("camera.xml");
+    r.plant = present("plant.yml");
+    r.timing = present("timing.yml");
+    if (r.video.empty() || r.frames.empty() || r.commands.empty())
+        CV_Error(cv::Error::StsError, "'" + folder + "' is not a recording folder: it needs frames.avi (or "
+                                      "frame_0000.png ...), frames.csv and commands.csv");
+    return r;
+}
+
 std::vector<FrameRecord> parseFrameLog(const std::string& text, const std::string& source, double exposure,
                                        double lineDelay)
 {

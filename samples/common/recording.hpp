@@ -18,6 +18,16 @@
 
 namespace dynblur_samples {
 
+/** @brief The files of a recording kept in one folder, as `dynblur_calibrate_timing --simulate`
+writes them: frames.avi (or frame_%04d.png), frames.csv, commands.csv, camera.xml, plant.yml, and
+timing.yml once calibrated. A name is empty when its file is absent (frames.csv and commands.csv
+must be there: a folder without them throws, naming it). */
+struct RecordingFolder
+{
+    std::string video, frames, commands, camera, plant, timing;
+};
+RecordingFolder findRecording(const std::string& folder);
+
 //! One line of a frame log.
 struct FrameRecord
 {

@@ -49,6 +49,9 @@ static const char* const kHelp =
     "  --slave N           RTU slave address (default 1)\n"
     "  --plant FILE        plant file (naturalFreqHz, dampingRatio, gain, maxLevel); default: seed\n"
     "                      14.4 Hz, zeta 0.12, 1 deg/level, max level 16\n"
+    "  --true-hz-scale X, --true-zeta-scale X  the simulated plant's natural frequency and damping ratio\n"
+    "                      are X times the plant file's (hardware that drifted from its model; default 1)\n"
+    "  --start-latency S   the plant moves S seconds after each level is applied (default 0)\n"
     "  --max-level N       advertised max |level| (default: the plant file's, else 16)\n"
     "  --min-dwell-us N    advertised minimum dwell, microseconds (default 1000)\n"
     "  --capacity N        advertised schedule capacity, entries (default 256)\n"
@@ -82,7 +85,7 @@ int main(int argc, char** argv)
                            {"tcp-port", "slave", "plant", "max-level", "min-dwell-us", "capacity", "csv", "log-rate",
                             "log-tail", "max-seconds", "status-every", "drop-after", "delay-ms", "exception",
                             "garbage-after", "short-after", "random-faults", "fault-seed", "fault-kinds",
-                            "random-delay-ms"},
+                            "random-delay-ms", "true-hz-scale", "true-zeta-scale", "start-latency"},
                            {"help", "h", "no-tcp", "rtu"});
         if (args.has("help") || args.has("h"))
         {
@@ -96,6 +99,19 @@ int main(int argc, char** argv)
             cfg.plant = pf.plant;
             cfg.maxLevel = pf.maxLevel;
         }
+        // Hardware that is not the model its host plans with: the plant drifted, the motion late.
+        const double hzScale = args.num("true-hz-scale", 1.0), zetaScale = args.num("true-zeta-scale", 1.0);
+        if (!(hzScale > 0.5 && hzScale < 2) || !(zetaScale > 0.1 && zetaScale < 5))
+            throw std::runtime_error("--true-hz-scale must be in (0.5, 2) and --true-zeta-scale in (0.1, 5)");
+        if (hzScale != 1 || zetaScale != 1)
+        {
+            const cv::Ptr<cv::dynblur::Plant> nominal = cfg.plant ? cfg.plant : cv::dynblur::Plant::create(14.4, 0.12, CV_PI / 180);
+            cfg.plant = cv::dynblur::Plant::create(nominal->getNaturalFreqHz() * hzScale,
+                                                   nominal->getDampingRatio() * zetaScale, nominal->getGain());
+        }
+        cfg.startLatency = args.num("start-latency", 0.0);
+        if (!(cfg.startLatency >= 0 && cfg.startLatency < 1))
+            throw std::runtime_error("--start-latency must be in [0, 1) s");
         cfg.maxLevel = args.integer("max-level", cfg.maxLevel);
         cfg.minDwellUs = args.integer("min-dwell-us", cfg.minDwellUs);
         cfg.capacity = args.integer("capacity", cfg.capacity);

@@ -56,6 +56,12 @@ const char* const kHelp =
     "  --latency-ms MS       from the end of the measured frame's readout to the saccade start (default 4)\n"
     "  --jitter-ms MS        plus a random 0..MS per cycle (default 0 for step, one frame period for track)\n"
     "  --bus tcp://HOST:PORT drive the actuator controller (e.g. dynblur_actuator_sim) instead of the plant\n"
+    "  --true-hz-scale X, --true-zeta-scale X  hardware that drifted from its model: the positioner moves\n"
+    "                        with X times the natural frequency / damping ratio the loop plans with (with\n"
+    "                        --bus, give the simulator the same options) (default 1)\n"
+    "  --clock-offset-ms MS  the camera's frames start MS later than their timestamps (default 0)\n"
+    "  --no-refine           restore with the nominal model (default: each moving frame is refined against\n"
+    "                        the last still frame)\n"
     "  --out DIR             output folder: cycles.csv, frames.csv, error.png, strip.png, detection.png\n"
     "                        (default servo_out)\n"
     "  --help                this text\n";
@@ -65,8 +71,9 @@ ServoConfig parseOptions(int argc, char** argv, std::string& outDir)
     const CliArgs args(argc, argv,
                        {"scenario", "cycles", "targets", "cycles-per-target", "seed", "frames-per-cycle", "start-deg",
                         "lambda", "mode", "gain-deg", "max-level", "model", "iterations", "bus", "out", "tag-cell",
-                        "latency-ms", "jitter-ms", "exposure-ms", "deadband-px", "tags", "jump-deg"},
-                       {"help"});
+                        "latency-ms", "jitter-ms", "exposure-ms", "deadband-px", "tags", "jump-deg", "true-hz-scale",
+                        "true-zeta-scale", "clock-offset-ms"},
+                       {"help", "no-refine"});
     if (args.has("help"))
     {
         std::cout << kHelp;
@@ -115,6 +122,14 @@ ServoConfig parseOptions(int argc, char** argv, std::string& outDir)
     config.latencyJitter = 1e-3 * args.num("jitter-ms", 1e3 * config.latencyJitter);
     config.exposure = 1e-3 * args.num("exposure-ms", 1e3 * config.exposure);
     config.deadbandPx = args.num("deadband-px", config.deadbandPx);
+    config.trueFreqScale = args.num("true-hz-scale", config.trueFreqScale);
+    config.trueDampingScale = args.num("true-zeta-scale", config.trueDampingScale);
+    config.clockOffset = 1e-3 * args.num("clock-offset-ms", 1e3 * config.clockOffset);
+    config.refine = !args.has("no-refine");
+    if (!(config.trueFreqScale > 0.5 && config.trueFreqScale < 2) ||
+        !(config.trueDampingScale > 0.1 && config.trueDampingScale < 5) || !(std::abs(config.clockOffset) < 0.02))
+        throw std::runtime_error("--true-hz-scale must be in (0.5, 2), --true-zeta-scale in (0.1, 5) and "
+                                 "--clock-offset-ms within +-20");
     config.targetTags = args.integer("tags", config.targetTags);
     if (config.targetTags < 1 || config.targetTags > kTagIds)
         throw std::runtime_error("--tags must be in [1, " + std::to_string(kTagIds) + "]");

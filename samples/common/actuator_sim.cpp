@@ -144,7 +144,7 @@ struct ActuatorSim::Impl
         if (history.times.empty())
             return cfg.plant->restingAngle(history.initialLevel);
         cv::Mat out;
-        cfg.plant->response(history, cv::Mat(1, 1, CV_64F, cv::Scalar(tSec)), out);
+        cfg.plant->response(history, cv::Mat(1, 1, CV_64F, cv::Scalar(tSec - cfg.startLatency)), out);
         return out.at<double>(0);
     }
 

@@ -80,6 +80,7 @@ struct SimConfig
     std::string csvPath;                //!< θ(t) log while running ("" = none)
     double logRateHz = 1000;            //!< log and level-update rate
     double logTail = 1.0;               //!< keep logging this long after the last switch, seconds
+    double startLatency = 0.0;          //!< the plant moves this long after a level is applied, seconds
 };
 
 class ActuatorSim

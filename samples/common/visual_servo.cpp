@@ -315,6 +315,9 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
     const Ptr<CameraModel> camera = CameraModel::create(config.focalPx, config.focalPx, (size.width - 1) / 2.0,
                                                         (size.height - 1) / 2.0, size.width, size.height);
     const Point2d imageCentre(camera->getCx(), camera->getCy());
+    // The positioner as it really moves (the loop knows only `plant`).
+    const Ptr<Plant> truePlant = Plant::create(config.naturalFreqHz * config.trueFreqScale,
+                                               config.dampingRatio * config.trueDampingScale, plant->getGain());
     const Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
     deblurrer->setPsfModel(config.psfModel);
     RLParams rl = deblurrer->getRLParams();
@@ -352,6 +355,8 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
     SwitchSchedule history(std::vector<double>(), std::vector<int>(), 0);  // every switch so far: the true motion
     SwitchSchedule saccade = history;                                      // the command of this cycle
     int level = 0, frameIndex = 0;
+    Mat lastStill;                          // the last frame taken at rest: the reference of the next move's frames
+    const uchar* referenceData = nullptr;   // the frame the deblurrer holds as its reference
     RNG jitter(config.noiseSeed * 2654435761ull + 1u);
 
     auto takeFrame = [&](int cycle) {
@@ -361,23 +366,36 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
         frame.index = frameIndex;
         frame.frameStart = frameIndex * period;
         const RollingShutter shutter(frame.frameStart, config.exposure, config.lineDelay, size.height);
+        const RollingShutter trueShutter(frame.frameStart + config.clockOffset, config.exposure, config.lineDelay,
+                                         size.height);
         // The camera: the physical forward model along the true trajectory, plus sensor noise.
         Mat blurred, noisy;
-        renderBlurred(world.sharpLinear, plant, history, camera, shutter, blurred, 0.0);
+        renderBlurred(world.sharpLinear, truePlant, history, camera, trueShutter, blurred, 0.0);
         addSensorNoise(blurred, noisy, 4000.0, 8.0, 5.0, config.noiseSeed * 100003ull + static_cast<uint64>(frameIndex));
-        Mat mid(1, 1, CV_64F, Scalar(frame.frameStart + 0.5 * (shutter.readoutInterval()[1] - frame.frameStart))), theta;
-        plant->response(history, mid, theta);
+        const Vec2d readout = trueShutter.readoutInterval();
+        Mat mid(1, 1, CV_64F, Scalar(0.5 * (readout[0] + readout[1]))), theta;
+        truePlant->response(history, mid, theta);
         frame.thetaDeg = theta.at<double>(0) / kDeg;
-        frame.tagMotionPx = tagMotionPx(plant, history, camera, world, shutter);
+        frame.tagMotionPx = tagMotionPx(truePlant, history, camera, world, trueShutter);
         // Classify and restore with the cycle's command (the library's prediction).
         frame.window = classifyExposure(plant, saccade, shutter, angleTol, velocityTol);
         Mat restored;
         if (saccade.times.empty() || frame.window == EXPOSURE_IV)
+        {
             restored = noisy;  // nothing to undo
+            lastStill = noisy;
+        }
         else
         {
             const double t0 = static_cast<double>(getTickCount());
+            // The still frame before this cycle's move, at the saccade's initial resting angle.
+            if (config.refine && !lastStill.empty() && lastStill.data != referenceData)
+            {
+                deblurrer->setReferenceFrame(lastStill);
+                referenceData = lastStill.data;
+            }
             deblurrer->deblur(noisy, saccade, shutter, restored);
+            frame.correction = deblurrer->getLastCorrection();
             frame.restoreSec = (static_cast<double>(getTickCount()) - t0) / getTickFrequency();
         }
         const Mat raw8 = toGrey8(noisy), restored8 = toGrey8(restored);

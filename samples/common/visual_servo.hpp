@@ -60,7 +60,16 @@ struct ServoConfig
     // measures, before it moves.
     std::vector<double> targetsDeg;
     int cyclesPerTarget = 0;
+    // Hardware that is not the model: the positioner moves with these scales of the natural frequency
+    // and damping ratio, and each frame starts clockOffset seconds later than its timestamp says. The
+    // loop plans, classifies and restores with the nominal model (over the bus, give the simulator
+    // the same truth).
+    double trueFreqScale = 1.0;
+    double trueDampingScale = 1.0;
+    double clockOffset = 0.0;        //!< seconds
     // Restoration.
+    //! Refine each moving frame against the last still frame (DynamicDeblurrer::setReferenceFrame).
+    bool refine = true;
     int psfModel = cv::dynblur::PSF_ROWS;
     int rlIterations = 20;
     unsigned noiseSeed = 7u;
@@ -88,6 +97,7 @@ struct ServoFrame
     double tagMotionPx = 0;       //!< how far a tag's centre travelled (true motion) while its sensor row was exposed, pixels (the farthest of the target's tags)
     Detection raw, restored;
     double restoreSec = 0;        //!< DynamicDeblurrer::deblur time, seconds (0 when not called)
+    cv::dynblur::MotionCorrection correction;  //!< the restoration's correction (default when not restored)
     cv::Mat rawImage, restoredImage;  //!< 8-bit grey (when ServoConfig::keepImages)
 };
 

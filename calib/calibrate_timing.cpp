@@ -19,7 +19,6 @@
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -165,27 +164,6 @@ static int simulate(const CliArgs& args, const std::string& dir)
 // ---------------------------------------------------------------------------------------------
 // Calibration
 
-static int parseRefine(const std::string& list, int& flags)
-{
-    flags = 0;
-    size_t start = 0;
-    while (start <= list.size())
-    {
-        const size_t end = std::min(list.find(',', start), list.size());
-        const std::string item = list.substr(start, end - start);
-        if (item == "offset")
-            flags |= REFINE_TIME_OFFSET;
-        else if (item == "line-delay")
-            flags |= REFINE_LINE_DELAY;
-        else if (item == "plant")
-            flags |= REFINE_PLANT;
-        else
-            return usageError("--refine takes offset, line-delay and plant, comma-separated; got '" + item + "'");
-        start = end + 1;
-    }
-    return 0;
-}
-
 int main(int argc, char** argv)
 {
     try
@@ -202,15 +180,11 @@ int main(int argc, char** argv)
         }
         if (args.has("simulate"))
             return simulate(args, args.str("simulate", ""));
-        // --recording DIR stands for the files the folder holds; an option given as well wins.
-        const RecordingFolder folder = args.has("recording") ? findRecording(args.str("recording", "")) : RecordingFolder();
-        const auto path = [&](const char* option, const std::string& fromFolder) { return args.str(option, fromFolder); };
-        for (const char* required : {"video", "frames", "commands"})
-            if (!args.has(required) && !args.has("recording"))
-                return usageError(std::string("--") + required + " (or --recording) is required");
+        if (!OpenedRecording::named(args))
+            return usageError("--recording DIR, or --video, --frames and --commands, are required");
         int flags = 0;
-        if (const int status = parseRefine(args.str("refine", "offset,line-delay"), flags))
-            return status;
+        if (!parseRefinementList(args.str("refine", "offset,line-delay"), flags) || flags == REFINE_NONE)
+            return usageError("--refine takes offset, line-delay, plant (or all), comma-separated");
         const int maxFrames = args.integer("max-frames", 10);
         const double maxOffset = args.num("max-offset", 0.02);
         if (maxFrames < 2 || !(maxOffset > 0 && maxOffset <= 1))
@@ -219,21 +193,14 @@ int main(int argc, char** argv)
                                                                         : std::string("timing.yml"));
         const std::string plotPath = args.str("plot", pathStem(out) + "_objective.png");
 
-        const std::vector<FrameRecord> log =
-            readFrameLog(path("frames", folder.frames), args.num("exposure", NAN), args.num("line-delay", NAN));
-        const CommandLog commands = readCommandLog(path("commands", folder.commands));
-        const std::string cameraPath = path("camera", folder.camera);
-        const Ptr<CameraModel> camera = CameraModel::load(
-            cameraPath.empty() ? std::string(DYNBLUR_CALIB_DIR) + "/c270_nominal.xml" : cameraPath);
-        const std::string plantPath = path("plant", folder.plant);
-        const Ptr<Plant> plant = plantPath.empty() ? Plant::create(14.4, 0.12, kDeg) : loadPlantFile(plantPath).plant;
-        const std::string videoPath = path("video", folder.video);
-        VideoCapture video(videoPath);
-        if (!video.isOpened())
-            CV_Error(Error::StsError, "--video: cannot open '" + videoPath + "'");
+        OpenedRecording recording;
+        OpenedRecording::open(args, std::string(DYNBLUR_CALIB_DIR) + "/c270_nominal.xml", recording);
+        const std::vector<FrameRecord>& log = recording.log;
+        const Ptr<CameraModel>& camera = recording.camera;
+        const Ptr<Plant>& plant = recording.plant;
 
         // Stream the recording, pairing each moving frame with the still frame that saw its content.
-        ReferencePairing pairing(plant, camera, commands, MotionCorrection(), maxOffset);
+        ReferencePairing pairing(plant, camera, recording.commands, MotionCorrection(), maxOffset);
         std::vector<ReferencePairing::Item> paired;
         const auto take = [&](const std::vector<ReferencePairing::Item>& ready) {
             for (const ReferencePairing::Item& item : ready)
@@ -241,22 +208,10 @@ int main(int argc, char** argv)
                     int(paired.size()) < maxFrames)
                     paired.push_back(item);
         };
-        int position = 0;
-        const Size size = camera->getImageSize();
         for (size_t i = 0; i < log.size() && int(paired.size()) < maxFrames; i++)
         {
             const FrameRecord& f = log[i];
-            Mat image;
-            while (position <= f.frame)
-            {
-                if (!video.read(image))
-                    CV_Error(Error::StsBadArg, format("--frames: line for frame %d, but the video ends after %d frames",
-                                                      f.frame, position));
-                position++;
-            }
-            if (image.size() != size)
-                CV_Error(Error::StsBadSize, format("--video: frame %d is %dx%d but the camera is %dx%d", f.frame,
-                                                   image.cols, image.rows, size.width, size.height));
+            const Mat image = recording.read(f);
             take(pairing.push(f, image));
             std::printf("\rreading frame %d of %zu: %zu moving frames paired with a still frame", f.frame + 1,
                         log.size(), paired.size());

@@ -37,7 +37,7 @@ endif()
 # Refusals: a usage error exits 2; a bad recording exits 1 with a message naming what is wrong;
 # no timing file is left behind.
 run(2 ${TOOL} --frames ${dir}/rec/frames.csv)
-if(NOT last_output MATCHES "--video \\(or --recording\\) is required")
+if(NOT last_output MATCHES "--recording DIR, or --video, --frames and --commands, are required")
   message(FATAL_ERROR "missing --video not named")
 endif()
 run(2 ${TOOL} ${rec} --refine offset,speed)

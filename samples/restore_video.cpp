@@ -59,28 +59,6 @@ static int usageError(const std::string& message)
     return 2;
 }
 
-static bool parseRefine(const std::string& list, int& flags)
-{
-    flags = 0;
-    for (size_t start = 0; start <= list.size();)
-    {
-        const size_t end = std::min(list.find(',', start), list.size());
-        const std::string item = list.substr(start, end - start);
-        start = end + 1;
-        if (item == "offset")
-            flags |= REFINE_TIME_OFFSET;
-        else if (item == "line-delay")
-            flags |= REFINE_LINE_DELAY;
-        else if (item == "plant")
-            flags |= REFINE_PLANT;
-        else if (item == "all")
-            flags |= REFINE_ALL;
-        else if (item != "none")
-            return false;
-    }
-    return true;
-}
-
 static const char* windowName(int window)
 {
     static const char* names[] = {"?", "I", "II", "III", "IV"};
@@ -125,37 +103,25 @@ int main(int argc, char** argv)
             std::cout << kUsage;
             return 0;
         }
-        // --recording DIR stands for the files the folder holds; an option given as well wins.
-        const RecordingFolder folder = args.has("recording") ? findRecording(args.str("recording", "")) : RecordingFolder();
-        const auto path = [&](const char* option, const std::string& fromFolder) { return args.str(option, fromFolder); };
-        for (const char* required : {"video", "frames", "commands"})
-            if (!args.has(required) && !args.has("recording"))
-                return usageError(std::string("--") + required + " (or --recording) is required");
-        const std::string timingPath = path("timing", folder.timing);
-        int flags = 0;
-        if (!parseRefine(args.str("refine", timingPath.empty() ? "all" : "offset"), flags))
-            return usageError("--refine takes offset, line-delay, plant, all or none, comma-separated");
+        if (!OpenedRecording::named(args))
+            return usageError("--recording DIR, or --video, --frames and --commands, are required");
         const std::string model = args.str("model", "rows");
         if (model != "rows" && model != "tiles")
             return usageError("--model must be rows or tiles");
         videoOut = args.str("out", "restored.avi");
         csvOut = args.str("csv", pathStem(videoOut) + ".csv");
 
-        const std::vector<FrameRecord> log =
-            readFrameLog(path("frames", folder.frames), args.num("exposure", NAN), args.num("line-delay", NAN));
-        const CommandLog commands = readCommandLog(path("commands", folder.commands));
-        const std::string cameraPath = path("camera", folder.camera);
-        const Ptr<CameraModel> camera = CameraModel::load(
-            cameraPath.empty() ? std::string(DYNBLUR_CALIB_DIR) + "/c270_nominal.xml" : cameraPath);
-        const std::string plantPath = path("plant", folder.plant);
-        const Ptr<Plant> plant =
-            plantPath.empty() ? Plant::create(14.4, 0.12, CV_PI / 180) : loadPlantFile(plantPath).plant;
+        OpenedRecording recording;
+        OpenedRecording::open(args, std::string(DYNBLUR_CALIB_DIR) + "/c270_nominal.xml", recording);
+        const std::vector<FrameRecord>& log = recording.log;
+        const Ptr<Plant>& plant = recording.plant;
+        const Ptr<CameraModel>& camera = recording.camera;
+        const std::string& timingPath = recording.timingPath;
+        int flags = 0;
+        if (!parseRefinementList(args.str("refine", timingPath.empty() ? "all" : "offset"), flags))
+            return usageError("--refine takes offset, line-delay, plant, all or none, comma-separated");
         const MotionCorrection calibration =
             timingPath.empty() ? MotionCorrection() : TimingCalibration::load(timingPath).correction;
-        const std::string videoPath = path("video", folder.video);
-        VideoCapture video(videoPath);
-        if (!video.isOpened())
-            CV_Error(Error::StsError, "--video: cannot open '" + videoPath + "'");
 
         const Ptr<Plant> correctedPlant = calibration.correctPlant(plant);
         Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
@@ -187,7 +153,7 @@ int main(int argc, char** argv)
         csv << "frame,window,restored,time_offset,line_delay_scale,natural_freq_scale,damping_scale,consistency,"
                "reason\n";
 
-        ReferencePairing pairing(plant, camera, commands, calibration, 0.005);
+        ReferencePairing pairing(plant, camera, recording.commands, calibration, 0.005);
         std::vector<Mat> sheetRows;  // the first moving frames, blurred beside restored, for a look
         Mat lastReference, restored;
         int written = 0;
@@ -238,22 +204,8 @@ int main(int argc, char** argv)
             clock.start();
         };
 
-        int position = 0;
         for (const FrameRecord& f : log)
-        {
-            Mat image;
-            while (position <= f.frame)
-            {
-                if (!video.read(image))
-                    CV_Error(Error::StsBadArg, format("--frames: line for frame %d, but the video ends after %d frames",
-                                                      f.frame, position));
-                position++;
-            }
-            if (image.size() != size)
-                CV_Error(Error::StsBadSize, format("--video: frame %d is %dx%d but the camera is %dx%d", f.frame,
-                                                   image.cols, image.rows, size.width, size.height));
-            restoreAndWrite(pairing.push(f, image.clone()));
-        }
+            restoreAndWrite(pairing.push(f, recording.read(f).clone()));
         restoreAndWrite(pairing.finish());
         std::printf("\n");
         writer.release();

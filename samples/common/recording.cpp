@@ -1,7 +1,9 @@
 #include "recording.hpp"
 
 #include "atomic_file.hpp"
+#include "cli_args.hpp"
 #include "csv_fields.hpp"
+#include "plant_file.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -130,6 +132,66 @@ RecordingFolder findRecording(const std::string& folder)
         CV_Error(cv::Error::StsError, "'" + folder + "' is not a recording folder: it needs frames.avi (or "
                                       "frame_0000.png ...), frames.csv and commands.csv");
     return r;
+}
+
+bool OpenedRecording::named(const CliArgs& args)
+{
+    return args.has("recording") || (args.has("video") && args.has("frames") && args.has("commands"));
+}
+
+void OpenedRecording::open(const CliArgs& args, const std::string& defaultCameraPath, OpenedRecording& r)
+{
+    const RecordingFolder folder = args.has("recording") ? findRecording(args.str("recording", "")) : RecordingFolder();
+    r.log = readFrameLog(args.str("frames", folder.frames), args.num("exposure", NAN), args.num("line-delay", NAN));
+    r.commands = readCommandLog(args.str("commands", folder.commands));
+    const std::string camera = args.str("camera", folder.camera);
+    r.camera = cv::dynblur::CameraModel::load(camera.empty() ? defaultCameraPath : camera);
+    const std::string plant = args.str("plant", folder.plant);
+    r.plant = plant.empty() ? cv::dynblur::Plant::create(14.4, 0.12, CV_PI / 180) : loadPlantFile(plant).plant;
+    r.timingPath = args.str("timing", folder.timing);
+    const std::string video = args.str("video", folder.video);
+    if (!r.video.open(video))
+        CV_Error(cv::Error::StsError, "--video: cannot open '" + video + "'");
+    r.position = 0;
+}
+
+cv::Mat OpenedRecording::read(const FrameRecord& record)
+{
+    cv::Mat image;
+    while (position <= record.frame)
+    {
+        if (!video.read(image))
+            CV_Error(cv::Error::StsBadArg, cv::format("--frames: line for frame %d, but the video ends after %d frames",
+                                                      record.frame, position));
+        position++;
+    }
+    const cv::Size size = camera->getImageSize();
+    if (image.size() != size)
+        CV_Error(cv::Error::StsBadSize, cv::format("--video: frame %d is %dx%d but the camera is %dx%d", record.frame,
+                                                   image.cols, image.rows, size.width, size.height));
+    return image;
+}
+
+bool parseRefinementList(const std::string& list, int& flags)
+{
+    flags = 0;
+    for (size_t start = 0; start <= list.size();)
+    {
+        const size_t end = std::min(list.find(',', start), list.size());
+        const std::string item = list.substr(start, end - start);
+        start = end + 1;
+        if (item == "offset")
+            flags |= cv::dynblur::REFINE_TIME_OFFSET;
+        else if (item == "line-delay")
+            flags |= cv::dynblur::REFINE_LINE_DELAY;
+        else if (item == "plant")
+            flags |= cv::dynblur::REFINE_PLANT;
+        else if (item == "all")
+            flags |= cv::dynblur::REFINE_ALL;
+        else if (item != "none")
+            return false;
+    }
+    return true;
 }
 
 std::vector<FrameRecord> parseFrameLog(const std::string& text, const std::string& source, double exposure,

@@ -12,6 +12,7 @@
 #define DYNBLUR_SAMPLES_RECORDING_HPP
 
 #include <opencv2/dynblur.hpp>
+#include <opencv2/videoio.hpp>
 
 #include <string>
 #include <vector>
@@ -65,6 +66,35 @@ CommandLog parseCommandLog(const std::string& text, const std::string& source);
 CommandLog readCommandLog(const std::string& path);
 //! Writes a command log atomically.
 void writeCommandLog(const std::string& path, const CommandLog& log);
+
+class CliArgs;
+
+/** @brief A recording opened by a program: its logs, camera and nominal plant, from `--recording DIR`
+and/or `--video`, `--frames`, `--commands`, `--camera`, `--plant`, `--timing`, `--exposure`,
+`--line-delay` (an option given beside --recording wins). Throws cv::Exception naming what is
+missing, malformed or cannot be opened. */
+struct OpenedRecording
+{
+    std::vector<FrameRecord> log;
+    CommandLog commands;
+    cv::Ptr<cv::dynblur::CameraModel> camera;  //!< default: calib/c270_nominal.xml
+    cv::Ptr<cv::dynblur::Plant> plant;         //!< default: the seed's 14.4 Hz, ζ 0.12, 1°/level
+    std::string timingPath;                    //!< "" when none was given or found
+    cv::VideoCapture video;
+    int position = 0;                          //!< frames read from the video so far
+
+    /** @param defaultCameraPath the camera file used when none is given. */
+    static void open(const CliArgs& args, const std::string& defaultCameraPath, OpenedRecording& recording);
+    //! Whether the options name a recording (--recording, or all of --video, --frames and --commands).
+    static bool named(const CliArgs& args);
+    /** The image of `record`, read after those of the previous records; throws naming a frame the
+    video does not hold, or one of another size than the camera's. */
+    cv::Mat read(const FrameRecord& record);
+};
+
+/** @brief MotionRefinement flags from a list such as "offset,line-delay" (also "plant", "all",
+"none"); false on an unknown word. */
+bool parseRefinementList(const std::string& list, int& flags);
 
 /** @brief Streams a recording's frames and pairs each frame taken during a move with the still frame
 that saw what its moving rows see: the last still frame before it when the frame starts at rest

@@ -261,11 +261,8 @@ TimingCalibration calibrateTiming(const Ptr<Plant>& plant, const Ptr<CameraModel
                  format("%s: fewer than two usable frames: at the best common correction only %zu of %zu moving "
                         "frames have a consistency within maxConsistency = %g",
                         fn, kept.size(), fit.size(), maxConsistency));
-    if (kept.size() < fit.size())
-    {
-        settings.scan = false;
-        result = fitMotionCorrection(plant, kept, result.correction, settings);
-    }
+    if (kept.size() < fit.size())  // afresh: the first fit was pulled toward the frames now left out
+        result = fitMotionCorrection(plant, kept, MotionCorrection(), settings);
 
     TimingCalibration calibration;
     calibration.correction = result.correction;

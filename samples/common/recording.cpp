@@ -48,7 +48,8 @@ Table parseTable(const std::string& text, const std::string& source)
         if (header)
         {
             for (size_t i = 0; i < fields.size(); i++)
-                table.column[lower(fields[i])] = i;
+                if (!table.column.emplace(lower(fields[i]), i).second)
+                    parseError(source, number, "the header names the column '" + fields[i] + "' twice");
             header = false;
             continue;
         }

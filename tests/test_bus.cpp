@@ -122,9 +122,9 @@ double uploadStartAndCheck(Rig& rig, const char* transport)
     return r.uncertainty;
 }
 
-/* The start's uncertainty is one request's round trip, which the machine's load stretches now and
-   then (single starts ranged 7–60 µs over TCP and 9–170 µs over the pty on an idle machine): the
-   median of `starts` upload-start cycles is held to `documented` (docs/reliability.md) plus a tenth. */
+/* The start's uncertainty is one request's round trip, which the machine's load stretches several
+   times over now and then: the median of `starts` upload-start cycles is held to `documented`
+   (docs/quality.md) plus a tenth. */
 void expectStartUncertainty(Rig& rig, const char* transport, int starts, double documented)
 {
     std::vector<double> u;

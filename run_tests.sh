@@ -1,26 +1,57 @@
 #!/usr/bin/env bash
 # Runs every test: builds the project (installing what it needs), runs the C++ suite through
 # CTest, then the Python checks with pytest in the project-local virtual environment .venv, then
-# the C++ suite again under ASan + UBSan (scripts/sanitize.sh, build-asan/) and the fuzz targets
-# (scripts/fuzz.sh, build-fuzz/: corpus and regressions, then DYNBLUR_FUZZ_SECONDS each).
+# the C++ suite again under ASan + UBSan (scripts/sanitize.sh, build-asan/), the fuzz targets
+# (scripts/fuzz.sh, build-fuzz/: corpus and regressions, then DYNBLUR_FUZZ_SECONDS each) and the
+# short speed check (scripts/benchmark.sh --ci: the row-wise restoration against its filter2D peer).
+#
+# DYNBLUR_REQUIRE_TEST_DATA=1 is set for every step: a test whose data file is missing fails instead
+# of skipping, so a run without ../shared/data (or DYNBLUR_TEST_DATA) cannot pass. Whatever is still
+# skipped (absent optional hardware or packages) is listed at the end, from the CTest and pytest logs
+# kept in $build/test-logs/.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 "$here/scripts/setup.sh"
 build="${DYNBLUR_BUILD_DIR:-$here/build}"
 export DYNBLUR_BUILD_DIR="$build"
 export DYNBLUR_TEST_DATA="${DYNBLUR_TEST_DATA:-$here/../shared/data}"
+export DYNBLUR_REQUIRE_TEST_DATA=1
+logs="$build/test-logs"
+mkdir -p "$logs"
+rm -f "$logs"/*.log
 
-echo "[tests] C++ (CTest, GoogleTest)"
+echo "[tests] C++ (CTest, GoogleTest); test data: $DYNBLUR_TEST_DATA (required)"
 status=0
-ctest --test-dir "$build" --output-on-failure -j "$(nproc)" || status=$?
+ctest --test-dir "$build" --output-on-failure -j "$(nproc)" 2>&1 | tee "$logs/ctest.log" || status=$?
 
 echo "[tests] Python (pytest)"
 python="$("$here/scripts/python_env.sh")"
-"$python" -m pytest -q "$here/tests/python" || status=$?
+"$python" -m pytest -q -rs "$here/tests/python" 2>&1 | tee "$logs/pytest.log" || status=$?
 
 echo "[tests] C++ under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/)"
-"$here/scripts/sanitize.sh" || status=$?
+"$here/scripts/sanitize.sh" 2>&1 | tee "$logs/ctest-asan.log" || status=$?
 
 echo "[tests] libFuzzer targets: corpus and regressions, then a bounded run each (build-fuzz/)"
-"$here/scripts/fuzz.sh" || status=$?
+"$here/scripts/fuzz.sh" 2>&1 | tee "$logs/ctest-fuzz.log" || status=$?
+
+echo "[tests] speed: a few paired rounds, ratios only (scripts/benchmark.sh --ci)"
+"$here/scripts/benchmark.sh" --ci 2>&1 | tee "$logs/benchmark-ci.log" || status=$?
+
+# CTest marks a skipped test "***Skipped" (a GoogleTest GTEST_SKIP, or a CLI test's DYNBLUR-SKIP
+# line) and one it could not start "***Not Run"; pytest -rs prints a "SKIPPED [n] file:line: reason"
+# summary line per skip.
+echo "[tests] skipped or not run in this run:"
+skipped="$( { grep -H -E '\*\*\*(Skipped|Not Run)|Disabled' "$logs"/ctest*.log \
+                | sed -E -e 's|^.*/([a-z-]+)\.log: *[0-9]+/[0-9]+ |\1: |' -e 's/ \.{3,}/ /' || true
+              grep -H -E '^SKIPPED' "$logs/pytest.log" | sed -E 's|^.*/([a-z-]+)\.log:|\1: |' || true; } )"
+if [ -n "$skipped" ]; then
+  echo "$skipped" | sed 's/^/  /'
+else
+  echo "  none"
+fi
+if [ "$status" -eq 0 ]; then
+  echo "[tests] PASS"
+else
+  echo "[tests] FAIL (exit $status)"
+fi
 exit $status

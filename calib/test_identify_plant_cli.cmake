@@ -26,6 +26,13 @@ foreach(line ${lines})
   endif()
 endforeach()
 message(STATUS "plant file: naturalFreqHz=${naturalFreqHz} dampingRatio=${dampingRatio} gain=${gain} maxLevel=${maxLevel}")
+# A field the file lacks (or whose value is no number) must fail: CMake's LESS and GREATER are false
+# for an undefined variable, so the range checks below would pass it.
+foreach(field naturalFreqHz dampingRatio gain maxLevel)
+  if(NOT DEFINED ${field})
+    message(FATAL_ERROR "plant.yml has no numeric field ${field}")
+  endif()
+endforeach()
 # CMake has no floating-point comparison beyond VERSION-free LESS/GREATER on decimals: bound them.
 if(naturalFreqHz LESS 11.2 OR naturalFreqHz GREATER 11.4)
   message(FATAL_ERROR "naturalFreqHz ${naturalFreqHz} not within 11.3 +- 0.1")

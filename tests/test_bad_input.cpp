@@ -170,14 +170,14 @@ TEST(BadInput, Plant)
         {"Plant::create", "dampingRatio = NaN", [] { Plant::create(14.4, kNaN, kDeg); }, {"dampingRatio"}},
         {"Plant::create", "gain = 0", [] { Plant::create(14.4, 0.12, 0.0); }, {"gain"}},
         {"Plant::create", "gain = NaN", [] { Plant::create(14.4, 0.12, kNaN); }, {"gain"}},
-        {"Plant::response", "t holds NaN", [&] { plant->response(saccade(), Mat((Mat_<double>(1, 2) << 0.0, kNaN)), out); }, {"t"}},
-        {"Plant::response", "t is CV_8U", [&] { plant->response(saccade(), Mat(1, 2, CV_8U, Scalar(0)), out); }, {"t"}},
-        {"Plant::response", "t is 2-channel", [&] { plant->response(saccade(), Mat(1, 2, CV_64FC2, Scalar(0)), out); }, {"t"}},
+        {"Plant::response", "t holds NaN", [&] { plant->response(saccade(), Mat((Mat_<double>(1, 2) << 0.0, kNaN)), out); }, {"'t'[1]", "not finite"}},
+        {"Plant::response", "t is CV_8U", [&] { plant->response(saccade(), Mat(1, 2, CV_8U, Scalar(0)), out); }, {"'t'", "CV_64F or CV_32F"}},
+        {"Plant::response", "t is 2-channel", [&] { plant->response(saccade(), Mat(1, 2, CV_64FC2, Scalar(0)), out); }, {"'t'", "one-channel"}},
         {"Plant::response", "schedule: levels shorter than times",
          [&] { plant->response(SwitchSchedule({0.0, 0.01}, {1}), t, out); }, {"levels"}},
         {"Plant::response", "schedule: times[1] = Inf",
          [&] { plant->response(SwitchSchedule({0.0, kInf}, {1, 2}), t, out); }, {"times"}},
-        {"Plant::velocity", "t holds Inf", [&] { plant->velocity(saccade(), Mat((Mat_<double>(1, 2) << 0.0, kInf)), out); }, {"t"}},
+        {"Plant::velocity", "t holds Inf", [&] { plant->velocity(saccade(), Mat((Mat_<double>(1, 2) << 0.0, kInf)), out); }, {"'t'[1]", "not finite"}},
         {"Plant::identify", "theta holds NaN",
          [&] {
              Mat tt(1, 50, CV_64F), th(1, 50, CV_64F);
@@ -190,7 +190,7 @@ TEST(BadInput, Plant)
              Plant::identify(tt, th, SwitchSchedule({0.0}, {10}));
          },
          {"theta"}},
-        {"Plant::identify", "t is empty", [&] { Plant::identify(Mat(), Mat(), SwitchSchedule({0.0}, {10})); }, {"t"}},
+        {"Plant::identify", "t is empty", [&] { Plant::identify(Mat(), Mat(), SwitchSchedule({0.0}, {10})); }, {"'t'", "at least 8"}},
         {"OdePlant::createLinear", "dampingRatio = 1.5", [] { OdePlant::createLinear(14.4, 1.5, kDeg); }, {"dampingRatio"}},
         {"OdePlant::create", "stateSize = 1",
          [] {
@@ -228,7 +228,7 @@ TEST(BadInput, Schedule)
         {"SwitchSchedule::validate", "initialLevel = -17 with maxLevel 16",
          [] { SwitchSchedule({0.0}, {1}, -17).validate(16); }, {"initialLevel", "16"}},
         {"SwitchSchedule::validate", "maxLevel = -1", [] { saccade().validate(-1); }, {"maxLevel"}},
-        {"SwitchSchedule::levelAt", "t = NaN", [] { saccade().levelAt(kNaN); }, {"t"}},
+        {"SwitchSchedule::levelAt", "t = NaN", [] { saccade().levelAt(kNaN); }, {"t = nan", "must be finite"}},
         {"SwitchSchedule::load", "times as a string",
          [] { SwitchSchedule::load(writeFile("str.yml", "%YAML:1.0\n---\ntimes: \"soon\"\nlevels: [1]\n")); }, {"times"}},
         {"SwitchSchedule::load", "levels of reals",

@@ -2,6 +2,7 @@
 // pseudo-terminal, and the real dynblur_actuator_sim program once), with every fault.
 #include "actuator_sim.hpp"
 
+#include <algorithm>
 #include <gtest/gtest.h>
 #include <opencv2/dynblur.hpp>
 
@@ -13,12 +14,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 using namespace cv::dynblur;
 using namespace dynblur_samples;
@@ -87,19 +90,20 @@ void expectThrowsWith(const std::function<void()>& f, const std::string& needle)
     }
 }
 
-// Upload, start, check the start time against the simulator's truth, wait for the end.
-void uploadStartAndCheck(Rig& rig, const char* transport)
+// Upload, start, check the start time against the simulator's truth, wait for the end. Returns the
+// start's uncertainty (seconds).
+double uploadStartAndCheck(Rig& rig, const char* transport)
 {
     const SwitchSchedule s = move10();
     const double t0 = now();
     rig.driver->upload(s);
     const double uploadTime = now() - t0;
     EXPECT_EQ(rig.sim.state(), ACTUATOR_LOADED);
+    const int startsBefore = rig.sim.startCount();
     const StartReport r = rig.driver->start();
     const double truth = rig.sim.lastStartHostTime();
-    EXPECT_EQ(rig.sim.startCount(), 1);
+    EXPECT_EQ(rig.sim.startCount(), startsBefore + 1);
     EXPECT_GT(r.uncertainty, 0);
-    EXPECT_LT(r.uncertainty, 0.05);
     // The controller's clock differs from the host's; the mapping puts the start within the bound
     // (plus 2 µs for the two clocks' microsecond rounding).
     EXPECT_LE(std::abs(r.hostStartTime - truth), r.uncertainty + 2e-6)
@@ -115,6 +119,26 @@ void uploadStartAndCheck(Rig& rig, const char* transport)
     EXPECT_EQ(st.entryIndex, 3);
     // A schedule starts once: a second start needs a new upload.
     EXPECT_THROW(rig.driver->start(), cv::Exception);
+    return r.uncertainty;
+}
+
+/* The start's uncertainty is one request's round trip, which the machine's load stretches several
+   times over now and then: the median of `starts` upload-start cycles is held to `documented`
+   (docs/quality.md) plus a tenth. */
+void expectStartUncertainty(Rig& rig, const char* transport, int starts, double documented)
+{
+    std::vector<double> u;
+    for (int i = 0; i < starts; ++i)
+    {
+        u.push_back(uploadStartAndCheck(rig, transport));
+        rig.driver->stop();  // back to level 0, where move10 starts
+    }
+    std::sort(u.begin(), u.end());
+    const double median = u[u.size() / 2], bound = 1.1 * documented;
+    std::printf("[ measured ] %s: start uncertainty, median of %d starts %.1f us (range %.1f-%.1f us); documented "
+                "%.0f us, bound %.1f us\n",
+                transport, starts, median * 1e6, u.front() * 1e6, u.back() * 1e6, documented * 1e6, bound * 1e6);
+    EXPECT_LE(median, bound) << transport;
 }
 
 }  // namespace
@@ -127,8 +151,7 @@ TEST(BusDriver, UploadStartOverTcp)
     EXPECT_EQ(info.maxLevel, 16);
     EXPECT_EQ(info.capacity, 256);
     EXPECT_NEAR(info.minDwell, 1e-3, 1e-9);
-    uploadStartAndCheck(rig, "tcp");
-    rig.driver->stop();
+    expectStartUncertainty(rig, "tcp", 9, 22e-6);
     EXPECT_EQ(rig.sim.currentLevel(), 0);
     EXPECT_EQ(rig.driver->status().state, ACTUATOR_IDLE);
 }
@@ -140,7 +163,7 @@ TEST(BusDriver, UploadStartOverRtuPty)
     cfg.rtu = true;
     Rig rig(cfg);
     ASSERT_FALSE(rig.sim.ptyPath().empty());
-    uploadStartAndCheck(rig, "rtu (pty)");
+    expectStartUncertainty(rig, "rtu (pty)", 9, 140e-6);
 }
 
 TEST(BusDriver, LongScheduleNeedsSeveralRequestsAndVerifies)

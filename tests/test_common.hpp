@@ -26,6 +26,13 @@ inline std::string dataFile(const std::string& name)
     return stat(path.c_str(), &info) == 0 ? path : std::string();
 }
 
+//! True when DYNBLUR_REQUIRE_TEST_DATA=1: missing test data is then a failure (DYNBLUR_REQUIRE_DATA).
+inline bool testDataRequired()
+{
+    const char* env = std::getenv("DYNBLUR_REQUIRE_TEST_DATA");
+    return env && std::string(env) == "1";
+}
+
 //! Runs `f` and expects a cv::Exception whose message contains `word` (an argument's name).
 template <typename F>
 void expectErrorNaming(F f, const std::string& word)
@@ -43,11 +50,19 @@ void expectErrorNaming(F f, const std::string& word)
 
 }  // namespace dynblur_test
 
-//! Skips the current test, with a message, when a data file is missing.
-#define DYNBLUR_REQUIRE_DATA(var, name)                                                        \
-    const std::string var = dynblur_test::dataFile(name);                                       \
-    if (var.empty())                                                                            \
-        GTEST_SKIP() << "test data '" << (name) << "' not found in " << dynblur_test::dataDir() \
-                     << " (set DYNBLUR_TEST_DATA)"
+/* When a data file is missing: a failure when DYNBLUR_REQUIRE_TEST_DATA=1 (the test command sets it,
+   so a CI run without the data cannot pass by skipping every figure), else a skip with a message
+   (a developer running one test by hand without the data). */
+#define DYNBLUR_REQUIRE_DATA(var, name)                                                                    \
+    const std::string var = dynblur_test::dataFile(name);                                                   \
+    if (var.empty())                                                                                        \
+    {                                                                                                       \
+        if (dynblur_test::testDataRequired())                                                               \
+            FAIL() << "test data '" << (name) << "' not found in " << dynblur_test::dataDir()               \
+                   << " (DYNBLUR_REQUIRE_TEST_DATA=1: missing data is a failure; set DYNBLUR_TEST_DATA)";   \
+        GTEST_SKIP() << "test data '" << (name) << "' not found in " << dynblur_test::dataDir()             \
+                     << " (set DYNBLUR_TEST_DATA)";                                                         \
+    }                                                                                                       \
+    static_assert(true, "")
 
 #endif

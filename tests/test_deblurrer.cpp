@@ -10,6 +10,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cstdio>
+#include <map>
+#include <string>
 
 using namespace cv;
 using namespace cv::dynblur;
@@ -19,6 +21,10 @@ using dynblur_test::kDeg;
 using dynblur_test::SaccadeScene;
 
 namespace {
+
+/* bfloat16 blurs against float ones in the frame-rate setting, |ΔPSNR|: measured ≤ 0.019 dB
+   (docs/quality.md), with a tenth of margin. */
+const double kBfloat16Tolerance = 0.021;
 
 struct Restorations
 {
@@ -56,6 +62,96 @@ double frameRatePsnr(const SaccadeScene& s, const RollingShutter& shutter, const
     return maskedPsnr(s.truth, restored, judged, 255);
 }
 
+/* The quality figures docs/quality.md states, as gains in dB (a restoration's PSNR minus the
+   blurred frame's, or minus another restoration's), per image. Each is asserted at kFloorShare of its
+   documented value, so a restoration whose gain falls by 10 % fails. The figures are deterministic
+   (seeded noise, fixed renderer): runs differ by float summation order only, ≤ 0.01 dB.
+   board.jpg is the held-out image: its figures are measured and guarded, never tuned on. */
+const double kFloorShare = 0.92;
+
+const std::map<std::string, double>& documentedGains()
+{
+    static const std::map<std::string, double> gains = {
+        // window III rolling, most blurred third
+        {"building: III rolling, variant - blurred", 11.02},
+        {"building: III rolling, variant - uniform", 11.04},
+        {"building: III rolling, variant - rows (full colour)", 3.18},
+        {"building: III rolling, frame-rate rows - blurred", 6.77},
+        {"building: III rolling, frame-rate half colour - blurred", 7.36},
+        {"building: III rolling, frame-rate half colour - full colour", 0.61},
+        {"building: III rolling, frame-rate tiles half colour - blurred", 9.79},
+        {"building: III rolling, frame-rate tiles half colour - full colour", 1.03},
+        {"fruits: III rolling, variant - blurred", 4.85},
+        {"fruits: III rolling, variant - uniform", 4.69},
+        {"fruits: III rolling, variant - rows (full colour)", 0.41},
+        {"fruits: III rolling, frame-rate rows - blurred", 4.17},
+        {"fruits: III rolling, frame-rate half colour - blurred", 4.74},
+        {"fruits: III rolling, frame-rate half colour - full colour", 0.58},
+        {"fruits: III rolling, frame-rate tiles half colour - blurred", 5.03},
+        {"fruits: III rolling, frame-rate tiles half colour - full colour", 0.60},
+        {"board: III rolling, variant - blurred", 7.75},
+        {"board: III rolling, variant - uniform", 7.90},
+        {"board: III rolling, variant - rows (full colour)", 2.79},
+        {"board: III rolling, frame-rate rows - blurred", 4.66},
+        {"board: III rolling, frame-rate half colour - blurred", 4.75},
+        {"board: III rolling, frame-rate half colour - full colour", 0.12},
+        {"board: III rolling, frame-rate tiles half colour - blurred", 6.87},
+        {"board: III rolling, frame-rate tiles half colour - full colour", 0.44},
+        // window III global, whole frame
+        {"building: III global, variant - blurred", 11.88},
+        {"building: III global, uniform - blurred", 10.38},
+        {"building: III global, variant - uniform", 1.51},
+        {"fruits: III global, variant - blurred", 5.83},
+        {"fruits: III global, uniform - blurred", 5.57},
+        {"fruits: III global, variant - uniform", 0.26},
+        {"board: III global, variant - blurred", 9.62},
+        {"board: III global, uniform - blurred", 8.19},
+        {"board: III global, variant - uniform", 1.42},
+        // window I rolling, whole frame
+        {"building: I rolling, variant - blurred", 18.54},
+        {"building: I rolling, variant - uniform", 13.65},
+        {"building: I rolling, frame-rate tiles half colour - blurred", 17.43},
+        {"building: I rolling, frame-rate tiles half colour - full colour", 0.71},
+        {"fruits: I rolling, variant - blurred", 17.89},
+        {"fruits: I rolling, variant - uniform", 11.16},
+        {"fruits: I rolling, frame-rate tiles half colour - blurred", 16.76},
+        {"fruits: I rolling, frame-rate tiles half colour - full colour", 0.13},
+        {"board: I rolling, variant - blurred", 13.77},
+        {"board: I rolling, variant - uniform", 13.02},
+        {"board: I rolling, frame-rate tiles half colour - blurred", 13.02},
+        {"board: I rolling, frame-rate tiles half colour - full colour", 0.24},
+        // window II rolling, whole frame
+        {"building: II rolling, variant - blurred", 6.32},
+        {"building: II rolling, variant - uniform", 4.84},
+        {"fruits: II rolling, variant - blurred", 8.93},
+        {"fruits: II rolling, variant - uniform", 4.53},
+        {"board: II rolling, variant - blurred", 4.70},
+        {"board: II rolling, variant - uniform", 4.36},
+    };
+    return gains;
+}
+
+std::string imageName(const std::string& file) { return file.substr(0, file.find('.')); }
+
+/* Prints "[ measured ] <figure>: <gain> dB (<restored> against <reference> dB), floor <f> dB" and
+   asserts gain ≥ kFloorShare × the documented gain. */
+void expectGain(const std::string& file, const std::string& figure, double restored, double reference)
+{
+    const std::string key = imageName(file) + ": " + figure;
+    const auto it = documentedGains().find(key);
+    const double gain = restored - reference;
+    if (it == documentedGains().end())
+    {
+        ADD_FAILURE() << "no documented figure for '" << key << "' (measured " << gain << " dB)";
+        return;
+    }
+    const double floor = kFloorShare * it->second;
+    std::printf("[ measured ] %s: %.3f dB (%.2f against %.2f dB); documented %.2f dB, floor %.2f dB\n", key.c_str(),
+                gain, restored, reference, it->second, floor);
+    EXPECT_GT(it->second, 0.0) << key << ": a documented gain must be positive (measured " << gain << " dB)";
+    EXPECT_GE(gain, floor) << key;
+}
+
 class DeblurQuality : public testing::TestWithParam<std::string>
 {
 };
@@ -74,54 +170,48 @@ TEST_P(DeblurQuality, RollingShutterWindowIIIGainsInTheMostBlurredThird)
     const double blurred = maskedPsnr(s.truth, r.frame, judged, 255);
     const double uniform = maskedPsnr(s.truth, r.uniform, judged, 255);
     const double variant = maskedPsnr(s.truth, r.variant, judged, 255);
-    std::printf("[ measured ] %s window III rolling, rows %d-%d: blurred %.2f dB, uniform %.2f dB, variant %.2f dB "
-                "(gain %.2f dB over blurred, %.2f dB over uniform)\n",
-                GetParam().c_str(), third.start, third.end - 1, blurred, uniform, variant, variant - blurred,
-                variant - uniform);
-    EXPECT_GE(variant - blurred, 4.0);
-    EXPECT_GE(variant - uniform, 3.0);
+    std::printf("[ measured ] %s window III rolling, rows %d-%d: blurred %.2f dB, uniform %.2f dB, variant %.2f dB\n",
+                GetParam().c_str(), third.start, third.end - 1, blurred, uniform, variant);
+    expectGain(GetParam(), "III rolling, variant - blurred", variant, blurred);
+    expectGain(GetParam(), "III rolling, variant - uniform", variant, uniform);
+
+    // The default (tiles) against the row model, both full colour and 20 iterations: the keystone of
+    // the rotation varies along a row, which only tiles follow.
+    Ptr<DynamicDeblurrer> rowWise = DynamicDeblurrer::create(s.plant, s.camera);
+    rowWise->setPsfModel(PSF_ROWS);
+    Mat rowsRestored;
+    rowWise->deblur(r.frame, s.schedule, shutter, rowsRestored);
+    const double rows = maskedPsnr(s.truth, rowsRestored, judged, 255);
+    expectGain(GetParam(), "III rolling, variant - rows (full colour)", variant, rows);
 
     // The frame-rate setting (the speed benchmark's): row bands, 10 iterations, 3 of them in colour.
     const double frameRate =
         frameRatePsnr(s, shutter, r.frame, judged, PSF_ROWS, RL_BLUR_FLOAT32, DEBLUR_COLOR_FULL_RESOLUTION);
-    std::printf("[ measured ] %s window III rolling, rows %d-%d, frame-rate setting (rows, 10 iterations, 3 in "
-                "colour): %.2f dB\n",
-                GetParam().c_str(), third.start, third.end - 1, frameRate);
-    EXPECT_GE(frameRate - blurred, 4.0);
-    EXPECT_GE(frameRate - uniform, 3.0);
+    expectGain(GetParam(), "III rolling, frame-rate rows - blurred", frameRate, blurred);
 
-    // The same with bfloat16 blurs: the figures hold, within a tenth of a dB of float's.
+    // The same with bfloat16 blurs: within kBfloat16Tolerance of float's (docs/quality.md).
     const double bfloat16 =
         frameRatePsnr(s, shutter, r.frame, judged, PSF_ROWS, RL_BLUR_BFLOAT16, DEBLUR_COLOR_FULL_RESOLUTION);
-    std::printf("[ measured ] %s window III rolling, rows %d-%d, frame-rate setting with bfloat16 blurs: %.2f dB\n",
-                GetParam().c_str(), third.start, third.end - 1, bfloat16);
-    EXPECT_GE(bfloat16 - blurred, 4.0);
-    EXPECT_GE(bfloat16 - uniform, 3.0);
-    EXPECT_NEAR(bfloat16, frameRate, 0.1);
+    std::printf("[ measured ] %s: III rolling, frame-rate rows, bfloat16 - float blurs: %+.3f dB (%.2f against %.2f "
+                "dB), allowed +-%.3f dB\n",
+                imageName(GetParam()).c_str(), bfloat16 - frameRate, bfloat16, frameRate, kBfloat16Tolerance);
+    EXPECT_NEAR(bfloat16, frameRate, kBfloat16Tolerance);
 
     // The colour phase at half resolution (the speed benchmark's setting): the luminance takes all
     // 10 iterations at full resolution, so detail is kept, and the colour starts from the frame
-    // instead of from a third of the luminance's iterations. Measured 26.89 / 33.03 dB against
-    // 26.29 / 32.46 (building / fruits, 2026-11-23).
+    // instead of from a third of the luminance's iterations.
     const double halfColour =
         frameRatePsnr(s, shutter, r.frame, judged, PSF_ROWS, RL_BLUR_BFLOAT16, DEBLUR_COLOR_HALF_RESOLUTION);
-    std::printf("[ measured ] %s window III rolling, rows %d-%d, frame-rate setting with bfloat16 blurs and the "
-                "colour at half resolution: %.2f dB\n",
-                GetParam().c_str(), third.start, third.end - 1, halfColour);
-    EXPECT_GE(halfColour - blurred, 4.0);
-    EXPECT_GE(halfColour - uniform, 3.0);
-    EXPECT_GE(halfColour, bfloat16 + 0.3);
+    expectGain(GetParam(), "III rolling, frame-rate half colour - blurred", halfColour, blurred);
+    expectGain(GetParam(), "III rolling, frame-rate half colour - full colour", halfColour, bfloat16);
 
-    // The same tile-wise: 29.32 / 33.32 dB at half resolution against 28.29 / 32.71 at full.
+    // The same tile-wise.
     const double tiles[2] = {frameRatePsnr(s, shutter, r.frame, judged, PSF_TILES, RL_BLUR_BFLOAT16,
                                            DEBLUR_COLOR_FULL_RESOLUTION),
                              frameRatePsnr(s, shutter, r.frame, judged, PSF_TILES, RL_BLUR_BFLOAT16,
                                            DEBLUR_COLOR_HALF_RESOLUTION)};
-    std::printf("[ measured ] %s window III rolling, rows %d-%d, frame-rate setting tile-wise: colour at full "
-                "resolution %.2f dB, at half resolution %.2f dB\n",
-                GetParam().c_str(), third.start, third.end - 1, tiles[0], tiles[1]);
-    EXPECT_GE(tiles[1] - blurred, 4.0);
-    EXPECT_GE(tiles[1], tiles[0] + 0.3);
+    expectGain(GetParam(), "III rolling, frame-rate tiles half colour - blurred", tiles[1], blurred);
+    expectGain(GetParam(), "III rolling, frame-rate tiles half colour - full colour", tiles[1], tiles[0]);
 }
 
 TEST_P(DeblurQuality, GlobalShutterVariantMatchesUniform)
@@ -136,8 +226,9 @@ TEST_P(DeblurQuality, GlobalShutterVariantMatchesUniform)
     const double variant = maskedPsnr(s.truth, r.variant, judged, 255);
     std::printf("[ measured ] %s window III global: blurred %.2f dB, uniform %.2f dB, variant %.2f dB\n",
                 GetParam().c_str(), blurred, uniform, variant);
-    EXPECT_GE(variant, uniform - 0.3);
-    EXPECT_GT(uniform, blurred);
+    expectGain(GetParam(), "III global, variant - blurred", variant, blurred);
+    expectGain(GetParam(), "III global, uniform - blurred", uniform, blurred);
+    expectGain(GetParam(), "III global, variant - uniform", variant, uniform);
 }
 
 TEST_P(DeblurQuality, RollingShutterWindowIPutsRowsBackInPlace)
@@ -155,28 +246,42 @@ TEST_P(DeblurQuality, RollingShutterWindowIPutsRowsBackInPlace)
     const double variant = maskedPsnr(s.truth, r.variant, judged, 255);
     std::printf("[ measured ] %s window I rolling, whole frame: blurred %.2f dB, uniform %.2f dB, variant %.2f dB\n",
                 GetParam().c_str(), blurred, uniform, variant);
-    EXPECT_GE(variant - blurred, 8.0);
-    EXPECT_GE(variant - uniform, 6.0);
+    expectGain(GetParam(), "I rolling, variant - blurred", variant, blurred);
+    expectGain(GetParam(), "I rolling, variant - uniform", variant, uniform);
 
     /* Window I is where columns differ most (the tile model's gain): the colour's kernels at half
-       resolution take half the tile grid's columns (the same spacing in pixels). Measured 27.14 /
-       32.31 dB at half resolution against 26.43 / 32.18 at full (2026-11-23). */
+       resolution take half the tile grid's columns (the same spacing in pixels). */
     const double tiles[2] = {frameRatePsnr(s, shutter, r.frame, judged, PSF_TILES, RL_BLUR_BFLOAT16,
                                            DEBLUR_COLOR_FULL_RESOLUTION),
                              frameRatePsnr(s, shutter, r.frame, judged, PSF_TILES, RL_BLUR_BFLOAT16,
                                            DEBLUR_COLOR_HALF_RESOLUTION)};
-    std::printf("[ measured ] %s window I rolling, whole frame, frame-rate setting tile-wise: colour at full "
-                "resolution %.2f dB, at half resolution %.2f dB\n",
-                GetParam().c_str(), tiles[0], tiles[1]);
-    EXPECT_GE(tiles[1] - blurred, 8.0);
-    EXPECT_GE(tiles[1] - uniform, 6.0);
-    EXPECT_GE(tiles[1], tiles[0] - 0.1);
+    expectGain(GetParam(), "I rolling, frame-rate tiles half colour - blurred", tiles[1], blurred);
+    expectGain(GetParam(), "I rolling, frame-rate tiles half colour - full colour", tiles[1], tiles[0]);
 }
 
-INSTANTIATE_TEST_SUITE_P(SharedImages, DeblurQuality, testing::Values("building.jpg", "fruits.jpg"),
-                         [](const testing::TestParamInfo<std::string>& info) {
-                             return info.param.substr(0, info.param.find('.'));
-                         });
+TEST_P(DeblurQuality, RollingShutterWindowIIMovingThroughout)
+{
+    /* Every row is exposed while the camera moves: each row has its own blur and its own shift. The
+       fast move settles in about 16 ms, so an 8 ms exposure is in window II only with a readout of
+       at most 8 ms (the C270's takes 33 ms: its frames start still or end still): a 6 ms readout. */
+    DYNBLUR_REQUIRE_DATA(path, GetParam());
+    SaccadeScene s(path);
+    const RollingShutter shutter = s.shutterInWindow(EXPOSURE_II, 0.006 / 480);
+    const Restorations r = restoreBoth(s, shutter);
+    const Mat judged = judgedPixels(r.valid, Range(0, 480));
+    ASSERT_GT(countNonZero(judged), 640 * 480 / 2);
+    const double blurred = maskedPsnr(s.truth, r.frame, judged, 255);
+    const double uniform = maskedPsnr(s.truth, r.uniform, judged, 255);
+    const double variant = maskedPsnr(s.truth, r.variant, judged, 255);
+    std::printf("[ measured ] %s window II rolling, whole frame: blurred %.2f dB, uniform %.2f dB, variant %.2f dB\n",
+                GetParam().c_str(), blurred, uniform, variant);
+    expectGain(GetParam(), "II rolling, variant - blurred", variant, blurred);
+    expectGain(GetParam(), "II rolling, variant - uniform", variant, uniform);
+}
+
+// building and fruits have been looked at while the restoration was developed; board is held out.
+INSTANTIATE_TEST_SUITE_P(SharedImages, DeblurQuality, testing::Values("building.jpg", "fruits.jpg", "board.jpg"),
+                         [](const testing::TestParamInfo<std::string>& info) { return imageName(info.param); });
 
 TEST(DeblurWindowIV, OutputEqualsInput)
 {

@@ -967,6 +967,9 @@ double borderToInterior(const Mat& restored, const Mat& truth, int border)
 // the luminance phase, row-wise and tile-wise (odd heights: a last row without a partner).
 TEST(DeconvVariant, Bfloat16BlursRestoreAsFloatDoes)
 {
+    /* docs/quality.md: |bfloat16 − float| measured ≤ 0.053 dB over the eight settings, float's gain
+       over the blurred frame 4.96–7.54 dB; each bound a tenth from the worst case. */
+    const double kBfloat16Tolerance = 0.058, kFloatGainFloor = 4.5;
     DYNBLUR_REQUIRE_DATA(path, "fruits.jpg");
     const Size frame(240, 181);
     const Point offset(40, 40);
@@ -993,10 +996,12 @@ TEST(DeconvVariant, Bfloat16BlursRestoreAsFloatDoes)
                              bfloat16Psnr = psnr(fast, truth, valid);
                 const std::string what = format("%s, accelerate %d, colorIterations %d",
                                                 bank.model == PSF_ROWS ? "rows" : "tiles", accelerate, colorIterations);
-                std::printf("[ measured ] %s: blurred %.2f dB, float %.2f dB, bfloat16 %.2f dB\n", what.c_str(), before,
-                            floatPsnr, bfloat16Psnr);
-                EXPECT_GT(floatPsnr, before + 2.0) << what;
-                EXPECT_NEAR(bfloat16Psnr, floatPsnr, 0.1) << what;
+                std::printf("[ measured ] %s: blurred %.2f dB, float %.2f dB, bfloat16 %.2f dB (%+.3f dB, allowed "
+                            "+-%.3f); float gains %.2f dB, floor %.2f dB\n",
+                            what.c_str(), before, floatPsnr, bfloat16Psnr, bfloat16Psnr - floatPsnr, kBfloat16Tolerance,
+                            floatPsnr - before, kFloatGainFloor);
+                EXPECT_GT(floatPsnr, before + kFloatGainFloor) << what;
+                EXPECT_NEAR(bfloat16Psnr, floatPsnr, kBfloat16Tolerance) << what;
             }
     }
 }
@@ -1206,10 +1211,28 @@ TEST(DeconvRegularisation, DampingAndTvReduceNoiseAmplification)
     richardsonLucy(blurred, kernel, a, plain);
     richardsonLucy(blurred, kernel, b, damped);
     richardsonLucy(blurred, kernel, c, tv);
-    std::printf("[ noise sigma 0.02, 40 it ] plain %.2f dB, damping %.2f dB, TV %.2f dB (blurred %.2f dB)\n",
-                psnr(a, truth), psnr(b, truth), psnr(c, truth), psnr(blurred, truth));
-    EXPECT_GT(psnr(b, truth), psnr(a, truth) + 0.5);
-    EXPECT_GT(psnr(c, truth), psnr(a, truth) + 0.5);
+    const double plainPsnr = psnr(a, truth), dampedPsnr = psnr(b, truth), tvPsnr = psnr(c, truth),
+                 blurredPsnr = psnr(blurred, truth);
+    std::printf("[ noise sigma 0.02, 40 it ] plain %.2f dB, damping %.2f dB, TV %.2f dB (blurred %.2f dB)\n", plainPsnr,
+                dampedPsnr, tvPsnr, blurredPsnr);
+    /* docs/quality.md: over plain RL damping gains 11.07 dB and TV 13.07 dB; over the blurred frame
+       TV gains 1.87 dB, while damping alone ends 0.13 dB below it (at this noise, 40 iterations of
+       damped RL still fit some of it). Floors at 0.92 of each gain; the damped result may not fall
+       further below the blurred frame than 0.2 dB. */
+    struct Figure
+    {
+        const char* what;
+        double gain, floor;
+    };
+    for (const Figure& f : {Figure{"damping - plain", dampedPsnr - plainPsnr, 10.18},
+                            Figure{"TV - plain", tvPsnr - plainPsnr, 12.02},
+                            Figure{"TV - blurred", tvPsnr - blurredPsnr, 1.72},
+                            Figure{"damping - blurred", dampedPsnr - blurredPsnr, -0.2}})
+    {
+        std::printf("[ measured ] noise sigma 0.02, 40 iterations, %s: %+.3f dB, floor %+.2f dB\n", f.what, f.gain,
+                    f.floor);
+        EXPECT_GE(f.gain, f.floor) << f.what;
+    }
 }
 
 TEST(DeconvRegularisation, DefaultsImproveWebcamNoisyFrame)

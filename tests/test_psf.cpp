@@ -376,12 +376,14 @@ TEST(PsfGenerator, PointSourceMatchesRendererRollingShutter)
     // Row 50 is still but sees the whole move: besides the 214 px shift, the view is magnified by
     // ≈ 9% across x (keystone of a 10° tilt), which no shift-invariant kernel represents at the
     // one-pixel scale of a point; the spot's centroid must still agree.
+    int checked = 0;
     for (int row : {50, 300, 800})
     {
         const Point p(320, row);
         const Point q = latentFor(perRow, p);
         if (q.y < 0 || q.y >= 960)
             continue;
+        ++checked;
         Rect spot;
         double c1, c2, c3;
         const Mat blurred = renderPoint(seedPlant(), saccade(), cam, rs, q);
@@ -403,6 +405,8 @@ TEST(PsfGenerator, PointSourceMatchesRendererRollingShutter)
             EXPECT_LT(c3, 0.05) << row;
         }
     }
+    // Every point is checked (its latent point lies in the frame): a sweep that checked none would pass.
+    EXPECT_EQ(checked, 3);
 }
 
 TEST(PsfGenerator, TilesCaptureColumnVariation)
@@ -416,11 +420,13 @@ TEST(PsfGenerator, TilesCaptureColumnVariation)
     const PsfBank rows = gen->generate(PSF_ROWS, saccade(), rs);
     gen->setTileGrid(Size(16, 0));
     const PsfBank tiles = gen->generate(PSF_TILES, saccade(), rs);
+    int checked = 0;
     for (const Point p : {Point(20, 300), Point(620, 300)})
     {
         const Point q = latentFor(tiles, p);
         if (q.x < 0 || q.y < 0 || q.x >= 640 || q.y >= 480)
             continue;
+        ++checked;
         const Mat blurred = renderPoint(seedPlant(), saccade(), cam, rs, q);
         const double eRows = spotError(blurred, rows, q);
         const double eTiles = spotError(blurred, tiles, q);
@@ -428,6 +434,7 @@ TEST(PsfGenerator, TilesCaptureColumnVariation)
         EXPECT_LT(eTiles, 0.15);
         EXPECT_GT(eRows, 3 * eTiles);
     }
+    EXPECT_EQ(checked, 2) << "a corner's latent point fell outside the frame: the sweep checked fewer corners";
 }
 
 TEST(PsfGenerator, MaxKernelSizeError)

@@ -1,10 +1,34 @@
 """Shared fixtures of the Python binding tests (test_py_*.py): a small camera, plant and scene."""
+import importlib
+import os
+
 import numpy as np
 import pytest
 
 
+def data_required():
+    """True under the test command (DYNBLUR_REQUIRE_TEST_DATA=1): what a figure needs must be there."""
+    return os.environ.get("DYNBLUR_REQUIRE_TEST_DATA") == "1"
+
+
+@pytest.fixture(scope="session")
+def require_data():
+    """require_data(found, message): a failure when `found` is false under DYNBLUR_REQUIRE_TEST_DATA=1
+    (a CI run without the data must not pass by skipping), else a skip with the message."""
+    def check(found, message):
+        if found:
+            return
+        if data_required():
+            pytest.fail(f"{message} (DYNBLUR_REQUIRE_TEST_DATA=1: missing data is a failure)")
+        pytest.skip(message)
+    return check
+
+
 @pytest.fixture(scope="session")
 def db():
+    # Under the test command the bindings are built first: their absence is a failure, not a skip.
+    if data_required():
+        return importlib.import_module("dynblur")
     return pytest.importorskip("dynblur")
 
 

@@ -11,9 +11,8 @@ VIEWS = sorted(glob.glob(os.path.join(DATA, "left*.jpg")))
 
 
 @pytest.fixture(scope="module")
-def views():
-    if len(VIEWS) < 3:
-        pytest.skip(f"chessboard views left*.jpg not found in {DATA} (set DYNBLUR_TEST_DATA)")
+def views(require_data):
+    require_data(len(VIEWS) >= 3, f"chessboard views left*.jpg not found in {DATA} (set DYNBLUR_TEST_DATA)")
     return VIEWS
 
 

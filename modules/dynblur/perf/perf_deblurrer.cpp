@@ -154,3 +154,47 @@ void BM_FrameRatePaired(benchmark::State& state)
     state.counters["full_colour_over_rows"] = overRows(4);
 }
 BENCHMARK(BM_FrameRatePaired)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(15)->Repetitions(1);
+
+/* The test command's short speed check (scripts/benchmark.sh --ci): the row-wise restoration and the
+   filter2D reference alone, paired as in BM_FrameRatePaired (order alternating by round), over a few
+   rounds, with OpenCV's pool set to state.range(0) threads. The filter2D peer runs on one thread
+   whatever the setting, the restoration on all of them: on a machine whose other core another job
+   holds now and then, the two-thread ratio falls with the neighbour's load and the one-thread ratio
+   does not. Counters: the medians (ms) and the median of the rounds' ratios. */
+void BM_RowsVsFilter2DPaired(benchmark::State& state)
+{
+    const int threadsBefore = getNumThreads();
+    setNumThreads(int(state.range(0)));
+    const SaccadeFrame& f = saccadeFrame();
+    Ptr<DynamicDeblurrer> rows = frameRateDeblurrer(f, PSF_ROWS);
+    const Mat kernel = dynblur_perf::uniformKernel21x1();
+    Mat restored, estimate;
+    const std::function<void()> work[2] = {
+        [&] { rows->deblur(f.frame, f.schedule, f.shutter, restored); },
+        [&] { dynblur_perf::filter2DRichardsonLucy(f.frame, kernel, 10, estimate); }};
+    for (const auto& w : work)
+        w();
+    std::vector<double> ms[2];
+    int round = 0;
+    for (auto _ : state)
+    {
+        for (int k = 0; k < 2; k++)
+        {
+            const int which = (round + k) % 2;
+            const auto start = std::chrono::steady_clock::now();
+            work[which]();
+            ms[which].push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        }
+        round++;
+    }
+    std::vector<double> ratio(ms[0].size());
+    for (size_t r = 0; r < ratio.size(); r++)
+        ratio[r] = ms[1][r] / ms[0][r];
+    state.counters["rows_ms"] = median(ms[0]);
+    state.counters["filter2d_ms"] = median(ms[1]);
+    state.counters["filter2d_over_rows"] = median(ratio);
+    setNumThreads(threadsBefore);
+}
+BENCHMARK(BM_RowsVsFilter2DPaired)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()
+    ->Iterations(9)->Repetitions(1);

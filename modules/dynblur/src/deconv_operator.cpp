@@ -10,7 +10,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cfloat>
 #include <climits>
+#include <cmath>
 #include <cstring>
 #include <mutex>
 #include <utility>
@@ -38,15 +40,33 @@ UniformBlurOperator::UniformBlurOperator(Size frameSize, const Mat& kernel32f, b
 
 UniformBlurOperator::~UniformBlurOperator() {}
 
+/* A float FFT's product is exact only to its rounding: where A x is zero (every latent pixel that
+   reaches the frame pixel is zero, as RL's multiplicative update keeps the start's zeros) it returns
+   ±1e-8 instead, b / (A x) turns that into a ratio of 1e8 on a lit pixel, and the adjoint's rounding
+   spreads it over the whole row (a 64-pixel checkerboard under two taps came back black). Values
+   within the rounding are taken as zero, so the ratio there is 0 as for an exact zero; the adjoint
+   then carries it only to latent pixels that are zero already, as in exact arithmetic. The rounding
+   measured up to 7.4 ε·rms(x) on frames up to 1280×960 (random, half zeros); the floor is
+   2·log2(grid elements)·ε·rms(x), 40 ε·rms(x) on such a grid. */
 void UniformBlurOperator::forward(const Mat& latent, Mat& frame)
 {
+    const double rms = norm(latent, NORM_L2) / std::sqrt(double(latent.total()));
+    const Size grid = fft_->transformSize();
+    const double floor = 2.0 * std::log2(std::max(2.0, double(grid.area()))) * FLT_EPSILON * rms;
     if (latent_ == frame_)
-    {
         fft_->convolve(latent, frame);
-        return;
+    else
+    {
+        fft_->convolve(latent, scratch_);
+        scratch_(Rect(origin_, frame_)).copyTo(frame);
     }
-    fft_->convolve(latent, scratch_);
-    scratch_(Rect(origin_, frame_)).copyTo(frame);
+    const float f = float(floor);
+    for (int y = 0; y < frame.rows; y++)
+    {
+        float* row = frame.ptr<float>(y);
+        for (int x = 0; x < frame.cols; x++)
+            row[x] = row[x] > f ? row[x] : 0.f;
+    }
 }
 
 void UniformBlurOperator::adjoint(const Mat& frame, Mat& latent)

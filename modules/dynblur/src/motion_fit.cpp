@@ -261,6 +261,7 @@ public:
     {
         std::vector<float> current, shifted;
         double currentCost = cost(q, current);
+        startData_ = current;
         double lambda = 1e-3;
         const int n = int(active_.size());
         Mat jtj(n, n, CV_64F), jtr(n, 1, CV_64F);
@@ -312,8 +313,13 @@ public:
         }
         if (finalCost)
             *finalCost = currentCost;
+        finalData_.swap(current);
         return q;
     }
+
+    //! The data residuals at the last run's start and result.
+    const std::vector<float>& startData() const { return startData_; }
+    const std::vector<float>& finalData() const { return finalData_; }
 
 private:
     // JᵀJ and Jᵀr of the data and the prior at q (forward differences; `at` holds the data at q).
@@ -356,6 +362,7 @@ private:
     }
 
     LevelResiduals& r_;
+    std::vector<float> startData_, finalData_;
     std::vector<int> active_;
     Vec4d prior_, lower_, upper_;
     MotionCorrection like_;
@@ -482,18 +489,31 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
 
     LevelResiduals fine(plant, frames, settings.fineWidth);
     fine.fixMasks(fromFitUnits(q, start));
+    LevelFit fineFit(fine, active, prior, lower, upper, start);
     if (fine.pixels() > 0)
-        q = LevelFit(fine, active, prior, lower, upper, start)
-                .run(q, settings.coarse ? 5 : 4, covariance, nullptr, settings.deviation);
+        q = fineFit.run(q, settings.coarse ? 5 : 4, covariance, nullptr, settings.deviation);
 
     /* The start stays unless the fit explains the frames clearly better: a change within what the
-       frames cannot tell apart would only move the restoration by the noise's whim. */
+       frames cannot tell apart would only move the restoration by the noise's whim. The fine fit
+       began at the start when there was no coarse stage, and one frame's mean is the whole's:
+       then its own residuals serve. */
     std::vector<double> perFrame, startPerFrame;
-    data.clear();
-    fine.residuals(start, data, &startPerFrame);
-    const double startCost = squaredNorm(data, data.size());
-    data.clear();
-    fine.residuals(fromFitUnits(q, start), data, &perFrame);
+    double startCost = 0;
+    if (!settings.coarse && frames.size() == 1 && fine.pixels() > 0)
+    {
+        data = fineFit.finalData();
+        startCost = squaredNorm(fineFit.startData(), fineFit.startData().size());
+        startPerFrame.push_back(startCost / double(data.size()));
+        perFrame.push_back(squaredNorm(data, data.size()) / double(data.size()));
+    }
+    else
+    {
+        data.clear();
+        fine.residuals(start, data, &startPerFrame);
+        startCost = squaredNorm(data, data.size());
+        data.clear();
+        fine.residuals(fromFitUnits(q, start), data, &perFrame);
+    }
     const double cost = squaredNorm(data, data.size());
     result.improvement = startCost > 0 ? 1 - cost / startCost : 0;
     result.unchanged = startCost <= cost * (1 + kSignificantImprovement);

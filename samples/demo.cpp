@@ -67,12 +67,6 @@ int psfModelFromName(const std::string& name)
     CV_Error(Error::StsBadArg, "--model must be rows, tiles or uniform (got '" + name + "')");
 }
 
-const char* windowName(int window)
-{
-    static const char* names[] = {"?", "I", "II", "III", "IV"};
-    return names[window >= 1 && window <= 4 ? window : 0];
-}
-
 // Pixels the frame never observed, hatched so nobody mistakes the fill for restored content.
 Mat shadeUnobserved(const Mat& image, const Mat& valid)
 {
@@ -358,12 +352,12 @@ int runSynthetic(const CommandLineParser& args)
     std::vector<Case> cases;
     for (int window : {EXPOSURE_I, EXPOSURE_II, EXPOSURE_III})
     {
-        Case c{std::string("rolling, window ") + windowName(window), RollingShutter(0, exposure, lineDelay, frameSize.height),
+        Case c{std::string("rolling, window ") + exposureWindowName(window), RollingShutter(0, exposure, lineDelay, frameSize.height),
                window};
         if (frameStartInWindow(plant, schedule, c.shutter, window, c.shutter.frameStart))
             cases.push_back(c);
         else
-            std::printf("[demo] no frame start gives window %s for this move and shutter; skipped\n", windowName(window));
+            std::printf("[demo] no frame start gives window %s for this move and shutter; skipped\n", exposureWindowName(window));
     }
     Case global{"global, window III", RollingShutter(0, exposure, 0.0, frameSize.height), EXPOSURE_III};
     if (frameStartInWindow(plant, schedule, global.shutter, EXPOSURE_III, global.shutter.frameStart))
@@ -405,7 +399,7 @@ int runSynthetic(const CommandLineParser& args)
         judged(Rect(0, 0, judged.cols, 8)).setTo(0);
         judged(Rect(0, judged.rows - 8, judged.cols, 8)).setTo(0);
         tableRows.push_back(format("%-22s %6s | %7.2f dB %6.3f | %7.2f dB %6.3f | %7.2f dB %6.3f | %7.0f ms %7.0f ms", c.name.c_str(),
-                    windowName(variant->getLastExposureWindow()), maskedPsnr(truth, frame, judged, 255),
+                    exposureWindowName(variant->getLastExposureWindow()), maskedPsnr(truth, frame, judged, 255),
                     maskedSsim(truth, frame, judged), maskedPsnr(truth, restoredUniform, judged, 255),
                     maskedSsim(truth, restoredUniform, judged), maskedPsnr(truth, restoredVariant, judged, 255),
                     maskedSsim(truth, restoredVariant, judged), uniformTimer.getTimeMilli(),
@@ -481,7 +475,7 @@ int runRealFrame(const CommandLineParser& args)
     hconcat(std::vector<Mat>{labelled(frame, "frame", 640), labelled(restored, "restored", 640)}, panel);
     imwrite(outDir + "/panel.png", panel);
     std::printf("[demo] exposure window %s, restored in %.0f ms; wrote %s/restored.png, valid_mask.png, panel.png\n",
-                windowName(deblurrer->getLastExposureWindow()), timer.getTimeMilli(), outDir.c_str());
+                exposureWindowName(deblurrer->getLastExposureWindow()), timer.getTimeMilli(), outDir.c_str());
     return 0;
 }
 

@@ -7,6 +7,7 @@
 //                           --camera rec/camera.xml --plant rec/plant.yml --timing rec/timing.yml
 #include "atomic_file.hpp"  // samples/common
 #include "cli_args.hpp"
+#include "frame_timing.hpp"
 #include "plant_file.hpp"
 #include "recording.hpp"
 
@@ -57,12 +58,6 @@ static int usageError(const std::string& message)
 {
     std::cerr << "error: " << message << "\n(see dynblur_restore_video --help)\n";
     return 2;
-}
-
-static const char* windowName(int window)
-{
-    static const char* names[] = {"?", "I", "II", "III", "IV"};
-    return names[window >= 1 && window <= 4 ? window : 0];
 }
 
 const size_t kSheetRows = 6;
@@ -191,7 +186,7 @@ int main(int argc, char** argv)
                 for (char& ch : reason)
                     ch = ch == ',' || ch == '"' ? ';' : ch;
                 csv << format("%d,%s,%d,%.9f,%.6f,%.6f,%.6f,%.4f,%s\n", item.record.frame,
-                              item.still ? "still" : windowName(deblurrer->getLastExposureWindow()),
+                              item.still ? "still" : exposureWindowName(deblurrer->getLastExposureWindow()),
                               int(!item.still && c.applied), c.timeOffset, c.lineDelayScale, c.naturalFreqScale,
                               c.dampingScale, c.consistency, reason.c_str());
                 written++;

@@ -15,6 +15,7 @@
 //   dynblur_actuator_sim --tcp-port 5020 --max-level 400 &
 //   dynblur_visual_servo --bus tcp://127.0.0.1:5020
 #include "cli_args.hpp"
+#include "frame_timing.hpp"
 #include "visual_servo.hpp"
 
 #include <algorithm>

@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <sstream>
 
 namespace dynblur_samples {
@@ -75,6 +76,18 @@ bool toDouble(const std::string& field, double& value)
     char* end = nullptr;
     value = std::strtod(field.c_str(), &end);
     return end == field.c_str() + field.size() && errno == 0 && std::isfinite(value);
+}
+
+std::string readTextFile(const std::string& path, const std::string& what)
+{
+    std::ifstream in(path, std::ios::binary);
+    if (!in)
+        CV_Error(cv::Error::StsError, "cannot open " + what + " '" + path + "'");
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad())
+        CV_Error(cv::Error::StsError, "cannot read " + what + " '" + path + "'");
+    return text.str();
 }
 
 }  // namespace csv

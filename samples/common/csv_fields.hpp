@@ -22,6 +22,9 @@ std::string lower(std::string s);
 [[noreturn]] void parseError(const std::string& source, size_t line, const std::string& what);
 //! Whether the whole field is one finite number; `value` receives it.
 bool toDouble(const std::string& field, double& value);
+/** The whole content of a text file; throws cv::Exception "cannot open <what> 'path'" (or "cannot
+read") when it cannot. */
+std::string readTextFile(const std::string& path, const std::string& what);
 
 }  // namespace csv
 }  // namespace dynblur_samples

@@ -2,6 +2,12 @@
 
 namespace dynblur_samples {
 
+const char* exposureWindowName(int window)
+{
+    static const char* names[] = {"?", "I", "II", "III", "IV"};
+    return names[window >= 1 && window <= 4 ? window : 0];
+}
+
 bool frameStartInWindow(const cv::Ptr<cv::dynblur::Plant>& plant, const cv::dynblur::SwitchSchedule& schedule,
                         cv::dynblur::RollingShutter shutter, int window, double& frameStart, double step,
                         double horizon)

@@ -14,6 +14,9 @@ bool frameStartInWindow(const cv::Ptr<cv::dynblur::Plant>& plant, const cv::dynb
                         cv::dynblur::RollingShutter shutter, int window, double& frameStart, double step = 2.5e-4,
                         double horizon = 0.3);
 
+//! "I", "II", "III", "IV" for cv::dynblur::ExposureWindow values, "?" otherwise.
+const char* exposureWindowName(int window);
+
 }  // namespace dynblur_samples
 
 #endif

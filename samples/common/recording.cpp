@@ -87,16 +87,6 @@ void requireColumn(const Table& t, const std::string& name, const std::string& s
         CV_Error(cv::Error::StsParseError, source + ": the header has no column '" + name + "' (" + why + ")");
 }
 
-std::string readText(const std::string& path, const char* what)
-{
-    std::ifstream in(path, std::ios::binary);
-    if (!in)
-        CV_Error(cv::Error::StsError, std::string("cannot read the ") + what + " '" + path + "'");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
 void writeText(const std::string& path, const std::string& text)
 {
     const std::string temporary = temporaryPathFor(path);
@@ -234,7 +224,7 @@ std::vector<FrameRecord> parseFrameLog(const std::string& text, const std::strin
 
 std::vector<FrameRecord> readFrameLog(const std::string& path, double exposure, double lineDelay)
 {
-    return parseFrameLog(readText(path, "frame log"), path, exposure, lineDelay);
+    return parseFrameLog(readTextFile(path, "frame log"), path, exposure, lineDelay);
 }
 
 void writeFrameLog(const std::string& path, const std::vector<FrameRecord>& frames)
@@ -293,7 +283,7 @@ CommandLog parseCommandLog(const std::string& text, const std::string& source)
 
 CommandLog readCommandLog(const std::string& path)
 {
-    return parseCommandLog(readText(path, "command log"), path);
+    return parseCommandLog(readTextFile(path, "command log"), path);
 }
 
 void writeCommandLog(const std::string& path, const CommandLog& log)

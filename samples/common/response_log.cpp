@@ -97,14 +97,7 @@ ResponseLog parseResponseLog(const std::string& text, const std::string& source)
 
 ResponseLog readResponseLog(const std::string& path)
 {
-    std::ifstream in(path, std::ios::binary);
-    if (!in)
-        CV_Error(cv::Error::StsError, "cannot open response log '" + path + "'");
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad())
-        CV_Error(cv::Error::StsError, "cannot read response log '" + path + "'");
-    return parseResponseLog(text.str(), path);
+    return parseResponseLog(readTextFile(path, "response log"), path);
 }
 
 void writeResponseLog(const std::string& path, const ResponseLog& log)

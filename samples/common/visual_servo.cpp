@@ -1,5 +1,6 @@
 #include "visual_servo.hpp"
 
+#include "frame_timing.hpp"
 #include "plot.hpp"
 #include "scene.hpp"
 
@@ -536,12 +537,6 @@ double ServoReport::meanRestoreSec() const
             ++n;
         }
     return n ? sum / n : 0.0;
-}
-
-const char* exposureWindowName(int window)
-{
-    static const char* names[] = {"?", "I", "II", "III", "IV"};
-    return names[window >= 1 && window <= 4 ? window : 0];
 }
 
 std::vector<DetectionRow> detectionSummary(const ServoReport& report)

@@ -150,9 +150,6 @@ std::runtime_error on bad configuration or a bus failure. */
 ServoReport runVisualServo(const ServoConfig& config,
                            const std::function<void(const ServoReport&)>& progress = {});
 
-//! "I", "II", "III", "IV" for cv::dynblur::ExposureWindow values, "?" otherwise.
-const char* exposureWindowName(int window);
-
 //! A target whose tag travels at least this far while its sensor row is exposed counts as blurred,
 //! pixels (half a tag cell at the default size).
 constexpr double kTagBlurredPx = 2.0;

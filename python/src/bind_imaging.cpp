@@ -19,14 +19,6 @@ namespace {
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-template <typename T>
-cv::Ptr<T> required(const std::shared_ptr<T>& p, const char* name)
-{
-    if (!p)
-        throw py::value_error(std::string("argument '") + name + "' is None");
-    return cv::Ptr<T>(p);
-}
-
 //! Points of shape (..., 2) → N×2 CV_64F, call, and back to the input's shape.
 py::array viewToReference(const CameraModel& cam, py::handle points, double angle)
 {

@@ -36,14 +36,6 @@ std::vector<cv::Mat> toMats(py::handle list, const char* name)
     return mats;
 }
 
-template <typename T>
-cv::Ptr<T> required(const std::shared_ptr<T>& p, const char* name)
-{
-    if (!p)
-        throw py::value_error(std::string("argument '") + name + "' is None");
-    return cv::Ptr<T>(p);
-}
-
 }  // namespace
 
 void bindRefinement(py::module_& m)

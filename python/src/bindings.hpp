@@ -4,8 +4,19 @@
 #include "convert.hpp"
 
 #include <exception>
+#include <memory>
+#include <string>
 
 namespace dynblur_py {
+
+//! The object behind a required argument; ValueError naming it when it is None.
+template <typename T>
+cv::Ptr<T> required(const std::shared_ptr<T>& p, const char* name)
+{
+    if (!p)
+        throw py::value_error(std::string("argument '") + name + "' is None");
+    return cv::Ptr<T>(p);
+}
 
 void bindMotion(py::module_& m);
 void bindImaging(py::module_& m);

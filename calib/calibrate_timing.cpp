@@ -79,17 +79,21 @@ static const double kDeg = CV_PI / 180.0;
 
 static int simulate(const CliArgs& args, const std::string& dir)
 {
-    const double trueOffset = args.num("true-offset", 0.0012);
-    const double lineDelayScale = args.num("true-line-delay-scale", 0.95);
-    const double hzScale = args.num("true-hz-scale", 1.03), zetaScale = args.num("true-zeta-scale", 1.1);
+    // The truth that moved the camera, as the correction from the nominal model to it.
+    MotionCorrection drift;
+    drift.timeOffset = args.num("true-offset", 0.0012);
+    drift.lineDelayScale = args.num("true-line-delay-scale", 0.95);
+    drift.naturalFreqScale = args.num("true-hz-scale", 1.03);
+    drift.dampingScale = args.num("true-zeta-scale", 1.1);
     const int saccades = args.integer("saccades", 4);
-    if (!(std::abs(trueOffset) < 0.1) || !(lineDelayScale > 0.5 && lineDelayScale < 1.5) ||
-        !(hzScale > 0.5 && hzScale < 1.5) || !(zetaScale > 0.2 && zetaScale < 3) || saccades < 1 || saccades > 20)
+    if (!(std::abs(drift.timeOffset) < 0.1) || !(drift.lineDelayScale > 0.5 && drift.lineDelayScale < 1.5) ||
+        !(drift.naturalFreqScale > 0.5 && drift.naturalFreqScale < 1.5) ||
+        !(drift.dampingScale > 0.2 && drift.dampingScale < 3) || saccades < 1 || saccades > 20)
         return usageError("--true-offset within +-0.1 s, the scales within (0.5, 1.5) ((0.2, 3) for zeta), "
                           "--saccades in [1, 20]");
     ::mkdir(dir.c_str(), 0755);
     const Ptr<Plant> nominal = Plant::create(14.4, 0.12, kDeg);
-    const Ptr<Plant> truth = Plant::create(14.4 * hzScale, 0.12 * zetaScale, kDeg);
+    const Ptr<Plant> truth = drift.correctPlant(nominal);
     const Ptr<CameraModel> camera = CameraModel::create(615.0, 615.0, 319.5, 239.5, 640, 480);
     const double exposure = 0.008, lineDelay = 1.0 / 30 / 480;
 
@@ -129,7 +133,7 @@ static int simulate(const CliArgs& args, const std::string& dir)
         f.frameStart = k / 30.0;
         f.exposure = exposure;
         f.lineDelay = lineDelay;
-        const RollingShutter happened(f.frameStart + trueOffset, exposure, lineDelay * lineDelayScale, 480);
+        const RollingShutter happened = drift.correctShutter(RollingShutter(f.frameStart, exposure, lineDelay, 480));
         Mat blurred, noisy, frame;
         renderBlurred(scene, truth, all, camera, happened, blurred, thetaRef);
         addSensorNoise(blurred, noisy, 4000.0, 8.0, 5.0, 1000 + uint64(k));
@@ -157,7 +161,8 @@ static int simulate(const CliArgs& args, const std::string& dir)
     savePlantFile(dir + "/plant.yml", *nominal, 16, "the nominal plant the recording's commands were planned on");
     std::printf("wrote %d frames (%s), frames.csv, commands.csv, camera.xml and plant.yml to %s\n"
                 "truth: clock offset %+.4f ms, line delay x%.4f, wn x%.4f, zeta x%.4f\n",
-                count, asVideo ? "frames.avi" : "frame_%04d.png", dir.c_str(), trueOffset * 1e3, lineDelayScale, hzScale, zetaScale);
+                count, asVideo ? "frames.avi" : "frame_%04d.png", dir.c_str(), drift.timeOffset * 1e3,
+                drift.lineDelayScale, drift.naturalFreqScale, drift.dampingScale);
     return 0;
 }
 

@@ -103,12 +103,10 @@ int main(int argc, char** argv)
         const double hzScale = args.num("true-hz-scale", 1.0), zetaScale = args.num("true-zeta-scale", 1.0);
         if (!(hzScale > 0.5 && hzScale < 2) || !(zetaScale > 0.1 && zetaScale < 5))
             throw std::runtime_error("--true-hz-scale must be in (0.5, 2) and --true-zeta-scale in (0.1, 5)");
-        if (hzScale != 1 || zetaScale != 1)
-        {
-            const cv::Ptr<cv::dynblur::Plant> nominal = cfg.plant ? cfg.plant : cv::dynblur::Plant::create(14.4, 0.12, CV_PI / 180);
-            cfg.plant = cv::dynblur::Plant::create(nominal->getNaturalFreqHz() * hzScale,
-                                                   nominal->getDampingRatio() * zetaScale, nominal->getGain());
-        }
+        cv::dynblur::MotionCorrection drift;
+        drift.naturalFreqScale = hzScale;
+        drift.dampingScale = zetaScale;
+        cfg.plant = drift.correctPlant(cfg.plant ? cfg.plant : cv::dynblur::Plant::create(14.4, 0.12, CV_PI / 180));
         cfg.startLatency = args.num("start-latency", 0.0);
         if (!(cfg.startLatency >= 0 && cfg.startLatency < 1))
             throw std::runtime_error("--start-latency must be in [0, 1) s");

@@ -29,15 +29,18 @@ struct Drift
     double naturalFreqScale;
     double dampingScale;
 
-    Ptr<Plant> plant(const SaccadeScene& s) const
+    //! The drift as the correction that takes the nominal model to the truth.
+    MotionCorrection correction() const
     {
-        return Plant::create(s.plant->getNaturalFreqHz() * naturalFreqScale, s.plant->getDampingRatio() * dampingScale,
-                             s.plant->getGain());
+        MotionCorrection c;
+        c.timeOffset = timeOffset;
+        c.lineDelayScale = lineDelayScale;
+        c.naturalFreqScale = naturalFreqScale;
+        c.dampingScale = dampingScale;
+        return c;
     }
-    RollingShutter shutter(const RollingShutter& told) const
-    {
-        return RollingShutter(told.frameStart + timeOffset, told.exposure, told.lineDelay * lineDelayScale, told.rows);
-    }
+    Ptr<Plant> plant(const SaccadeScene& s) const { return correction().correctPlant(s.plant); }
+    RollingShutter shutter(const RollingShutter& told) const { return correction().correctShutter(told); }
 };
 
 //! A frame of the scene in `window`, blurred by `drift`'s truth, and the still frame before the move.

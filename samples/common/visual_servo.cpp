@@ -317,8 +317,10 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
                                                         (size.height - 1) / 2.0, size.width, size.height);
     const Point2d imageCentre(camera->getCx(), camera->getCy());
     // The positioner as it really moves (the loop knows only `plant`).
-    const Ptr<Plant> truePlant = Plant::create(config.naturalFreqHz * config.trueFreqScale,
-                                               config.dampingRatio * config.trueDampingScale, plant->getGain());
+    MotionCorrection drift;
+    drift.naturalFreqScale = config.trueFreqScale;
+    drift.dampingScale = config.trueDampingScale;
+    const Ptr<Plant> truePlant = drift.correctPlant(plant);
     const Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
     deblurrer->setPsfModel(config.psfModel);
     RLParams rl = deblurrer->getRLParams();

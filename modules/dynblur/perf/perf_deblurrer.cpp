@@ -2,19 +2,19 @@
 // 10 RL iterations, bfloat16 blurs) for each PSF model, on a 1280x960 RGB rolling-shutter frame in
 // window III of a 10° saccade; and the speed targets' ratios, from rounds that time the row-wise and
 // tile-wise restorations, the filter2D reference and the float-blur row-wise one back to back.
+#include "paired_rounds.hpp"
 #include "perf_baseline.hpp"
 
 #include <benchmark/benchmark.h>
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include <algorithm>
-#include <chrono>
-#include <functional>
 #include <vector>
 
 using namespace cv;
 using namespace cv::dynblur;
+using dynblur_perf::median;
+using dynblur_perf::medianRatio;
 
 namespace {
 
@@ -53,12 +53,6 @@ Ptr<DynamicDeblurrer> frameRateDeblurrer(const SaccadeFrame& f, int psfModel, in
     dynblur_perf::setFrameRate(*deblurrer, 10, blurPrecision, colourResolution);
     deblurrer->setPsfModel(psfModel);
     return deblurrer;
-}
-
-double median(std::vector<double> values)
-{
-    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-    return values[values.size() / 2];
 }
 
 void BM_DeblurFrame(benchmark::State& state)
@@ -113,36 +107,14 @@ void BM_FrameRatePaired(benchmark::State& state)
                           rowsFullColour = frameRateDeblurrer(f, PSF_ROWS, RL_BLUR_BFLOAT16, DEBLUR_COLOR_FULL_RESOLUTION);
     const Mat kernel = dynblur_perf::uniformKernel21x1();
     Mat restored, estimate;
-    constexpr int kWorkloads = 5;
-    const std::function<void()> work[kWorkloads] = {
-        [&] { rows->deblur(f.frame, f.schedule, f.shutter, restored); },
-        [&] { tiles->deblur(f.frame, f.schedule, f.shutter, restored); },
-        [&] { dynblur_perf::filter2DRichardsonLucy(f.frame, kernel, 10, estimate); },
-        [&] { rowsFloat->deblur(f.frame, f.schedule, f.shutter, restored); },
-        [&] { rowsFullColour->deblur(f.frame, f.schedule, f.shutter, restored); }};
-    for (const auto& w : work)
-        w();  // warm: buffers and thread pools set up once
-    std::vector<double> ms[kWorkloads];  // per workload, one time per round
-    int round = 0;
-    for (auto _ : state)
-    {
-        for (int k = 0; k < kWorkloads; k++)
-        {
-            const int which = (round + k) % kWorkloads;
-            const auto start = std::chrono::steady_clock::now();
-            work[which]();
-            ms[which].push_back(
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-        }
-        round++;
-    }
+    const std::vector<std::vector<double>> ms = dynblur_perf::timePairedRounds(
+        state, {[&] { rows->deblur(f.frame, f.schedule, f.shutter, restored); },
+                [&] { tiles->deblur(f.frame, f.schedule, f.shutter, restored); },
+                [&] { dynblur_perf::filter2DRichardsonLucy(f.frame, kernel, 10, estimate); },
+                [&] { rowsFloat->deblur(f.frame, f.schedule, f.shutter, restored); },
+                [&] { rowsFullColour->deblur(f.frame, f.schedule, f.shutter, restored); }});
     //! Median over the rounds of workload `which`'s time over the row-wise one's.
-    const auto overRows = [&](int which) {
-        std::vector<double> ratio(ms[0].size());
-        for (size_t r = 0; r < ratio.size(); r++)
-            ratio[r] = ms[which][r] / ms[0][r];
-        return median(ratio);
-    };
+    const auto overRows = [&](int which) { return medianRatio(ms[size_t(which)], ms[0]); };
     state.counters["rows_ms"] = median(ms[0]);
     state.counters["tiles_ms"] = median(ms[1]);
     state.counters["filter2d_ms"] = median(ms[2]);
@@ -169,31 +141,12 @@ void BM_RowsVsFilter2DPaired(benchmark::State& state)
     Ptr<DynamicDeblurrer> rows = frameRateDeblurrer(f, PSF_ROWS);
     const Mat kernel = dynblur_perf::uniformKernel21x1();
     Mat restored, estimate;
-    const std::function<void()> work[2] = {
-        [&] { rows->deblur(f.frame, f.schedule, f.shutter, restored); },
-        [&] { dynblur_perf::filter2DRichardsonLucy(f.frame, kernel, 10, estimate); }};
-    for (const auto& w : work)
-        w();
-    std::vector<double> ms[2];
-    int round = 0;
-    for (auto _ : state)
-    {
-        for (int k = 0; k < 2; k++)
-        {
-            const int which = (round + k) % 2;
-            const auto start = std::chrono::steady_clock::now();
-            work[which]();
-            ms[which].push_back(
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-        }
-        round++;
-    }
-    std::vector<double> ratio(ms[0].size());
-    for (size_t r = 0; r < ratio.size(); r++)
-        ratio[r] = ms[1][r] / ms[0][r];
+    const std::vector<std::vector<double>> ms = dynblur_perf::timePairedRounds(
+        state, {[&] { rows->deblur(f.frame, f.schedule, f.shutter, restored); },
+                [&] { dynblur_perf::filter2DRichardsonLucy(f.frame, kernel, 10, estimate); }});
     state.counters["rows_ms"] = median(ms[0]);
     state.counters["filter2d_ms"] = median(ms[1]);
-    state.counters["filter2d_over_rows"] = median(ratio);
+    state.counters["filter2d_over_rows"] = medianRatio(ms[1], ms[0]);
     setNumThreads(threadsBefore);
 }
 BENCHMARK(BM_RowsVsFilter2DPaired)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()

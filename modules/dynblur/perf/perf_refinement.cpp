@@ -3,15 +3,13 @@
 // clock runs 1 ms late. The targets: refining all four parameters costs at most one default
 // restoration; refining the offset alone (after a sequence calibration) adds at most half of the
 // frame-rate setting's restoration.
+#include "paired_rounds.hpp"
 #include "perf_baseline.hpp"
 
 #include <benchmark/benchmark.h>
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include <algorithm>
-#include <chrono>
-#include <functional>
 #include <vector>
 
 using namespace cv;
@@ -45,12 +43,6 @@ struct DriftedSaccade
     }
 };
 
-double median(std::vector<double> values)
-{
-    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-    return values[values.size() / 2];
-}
-
 /* Each round runs the four workloads in an order that rotates from round to round: the default
    restoration with and without refining all four parameters, and the frame-rate setting with and
    without refining the offset alone (from a calibration 0.3 ms off, as a sequence leaves it). The
@@ -73,37 +65,19 @@ void BM_RefinementCostPaired(benchmark::State& state)
     calibration.timeOffset = 0.7e-3;
     fastOffset->setCalibration(calibration);
     Mat restored;
-    constexpr int kWorkloads = 4;
-    const std::function<void()> work[kWorkloads] = {
-        [&] { plain->deblur(f.frame, f.schedule, f.shutter, restored); },
-        [&] { refined->deblur(f.frame, f.schedule, f.shutter, restored); },
-        [&] { fast->deblur(f.frame, f.schedule, f.shutter, restored); },
-        [&] { fastOffset->deblur(f.frame, f.schedule, f.shutter, restored); }};
-    for (const auto& w : work)
-        w();  // warm: buffers and thread pools set up once
-    std::vector<double> ms[kWorkloads];
-    int round = 0;
-    for (auto _ : state)
-    {
-        for (int k = 0; k < kWorkloads; k++)
-        {
-            const int which = (round + k) % kWorkloads;
-            const auto start = std::chrono::steady_clock::now();
-            work[which]();
-            ms[which].push_back(
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-        }
-        round++;
-    }
+    const std::vector<std::vector<double>> ms = dynblur_perf::timePairedRounds(
+        state, {[&] { plain->deblur(f.frame, f.schedule, f.shutter, restored); },
+                [&] { refined->deblur(f.frame, f.schedule, f.shutter, restored); },
+                [&] { fast->deblur(f.frame, f.schedule, f.shutter, restored); },
+                [&] { fastOffset->deblur(f.frame, f.schedule, f.shutter, restored); }});
+    //! The median over the rounds of the time workload `with` adds to `without`, over the latter's.
     const auto addedOver = [&](int with, int without) {
-        std::vector<double> ratio(ms[0].size());
-        for (size_t r = 0; r < ratio.size(); r++)
-            ratio[r] = (ms[with][r] - ms[without][r]) / ms[without][r];
-        return median(ratio);
+        return dynblur_perf::medianRatio(ms[size_t(with)], ms[size_t(without)]) - 1;
     };
     const MotionCorrection all = refined->getLastCorrection(), offset = fastOffset->getLastCorrection();
     if (!all.applied || !offset.applied)
         state.SkipWithError("a refined frame was rejected: the benchmark would time the wrong path");
+    using dynblur_perf::median;
     state.counters["default_ms"] = median(ms[0]);
     state.counters["default_refine_all_ms"] = median(ms[1]);
     state.counters["refine_all_over_default"] = addedOver(1, 0);

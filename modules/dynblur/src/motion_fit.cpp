@@ -49,6 +49,9 @@ LuminancePyramid buildPyramid(const Mat& luminance, const Ptr<CameraModel>& came
     return pyramid;
 }
 
+namespace {
+
+//! The level of `pyramid` whose width is the largest at or below `width` (the coarsest when none is).
 int levelAtMostWide(const LuminancePyramid& pyramid, int width)
 {
     for (int level = 0; level < pyramid.levels(); level++)
@@ -57,6 +60,7 @@ int levelAtMostWide(const LuminancePyramid& pyramid, int width)
     return pyramid.levels() - 1;
 }
 
+//! The shutter of a frame halved `halvings` times (halfResolutionShutter applied that often).
 RollingShutter shutterAtLevel(const RollingShutter& shutter, int halvings)
 {
     RollingShutter result = shutter;
@@ -64,8 +68,6 @@ RollingShutter shutterAtLevel(const RollingShutter& shutter, int halvings)
         result = halfResolutionShutter(result);
     return result;
 }
-
-namespace {
 
 /* The parameters in the units the fit works in, chosen so that a unit step moves the image by
    comparable amounts: the offset in milliseconds, the line delay and ωn in percent, ζ in tens of
@@ -448,7 +450,7 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
         // Starts for the coarse fit: the offset's scan has one basin per few pixels of motion, and
         // with the plant off as well the deepest basin at the nominal plant may not be the true one.
         std::vector<Vec4d> starts{prior};
-        if (settings.scan && (settings.flags & REFINE_TIME_OFFSET))
+        if (settings.flags & REFINE_TIME_OFFSET)
             starts = scanStarts(coarse, prior, start, settings, kStartsTried);
         LevelFit coarseFit(coarse, active, prior, lower, upper, start);
         double bestCost = std::numeric_limits<double>::infinity();

@@ -33,12 +33,6 @@ Mat linearLuminance(const Mat& frame);
 LuminancePyramid buildPyramid(const Mat& luminance, const Ptr<CameraModel>& camera, int coarsestWidth,
                               bool estimateNoise);
 
-//! The level of `pyramid` whose width is the largest at or below `width` (the coarsest when none is).
-int levelAtMostWide(const LuminancePyramid& pyramid, int width);
-
-//! The shutter of a frame halved `halvings` times (halfResolutionShutter applied that often).
-RollingShutter shutterAtLevel(const RollingShutter& shutter, int halvings);
-
 //! One frame and the still frame it is compared with.
 struct FitFrame
 {
@@ -57,7 +51,6 @@ struct FitSettings
     double scanStep = 0.0005;        //!< the offset scan's step, seconds
     int coarseWidth = kFitCoarseWidth;  //!< the scan and the first fit run at most this wide, pixels
     int fineWidth = kFitFineWidth;      //!< the last fit runs at most this wide, pixels
-    bool scan = true;                //!< false: start the fit from `start` without scanning
     /** false: only the fine level's fit, from `start` (a calibrated start, whose offset a frame's
         jitter moves by a fraction of a millisecond: the fine level's basin holds it) */
     bool coarse = true;

@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <array>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -29,6 +30,13 @@ const double kBfloat16Tolerance = 0.021;
 struct Restorations
 {
     Mat frame, uniform, variant, valid;
+
+    //! PSNR against `truth` over `judged`, in order: the blurred frame, the uniform and the variant restorations.
+    std::array<double, 3> psnr(const Mat& truth, const Mat& judged) const
+    {
+        return {maskedPsnr(truth, frame, judged, 255), maskedPsnr(truth, uniform, judged, 255),
+                maskedPsnr(truth, variant, judged, 255)};
+    }
 };
 
 //! The frame restored with the seed's uniform PSF and with the deblurrer's default (spatially variant) model.
@@ -167,9 +175,7 @@ TEST_P(DeblurQuality, RollingShutterWindowIIIGainsInTheMostBlurredThird)
     const Range third = s.mostBlurredRows(shutter, 480 / 3);
     const Mat judged = judgedPixels(r.valid, third);
     ASSERT_GT(countNonZero(judged), 640 * third.size() / 4);
-    const double blurred = maskedPsnr(s.truth, r.frame, judged, 255);
-    const double uniform = maskedPsnr(s.truth, r.uniform, judged, 255);
-    const double variant = maskedPsnr(s.truth, r.variant, judged, 255);
+    const auto [blurred, uniform, variant] = r.psnr(s.truth, judged);
     std::printf("[ measured ] %s window III rolling, rows %d-%d: blurred %.2f dB, uniform %.2f dB, variant %.2f dB\n",
                 GetParam().c_str(), third.start, third.end - 1, blurred, uniform, variant);
     expectGain(GetParam(), "III rolling, variant - blurred", variant, blurred);
@@ -221,9 +227,7 @@ TEST_P(DeblurQuality, GlobalShutterVariantMatchesUniform)
     const RollingShutter shutter = s.shutterInWindow(EXPOSURE_III, 0.0);
     const Restorations r = restoreBoth(s, shutter);
     const Mat judged = judgedPixels(r.valid, Range(0, 480));
-    const double blurred = maskedPsnr(s.truth, r.frame, judged, 255);
-    const double uniform = maskedPsnr(s.truth, r.uniform, judged, 255);
-    const double variant = maskedPsnr(s.truth, r.variant, judged, 255);
+    const auto [blurred, uniform, variant] = r.psnr(s.truth, judged);
     std::printf("[ measured ] %s window III global: blurred %.2f dB, uniform %.2f dB, variant %.2f dB\n",
                 GetParam().c_str(), blurred, uniform, variant);
     expectGain(GetParam(), "III global, variant - blurred", variant, blurred);
@@ -241,9 +245,7 @@ TEST_P(DeblurQuality, RollingShutterWindowIPutsRowsBackInPlace)
     const Restorations r = restoreBoth(s, shutter);
     const Mat judged = judgedPixels(r.valid, Range(0, 480));
     ASSERT_GT(countNonZero(judged), 640 * 480 / 2);
-    const double blurred = maskedPsnr(s.truth, r.frame, judged, 255);
-    const double uniform = maskedPsnr(s.truth, r.uniform, judged, 255);
-    const double variant = maskedPsnr(s.truth, r.variant, judged, 255);
+    const auto [blurred, uniform, variant] = r.psnr(s.truth, judged);
     std::printf("[ measured ] %s window I rolling, whole frame: blurred %.2f dB, uniform %.2f dB, variant %.2f dB\n",
                 GetParam().c_str(), blurred, uniform, variant);
     expectGain(GetParam(), "I rolling, variant - blurred", variant, blurred);
@@ -270,9 +272,7 @@ TEST_P(DeblurQuality, RollingShutterWindowIIMovingThroughout)
     const Restorations r = restoreBoth(s, shutter);
     const Mat judged = judgedPixels(r.valid, Range(0, 480));
     ASSERT_GT(countNonZero(judged), 640 * 480 / 2);
-    const double blurred = maskedPsnr(s.truth, r.frame, judged, 255);
-    const double uniform = maskedPsnr(s.truth, r.uniform, judged, 255);
-    const double variant = maskedPsnr(s.truth, r.variant, judged, 255);
+    const auto [blurred, uniform, variant] = r.psnr(s.truth, judged);
     std::printf("[ measured ] %s window II rolling, whole frame: blurred %.2f dB, uniform %.2f dB, variant %.2f dB\n",
                 GetParam().c_str(), blurred, uniform, variant);
     expectGain(GetParam(), "II rolling, variant - blurred", variant, blurred);

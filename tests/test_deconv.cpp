@@ -3,8 +3,8 @@
 // boundary handling, Wiener, regularisation, and argument checks.
 #include "test_common.hpp"
 
-#include "../modules/dynblur/src/deconv_operator.hpp"
-#include "../modules/dynblur/src/deconv_rl.hpp"
+#include "restore/deconv_operator.hpp"
+#include "restore/deconv_rl.hpp"
 
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgcodecs.hpp>

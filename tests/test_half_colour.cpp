@@ -3,8 +3,8 @@
 // figures are in DeblurQuality (test_deblurrer.cpp).
 #include "test_common.hpp"
 
-#include "../modules/dynblur/src/deconv_rl.hpp"
-#include "../modules/dynblur/src/half_colour.hpp"
+#include "restore/deconv_rl.hpp"
+#include "pipeline/half_colour.hpp"
 
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgproc.hpp>

@@ -1,8 +1,8 @@
 #include "precomp.hpp"
 
-#include "deconv_rl.hpp"
-#include "half_colour.hpp"
-#include "motion_fit.hpp"
+#include "restore/deconv_rl.hpp"
+#include "pipeline/half_colour.hpp"
+#include "pipeline/motion_fit.hpp"
 
 namespace cv {
 namespace dynblur {

@@ -1,8 +1,8 @@
 // MotionCorrection, TimingCalibration and the calls that estimate them (refinement.hpp).
 #include "precomp.hpp"
 
-#include "deconv_rl.hpp"
-#include "motion_fit.hpp"
+#include "restore/deconv_rl.hpp"
+#include "pipeline/motion_fit.hpp"
 
 #include <cstdio>
 

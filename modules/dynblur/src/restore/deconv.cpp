@@ -1,8 +1,8 @@
 #include "precomp.hpp"
 
-#include "deconv_operator.hpp"
-#include "deconv_rl.hpp"
-#include "fft_kernel.hpp"
+#include "restore/deconv_operator.hpp"
+#include "restore/deconv_rl.hpp"
+#include "restore/fft_kernel.hpp"
 
 #include <opencv2/imgproc.hpp>
 

@@ -1,4 +1,4 @@
-#include "fft_kernel.hpp"
+#include "restore/fft_kernel.hpp"
 
 #include <opencv2/core/utility.hpp>
 

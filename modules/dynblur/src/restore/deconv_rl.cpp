@@ -1,4 +1,4 @@
-#include "deconv_rl.hpp"
+#include "restore/deconv_rl.hpp"
 
 #include <opencv2/core/utility.hpp>
 

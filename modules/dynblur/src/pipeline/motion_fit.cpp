@@ -1,10 +1,10 @@
 // Fitting a MotionCorrection: the reference carried through the predicted blur, compared with the frame.
 #include "precomp.hpp"
 
-#include "deconv_operator.hpp"
-#include "deconv_rl.hpp"
-#include "half_colour.hpp"
-#include "motion_fit.hpp"
+#include "restore/deconv_operator.hpp"
+#include "restore/deconv_rl.hpp"
+#include "pipeline/half_colour.hpp"
+#include "pipeline/motion_fit.hpp"
 
 #include <opencv2/imgproc.hpp>
 

@@ -1,7 +1,7 @@
 #include "precomp.hpp"
 
-#include "deconv_rl.hpp"
-#include "half_colour.hpp"
+#include "restore/deconv_rl.hpp"
+#include "pipeline/half_colour.hpp"
 
 namespace cv {
 namespace dynblur {

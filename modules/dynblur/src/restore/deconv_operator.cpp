@@ -1,6 +1,6 @@
-#include "deconv_operator.hpp"
+#include "restore/deconv_operator.hpp"
 
-#include "fft_kernel.hpp"
+#include "restore/fft_kernel.hpp"
 
 #include <opencv2/core/utility.hpp>
 

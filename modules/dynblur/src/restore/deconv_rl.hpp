@@ -2,7 +2,7 @@
 #ifndef OPENCV_DYNBLUR_DECONV_RL_HPP
 #define OPENCV_DYNBLUR_DECONV_RL_HPP
 
-#include "deconv_operator.hpp"
+#include "restore/deconv_operator.hpp"
 
 #include <vector>
 

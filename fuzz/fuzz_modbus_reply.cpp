@@ -1,5 +1,5 @@
-// Fuzzes the actuator driver's handling of the controller's Modbus replies (src/bus.cpp through
-// libmodbus, src/bus_driver.cpp): a fake controller on a real loopback TCP socket answers each request
+// Fuzzes the actuator driver's handling of the controller's Modbus replies (src/bus/bus.cpp through
+// libmodbus, src/bus/bus_driver.cpp): a fake controller on a real loopback TCP socket answers each request
 // of the driver's connect/upload/start/status/wait/stop sequence as the input says: a well-formed
 // reply with registers taken from the input, a Modbus exception, a fuzzed PDU behind a correct
 // header, a fuzzed header, raw bytes, silence (the client times out), or a closed connection.

@@ -5,6 +5,7 @@
 
 #include "restore/deconv_operator.hpp"
 #include "restore/deconv_rl.hpp"
+#include "restore/kernels/gather_kernels.hpp"
 
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -559,17 +560,17 @@ TEST(DeconvOperator, TileGatherAgreesWithTheGeneralOperator)
     const PsfBank banks[] = {withSlantedKernel(unevenTaps(tileBank(Size(150, 110), 5, 4, 40), 6), 7, Point(-6, 3)),
                              thin};
     for (const PsfBank& bank : banks)
-        for (bool portable : {false, true})
+        for (cv::dynblur::kernels::KernelIsa isa : cv::dynblur::kernels::availableKernelIsas())
             for (bool pad : {true, false})
             {
                 SCOPED_TRACE(cv::format("%dx%d bank, %s, %s", bank.imageSize.width, bank.imageSize.height,
-                                        portable ? "portable gathers" : "this CPU's gathers", pad ? "pad" : "zero"));
-                cv::dynblur::detail::setPortableGathers(portable);
+                                        cv::dynblur::kernels::kernelIsaName(isa), pad ? "pad" : "zero"));
+                cv::dynblur::kernels::forceKernelIsa(isa);
                 cv::dynblur::detail::TileBankOperator tiles(bank, pad);
                 expectAdjoint(tiles, pad);
                 expectSameAsGeneral(tiles, bank, pad);
             }
-    cv::dynblur::detail::setPortableGathers(false);
+    cv::dynblur::kernels::forceKernelIsa(cv::dynblur::kernels::KERNELS_ISA_COUNT);
 }
 
 // Both operators of a row bank (the general one and the row gather) have exact adjoints and agree.
@@ -577,22 +578,22 @@ TEST(DeconvOperator, AdjointIsExactForRowBankWithLargeShifts)
 {
     // Slanted kernels too: taps with column offsets exercise the gather's edge columns.
     const PsfBank bank = withSlantedKernel(rowBank(Size(150, 160), 8, 120), 3, Point(-4, 2));
-    for (bool portable : {false, true})
+    for (cv::dynblur::kernels::KernelIsa isa : cv::dynblur::kernels::availableKernelIsas())
         for (bool pad : {true, false})
         {
-            SCOPED_TRACE(portable ? "portable gathers" : "this CPU's gathers");
-            cv::dynblur::detail::setPortableGathers(portable);
+            SCOPED_TRACE(cv::dynblur::kernels::kernelIsaName(isa));
+            cv::dynblur::kernels::forceKernelIsa(isa);
             cv::dynblur::detail::BankBlurOperator general(bank, pad);
             cv::dynblur::detail::RowBankOperator rows(bank, pad);
             expectAdjoint(general, pad);
             expectAdjoint(rows, pad);
             expectSameAsGeneral(rows, bank, pad);
         }
-    cv::dynblur::detail::setPortableGathers(false);
+    cv::dynblur::kernels::forceKernelIsa(cv::dynblur::kernels::KERNELS_ISA_COUNT);
 }
 
 /* A row bank's normaliser, gathered only near the edges and filled in between, is the adjoint of a
-   frame of ones to the bit: float and bfloat16 gathers, this CPU's and the portable ones, both
+   frame of ones to the bit: float and bfloat16 gathers, every instruction set's kernels, both
    boundaries, a bank of slanted kernels (safe spans that differ from row to row), one of 1-column
    kernels, and one too narrow for the fill (the whole rows gathered). */
 TEST(DeconvOperator, RowNormaliserIsTheAdjointOfOnes)
@@ -602,13 +603,13 @@ TEST(DeconvOperator, RowNormaliserIsTheAdjointOfOnes)
                              withSlantedKernel(rowBank(Size(40, 60), 3, 20), 1, Point(9, 0))};
     for (const PsfBank& bank : banks)
         for (bool packed : {false, true})
-            for (bool portable : {false, true})
+            for (cv::dynblur::kernels::KernelIsa isa : cv::dynblur::kernels::availableKernelIsas())
                 for (bool pad : {true, false})
                 {
                     SCOPED_TRACE(cv::format("%dx%d bank, %s, %s, %s", bank.imageSize.width, bank.imageSize.height,
-                                            packed ? "bfloat16" : "float", portable ? "portable" : "this CPU's",
+                                            packed ? "bfloat16" : "float", cv::dynblur::kernels::kernelIsaName(isa),
                                             pad ? "pad" : "zero"));
-                    cv::dynblur::detail::setPortableGathers(portable);
+                    cv::dynblur::kernels::forceKernelIsa(isa);
                     cv::dynblur::detail::RowBankOperator rows(bank, pad, packed);
                     Mat normaliser, scratch, ofOnes;
                     rows.adjointOfOnes(normaliser, scratch);
@@ -617,7 +618,7 @@ TEST(DeconvOperator, RowNormaliserIsTheAdjointOfOnes)
                     EXPECT_EQ(norm(normaliser, ofOnes, NORM_INF), 0.0);
                     EXPECT_GT(norm(ofOnes, NORM_L1), 0.5 * double(rows.frameSize().area()));
                 }
-    cv::dynblur::detail::setPortableGathers(false);
+    cv::dynblur::kernels::forceKernelIsa(cv::dynblur::kernels::KERNELS_ISA_COUNT);
 }
 
 /* The restoration's start, the displacement-only blur's adjoint for several planes and a plane of
@@ -691,7 +692,7 @@ Mat bfloat16Exact(const Mat& m)
 /* A packed (bfloat16) operator agrees with the float one within bfloat16's rounding (weights and
    data each to 2^-9, so sums of positive terms to ~2^-8), is the exact transpose of itself on data
    that packs exactly (tiles: to the re-rounding of the column-weighted copies), and gives the same
-   with and without the AVX512-BF16 instructions (setPortableGathers). */
+   with every instruction set's kernels (the reference ones included). */
 void expectPackedAgrees(cv::dynblur::detail::BlurOperator& packed, cv::dynblur::detail::BlurOperator& exact,
                         double adjointTolerance, const std::string& what)
 {
@@ -703,17 +704,21 @@ void expectPackedAgrees(cv::dynblur::detail::BlurOperator& packed, cv::dynblur::
     RNG(8).fill(y, RNG::UNIFORM, 0.1, 1);
     x = bfloat16Exact(x);
     y = bfloat16Exact(y);
-    // Packed result, compared with the float one and with the widened kernel's.
+    // Packed result, compared with the float one and with every instruction set's kernels'.
     const auto compare = [&](const std::function<void(cv::dynblur::detail::BlurOperator&, Mat&)>& apply,
                              const char* direction) {
         Mat a, b, widened;
         apply(exact, a);
         apply(packed, b);
         EXPECT_LT(norm(a, b, NORM_INF), 4e-3 * norm(a, NORM_INF)) << what << ": " << direction;
-        cv::dynblur::detail::setPortableGathers(true);
-        apply(packed, widened);
-        cv::dynblur::detail::setPortableGathers(false);
-        EXPECT_LT(norm(b, widened, NORM_INF), 1e-5 * norm(b, NORM_INF)) << what << ": " << direction << " widened";
+        for (cv::dynblur::kernels::KernelIsa isa : cv::dynblur::kernels::availableKernelIsas())
+        {
+            cv::dynblur::kernels::forceKernelIsa(isa);
+            apply(packed, widened);
+            EXPECT_LT(norm(b, widened, NORM_INF), 1e-5 * norm(b, NORM_INF))
+                << what << ": " << direction << ", " << cv::dynblur::kernels::kernelIsaName(isa);
+        }
+        cv::dynblur::kernels::forceKernelIsa(cv::dynblur::kernels::KERNELS_ISA_COUNT);
         return b;
     };
     const double lhs = compare([&](cv::dynblur::detail::BlurOperator& op, Mat& out) { op.forward(x, out); }, "forward")

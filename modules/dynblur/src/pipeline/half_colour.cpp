@@ -2,6 +2,7 @@
 
 #include "restore/deconv_rl.hpp"
 #include "pipeline/half_colour.hpp"
+#include "restore/simd_clones.hpp"
 
 namespace cv {
 namespace dynblur {

@@ -3,6 +3,7 @@
 #include "restore/deconv_operator.hpp"
 #include "restore/deconv_rl.hpp"
 #include "restore/fft_kernel.hpp"
+#include "restore/simd_clones.hpp"
 
 #include <opencv2/imgproc.hpp>
 
@@ -548,7 +549,7 @@ void wienerDeconvolve(InputArray blurred, const PsfBank& bank, OutputArray laten
 
     // Node `node`'s share of each coordinate along one axis: the blending weights of the forward
     // operator (detail::nodeRowWeights, nodeColumnWeights).
-    auto nodeWeights = [](const std::vector<detail::BankBlurOperator::AxisWeight>& axis, int node) {
+    auto nodeWeights = [](const std::vector<detail::AxisWeight>& axis, int node) {
         std::vector<float> w(axis.size(), 0.f);
         for (size_t t = 0; t < axis.size(); t++)
             for (int k = 0; k < 2; k++)

@@ -1,4 +1,5 @@
 #include "restore/deconv_rl.hpp"
+#include "restore/simd_clones.hpp"
 
 #include <opencv2/core/utility.hpp>
 

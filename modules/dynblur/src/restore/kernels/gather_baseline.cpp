@@ -1,0 +1,17 @@
+// The kernels at the build's baseline: SSE2 on x86-64, NEON on AArch64, plain C++ elsewhere.
+#define DYNBLUR_KERNELS_ISA baseline
+#include "restore/kernels/gather_simd.hpp"
+
+namespace cv {
+namespace dynblur {
+namespace kernels {
+
+const GatherKernels* baselineGatherKernels()
+{
+    static const GatherKernels kernels = baseline::table(CV_SIMD ? "baseline" : "baseline (scalar)");
+    return &kernels;
+}
+
+}  // namespace kernels
+}  // namespace dynblur
+}  // namespace cv

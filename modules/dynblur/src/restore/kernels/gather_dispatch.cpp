@@ -1,0 +1,93 @@
+// The one place that chooses the gather kernels.
+#include "restore/kernels/gather_kernels.hpp"
+#include "restore/kernels/gather_reference.hpp"
+
+#include <opencv2/core/utility.hpp>
+
+#include <atomic>
+
+namespace cv {
+namespace dynblur {
+namespace kernels {
+
+namespace {
+
+const GatherKernels* referenceGatherKernels()
+{
+    static const GatherKernels kernels{
+        "reference", reference::gatherRow, reference::gatherPair, reference::gatherPackedPair,
+        [](const float* sums, const GatherFold& fold, int begin, int end, float* out) {
+            foldColumns(sums, fold, begin, end, out);
+        }};
+    return &kernels;
+}
+
+//! forceKernelIsa's choice; KERNELS_ISA_COUNT: none.
+std::atomic<int> forcedIsa{KERNELS_ISA_COUNT};
+
+/* The CPU's support, as OpenCV reads it (instruction and operating-system support: the AVX-512
+   registers' state saved on context switches), for the instruction sets the build has kernels for. */
+bool cpuRuns(KernelIsa isa)
+{
+    switch (isa)
+    {
+    case KERNELS_AVX2: return checkHardwareSupport(CV_CPU_AVX2) && checkHardwareSupport(CV_CPU_FMA3);
+    case KERNELS_AVX512:
+    case KERNELS_AVX512_BF16: return checkHardwareSupport(CV_CPU_AVX512_SKX);
+    default: return true;
+    }
+}
+
+}  // namespace
+
+const GatherKernels* gatherKernelsFor(KernelIsa isa)
+{
+    if (!cpuRuns(isa))
+        return nullptr;
+    switch (isa)
+    {
+    case KERNELS_REFERENCE: return referenceGatherKernels();
+    case KERNELS_BASELINE: return baselineGatherKernels();
+    case KERNELS_AVX2: return avx2GatherKernels();
+    case KERNELS_AVX512: return avx512GatherKernels();
+    case KERNELS_AVX512_BF16: return avx512Bf16GatherKernels();
+    default: return nullptr;
+    }
+}
+
+std::vector<KernelIsa> availableKernelIsas()
+{
+    std::vector<KernelIsa> isas;
+    for (int isa = KERNELS_REFERENCE; isa < KERNELS_ISA_COUNT; isa++)
+        if (gatherKernelsFor(KernelIsa(isa)))
+            isas.push_back(KernelIsa(isa));
+    return isas;
+}
+
+void forceKernelIsa(KernelIsa isa)
+{
+    CV_Assert(isa == KERNELS_ISA_COUNT || gatherKernelsFor(isa));
+    forcedIsa = isa;
+}
+
+const char* kernelIsaName(KernelIsa isa)
+{
+    static const char* const names[] = {"reference", "baseline", "avx2", "avx512", "avx512bf16"};
+    return isa >= KERNELS_REFERENCE && isa < KERNELS_ISA_COUNT ? names[isa] : "none";
+}
+
+const GatherKernels& gatherKernels()
+{
+    static const GatherKernels* const best = [] {
+        const std::vector<KernelIsa> isas = availableKernelIsas();
+        return gatherKernelsFor(isas.back());
+    }();
+    if (!useOptimized())
+        return *referenceGatherKernels();
+    const int forced = forcedIsa.load(std::memory_order_relaxed);
+    return forced < KERNELS_ISA_COUNT ? *gatherKernelsFor(KernelIsa(forced)) : *best;
+}
+
+}  // namespace kernels
+}  // namespace dynblur
+}  // namespace cv

@@ -1,0 +1,69 @@
+// The gather kernels a bank operator runs, chosen once per call from the CPU, cv::useOptimized()
+// and the tests' override: one table per instruction set.
+#ifndef OPENCV_DYNBLUR_RESTORE_KERNELS_GATHER_KERNELS_HPP
+#define OPENCV_DYNBLUR_RESTORE_KERNELS_GATHER_KERNELS_HPP
+
+#include "restore/kernels/gather_taps.hpp"
+
+#include <opencv2/core/cvdef.h>
+
+#include <vector>
+
+namespace cv {
+namespace dynblur {
+namespace kernels {
+
+//! One instruction set's kernels (gather_reference.hpp says what each computes).
+struct GatherKernels
+{
+    const char* name;
+    //! out[x] = Σ_t w_t · source(row_t, x + col_t) for x in [begin, end); every read inside.
+    void (*row)(float* out, const float* source, size_t sourceStep, const Tap* taps, int tapCount, int begin,
+                int end);
+    //! Two rows at once, folded into out0 and out1 as `fold` says.
+    void (*pair)(float* out0, float* out1, const float* source, size_t sourceStep, const PairTap* taps,
+                 int tapCount, int begin, int end, const GatherFold& fold);
+    //! Two rows at once from packed bfloat16 row pairs, folded likewise.
+    void (*packedPair)(float* out0, float* out1, const uint32_t* source, size_t sourceStep, const PackedTap* taps,
+                       int tapCount, int begin, int end, const GatherFold& fold);
+    //! out[x] from sums[x] for x in [begin, end), as `fold` says.
+    void (*fold)(const float* sums, const GatherFold& fold, int begin, int end, float* out);
+};
+
+//! The instruction sets the kernels are built for, slowest first.
+enum KernelIsa
+{
+    KERNELS_REFERENCE = 0,  //!< plain C++ (cv::setUseOptimized(false))
+    KERNELS_BASELINE,       //!< universal intrinsics at the build's baseline: SSE2 on x86-64, NEON on AArch64
+    KERNELS_AVX2,           //!< universal intrinsics, AVX2 and FMA
+    KERNELS_AVX512,         //!< universal intrinsics, AVX-512 (F, BW, VL, DQ)
+    KERNELS_AVX512_BF16,    //!< KERNELS_AVX512 with the packed gather in AVX512-BF16's vdpbf16ps
+    KERNELS_ISA_COUNT
+};
+
+//! The kernels to run now: the reference ones when !cv::useOptimized(), else forceKernelIsa's or the CPU's best.
+const GatherKernels& gatherKernels();
+
+//! The kernels built for `isa`, or null when this build or this CPU has none.
+const GatherKernels* gatherKernelsFor(KernelIsa isa);
+
+//! Every instruction set this build and this CPU can run, slowest first.
+CV_EXPORTS std::vector<KernelIsa> availableKernelIsas();
+
+//! For tests: gatherKernels() returns `isa`'s kernels (one of availableKernelIsas()); KERNELS_ISA_COUNT: the CPU's best again.
+CV_EXPORTS void forceKernelIsa(KernelIsa isa);
+
+//! The name of an instruction set's kernels, e.g. "avx2".
+CV_EXPORTS const char* kernelIsaName(KernelIsa isa);
+
+// Each instruction set's table, defined in its own file (null where the build has none).
+const GatherKernels* baselineGatherKernels();
+const GatherKernels* avx2GatherKernels();
+const GatherKernels* avx512GatherKernels();
+const GatherKernels* avx512Bf16GatherKernels();
+
+}  // namespace kernels
+}  // namespace dynblur
+}  // namespace cv
+
+#endif

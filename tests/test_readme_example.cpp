@@ -6,6 +6,8 @@
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <cstdio>
+
 namespace {
 
 // ---- README.md, "Using it from C++" (first block) ----
@@ -53,11 +55,13 @@ cv::Mat blurredFrame(cv::Mat& sharpLinear)
     return out;
 }
 
+/* Mean |a − truth| in linear intensity over the rows the move blurred: frame rows start every
+   62.5 µs from 5 ms and the fast 10° move settles at about 15 ms, so the rows above ~160. */
 double meanAbsError(const cv::Mat& a8, const cv::Mat& truthLinear)
 {
     cv::Mat a;
     srgbToLinear(a8, a);
-    const cv::Rect inner(20, 20, a.cols - 40, a.rows - 40);  // away from the unobserved borders
+    const cv::Rect inner(20, 20, a.cols - 40, 140);
     return cv::norm(a(inner), truthLinear(inner), cv::NORM_L1) / double(inner.area() * a.channels());
 }
 
@@ -70,7 +74,10 @@ TEST(ReadmeExample, RestoresAFrameCloserToTheTruth)
     const cv::Mat restored = restoreOneFrame(frame);
     ASSERT_EQ(restored.size(), frame.size());
     ASSERT_EQ(restored.type(), frame.type());
-    EXPECT_LT(meanAbsError(restored, sharp), meanAbsError(frame, sharp));
+    const double blurredError = meanAbsError(frame, sharp), restoredError = meanAbsError(restored, sharp);
+    std::printf("[ measured ] README example, blurred rows: mean |error| %.4f blurred, %.4f restored\n",
+                blurredError, restoredError);
+    EXPECT_LT(restoredError, 0.9 * blurredError);
 }
 
 TEST(ReadmeExample, FrameRateSettingRestoresAFrameCloserToTheTruth)
@@ -86,5 +93,8 @@ TEST(ReadmeExample, FrameRateSettingRestoresAFrameCloserToTheTruth)
     cv::Mat restored;
     deblurrer->deblur(frame, SwitchPlanner::create(plant, 16)->plan(0.0, 10 * CV_PI / 180, 0.0),
                       RollingShutter(0.005, 0.008, 62.5e-6, 480), restored);
-    EXPECT_LT(meanAbsError(restored, sharp), meanAbsError(frame, sharp));
+    const double blurredError = meanAbsError(frame, sharp), restoredError = meanAbsError(restored, sharp);
+    std::printf("[ measured ] README frame-rate setting, blurred rows: mean |error| %.4f blurred, %.4f restored\n",
+                blurredError, restoredError);
+    EXPECT_LT(restoredError, 0.9 * blurredError);
 }

@@ -1,4 +1,4 @@
-# Sanitizer and fuzzing builds (issue 9). Included by the top-level CMakeLists.txt after the
+# Sanitizer and fuzzing builds (docs/reliability.md). Included by the top-level CMakeLists.txt after the
 # dependencies are found, before any target is defined, so every target of the tree gets the flags.
 #
 #   DYNBLUR_SANITIZE=ON   AddressSanitizer + UndefinedBehaviorSanitizer for the library, the samples

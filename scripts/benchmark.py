@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Speed figures of the frame-rate restoration (issue #8), all measured in one run.
+"""Speed figures of the frame-rate restoration, all measured in one run.
 
 Runs the C++ benchmark program (Google Benchmark, JSON), then the peers in Python on a 1280x960
 RGB frame: dynblur's frame-rate deblur through its bindings, an RL written with
@@ -12,8 +12,8 @@ minutes than within a round. Run it through scripts/benchmark.sh, which builds w
 
 Targets are of three kinds (docs/performance.md): held (the filter2D ratio, tile-wise over
 row-wise, the PSF bank, the classification; the memory target is held by the test DeconvMemory):
-PASS or FAIL, and the exit status is 1 when one fails; out of reach (50x scikit-image, see the
-README's "Speed"): measured and reported, never failing the run; reported (the absolute frame
+PASS or FAIL, and the exit status is 1 when one fails; out of reach (50x scikit-image, see
+docs/performance.md): measured and reported, never failing the run; reported (the absolute frame
 time, which drifts by +-20 % with the machine): measured and shown against its target.
 
 --ci runs only the paired rounds of the row-wise restoration against the filter2D peer, on one and
@@ -287,7 +287,7 @@ def main():
              "| target | kind | measured | required | verdict |", "|---|---|---|---|---|"]
     lines += [f"| {name} | {kind} | {value} | {required} | {verdict(kind, ok)} |"
               for kind, name, value, required, ok in targets]
-    lines += ["| extra memory of the row-wise restoration | held | test `DeconvMemory` (CTest) | see README | "
+    lines += ["| extra memory of the row-wise restoration | held | test `DeconvMemory` (CTest) | <= 4 frame planes per channel | "
               "judged by the test suite |"]
     lines += ["", "| benchmark | median |", "|---|---|"]
     lines += [f"| `{name}` | {entry['ms']:.3f} ms |" for name, entry in sorted(cpp.items())]

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The speed benchmark of issue #8: builds the project (scripts/setup.sh), prepares the Python
+# The speed benchmark (docs/performance.md): builds the project (scripts/setup.sh), prepares the Python
 # environment (scripts/python_env.sh), then runs scripts/benchmark.py, which runs the C++ benchmark
 # program and the Python peers in one run, prints every target with its verdict and writes
 # benchmark_out/. Takes about 5 minutes; run it on an otherwise idle machine. Exits 1 only when a held

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# libFuzzer targets (issue 9): builds fuzz/ with clang in build-fuzz/ (DYNBLUR_BUILD_FUZZ=ON: the
+# libFuzzer targets (docs/reliability.md): builds fuzz/ with clang in build-fuzz/ (DYNBLUR_BUILD_FUZZ=ON: the
 # library and samples/common compiled with ASan + UBSan + coverage), runs every file of
 # fuzz/corpus/<target>/ and fuzz/regressions/<target>/ once (CTest), then fuzzes each target for a
 # bounded time. Any crash, sanitizer report, leak, hang (> 10 s per input) or out-of-memory fails the

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Sanitizer run (issue 9): builds the library, the samples and the C++ tests with AddressSanitizer +
+# Sanitizer run (docs/reliability.md): builds the library, the samples and the C++ tests with AddressSanitizer +
 # UndefinedBehaviorSanitizer in build-asan/ (DYNBLUR_SANITIZE=ON) and runs the GoogleTest suite and
 # the CLI tests through CTest. A sanitizer report aborts the test that triggered it, so the run
 # fails on any report. Called by run_tests.sh after scripts/setup.sh installed the packages.

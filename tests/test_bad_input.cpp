@@ -1,4 +1,4 @@
-// Bad inputs on every public entry point (issue 9): empty, wrong type / channels / depth, wrong
+// Bad inputs on every public entry point (docs/reliability.md): empty, wrong type / channels / depth, wrong
 // size, NaN/Inf pixels and parameters, negative / zero / huge sizes, non-normalised or negative
 // kernels, truncated or garbage files. Each must be refused with a cv::Exception (or the documented
 // error) whose message names the argument and, for a number, its allowed range — never a crash, a
@@ -8,7 +8,7 @@
 // test_render.cpp, the schedule/plant/bus checks of test_plant.cpp, test_planner.cpp, test_bus.cpp,
 // test_plant_identification.cpp); this file holds the rest, one table row per input, and checks the
 // message of those the per-idea tests only check for an exception. Rows print as
-// "[ refused ] entry point | input | message" lines: the README's table is built from them.
+// "[ refused ] entry point | input | message" lines: docs/reliability.md's table is built from them.
 #include "test_common.hpp"
 
 #include "cli_args.hpp"

@@ -124,7 +124,7 @@ double uploadStartAndCheck(Rig& rig, const char* transport)
 
 /* The start's uncertainty is one request's round trip, which the machine's load stretches several
    times over now and then: the median of `starts` upload-start cycles is held to `documented`
-   (docs/quality.md) plus a tenth. */
+   (docs/reliability.md) plus a tenth. */
 void expectStartUncertainty(Rig& rig, const char* transport, int starts, double documented)
 {
     std::vector<double> u;
@@ -360,8 +360,8 @@ TEST(BusFaults, GarbageAndShortRepliesRtu)
 }
 
 // A serial line has no transaction id: a reply that comes after the timeout must not be taken
-// for the answer to the next request (issue 9 soak: a stale acknowledgement of a write, then every
-// later answer one request behind).
+// for the answer to the next request (else the host reads a stale acknowledgement of a write, then
+// every later answer one request behind, as BusSoak.RandomFaultsRtu would show).
 TEST(BusFaults, LateRtuReplyIsNotTakenForTheNextAnswer)
 {
     SimConfig cfg;

@@ -1,4 +1,4 @@
-// Driver soak (issue 9): thousands of upload / start / stop cycles of ActuatorDriver against the
+// Driver soak (docs/reliability.md): thousands of upload / start / stop cycles of ActuatorDriver against the
 // in-process simulator over loopback Modbus TCP, while the simulator injects random faults from a
 // seeded generator: requests dropped, replies dropped after execution, replies delayed beyond the
 // response timeout, exception replies, garbage and truncated replies.

@@ -1667,8 +1667,9 @@ double extraPlanesPerChannel(const Mat& frame, const PsfBank& bank, const RLPara
 }
 
 // The row-wise restoration of a 1280×960 RGB window III frame (the speed benchmark's) holds at
-// most 4 frame-sized float planes per channel besides its input and output (issue #8). The
-// tile-wise one is measured beside it and held to what it needs now: its tap lists alone take ~3.9.
+// most 4 frame-sized float planes per channel besides its input and output (the memory target of
+// docs/performance.md). The tile-wise one is measured beside it and held to what it needs: its tap
+// lists alone take ~3.9.
 TEST(DeconvMemory, RowWiseRestorationStaysWithinFourFramePlanesPerChannel)
 {
     Ptr<Plant> plant = Plant::create(14.4, 0.12, CV_PI / 180);
@@ -1697,7 +1698,7 @@ TEST(DeconvMemory, RowWiseRestorationStaysWithinFourFramePlanesPerChannel)
                       << (setting.second == RL_BLUR_BFLOAT16 ? ", bfloat16" : ", float32") << ": peak extra memory "
                       << extra << " frame planes per channel (Mats " << extra - taps << ", operator's taps " << taps
                       << ")" << std::endl;
-            // tiles: 7.31 / 7.68 / 4.58 measured on 2026-11-23 (rows: 2.73 / 3.09 / 3.34)
+            // the figures each setting measures are in docs/performance.md
             EXPECT_LE(extra, model == PSF_ROWS ? 4.0 : 8.0);
         }
     }
@@ -1705,7 +1706,7 @@ TEST(DeconvMemory, RowWiseRestorationStaysWithinFourFramePlanesPerChannel)
     /* The frame-rate setting as DynamicDeblurrer runs it, the colour at half resolution: every Mat
        it keeps for the next frame (both workspaces, the half-size colour, the luminance)
        and its temporaries, at their peak, plus the full-size operator's taps (the half-size one's
-       are gone before it is built). Measured 3.33 on 2026-11-23. */
+       are gone before it is built). Its figure is in docs/performance.md. */
     const double plane = double(frame.total()) * sizeof(float) * frame.channels();
     double taps = 0;
     {

@@ -1,4 +1,4 @@
-// Restoration bounds (issue 9): richardsonLucy, richardsonLucyVariant, wienerDeconvolve and
+// Restoration bounds (docs/reliability.md): richardsonLucy, richardsonLucyVariant, wienerDeconvolve and
 // DynamicDeblurrer::deblur on adversarial but valid inputs (zeros, constant, a single bright pixel,
 // saturated, checkerboards, noise, values ~1e-30 and ~1e30, 1-row / 1-column / 1x1 images; delta,
 // long, 2-D and two-tap kernels, kernels longer than the image, tile banks with shifts as large as
@@ -13,8 +13,8 @@
 //     whose nodes displace by different shifts may show a point as one ghost per node, so there
 //     G = N_nodes / min max(k). For plain RL with the zero boundary the bound is a theorem:
 //     x_j ← x_j Σ_u k(u) b_{j+u} / (k⊛x)_{j+u} ≤ Σ_{k(u)>0} b_{j+u} since (k⊛x)_{j+u} ≥ k(u) x_j.
-//     plain RL (no acceleration, no damping);  0 ≤ out ≤ 2 · M · G  accelerated or damped (the
-//     extrapolation may overshoot: 1.61 · M · G measured before the projected RL, 1.00 since).
+//     plain RL (no acceleration, no damping);  0 ≤ out ≤ 2 · M · G  accelerated or damped (an
+//     unprojected extrapolation may overshoot; the projected RL keeps the estimate within G · M).
 //   Wiener: min(input) − m·M ≤ out ≤ max(input) + m·M with m = 1.5 / (2 sqrt(noiseToSignal)): 1.5
 //     times the filter's largest gain max |K| / (|K|² + nsr) (a linear filter rings on both sides of
 //     an edge; its gain on a pixel can exceed its largest frequency gain: measured worst 1.1 times).

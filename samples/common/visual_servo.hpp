@@ -42,7 +42,7 @@ struct ServoConfig
     double dampingRatio = 0.12;
     double gainDegPerLevel = 0.05;
     int maxLevel = 400;
-    int plannerMode = cv::dynblur::PLAN_ROBUST;  // PLAN_FAST tries every level: ~10 s per plan at 400 levels
+    int plannerMode = cv::dynblur::PLAN_ROBUST;  // PLAN_FAST tries every level: far too slow for a servo cycle at 400 levels (BM_PlanFastUncached in perf/perf_planner.cpp times it)
     // Camera: 320×240, fx = fy = 300 px, rolling shutter read out in 30 ms at 30 fps, 33 ms exposure
     // (a C270 indoors at 30 fps exposes each row for about the frame period).
     cv::Size imageSize = cv::Size(320, 240);

@@ -1,4 +1,4 @@
-// The speed targets (issue #8): the frame-rate setting the benchmarks time, and the reference,
+// The speed targets (docs/performance.md): the frame-rate setting the benchmarks time, and the reference,
 // Richardson–Lucy written plainly with cv::filter2D.
 #ifndef DYNBLUR_PERF_BASELINE_HPP
 #define DYNBLUR_PERF_BASELINE_HPP

@@ -29,8 +29,9 @@ enum DeblurColorResolution
         half-size camera and shutter, as video codecs subsample chroma @cite Poynton2012Digital; the
         luminance takes every iteration at full resolution from the start, and each pixel's
         upsampled colour is scaled to it. Colour costs a quarter; fine detail, which is mostly
-        luminance, is kept (DeblurQuality: 0.6 dB above DEBLUR_COLOR_FULL_RESOLUTION in the
-        frame-rate setting, 1.2× faster). The camera's image size must be even. */
+        luminance, is kept (DeblurQuality holds its gain over DEBLUR_COLOR_FULL_RESOLUTION in the
+        frame-rate setting; BM_FrameRatePaired's full_colour_over_rows in perf/perf_deblurrer.cpp
+        measures the time it saves). The camera's image size must be even. */
     DEBLUR_COLOR_HALF_RESOLUTION = 1
 };
 

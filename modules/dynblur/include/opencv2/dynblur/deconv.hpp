@@ -26,10 +26,10 @@ enum RLBlurPrecision
         packed in one 32-bit word, two multiply-adds per instruction on CPUs with AVX512-BF16 (others
         widen the halves to floats, with the same rounding). Blurred values are within 2^-8 of the
         float ones; the restorations differ by a few hundredths of a dB (10 iterations), by up to
-        0.13 dB after 20 tile-wise ones. What it gains depends on the CPU: a row-wise frame took
-        1.12–1.2× as long in float on an AMD Zen 4, 1.01–1.03× on an Intel Xeon, whose bfloat16
-        instruction barely outpaces its float FMA; tile-wise it holds 4.6 instead of 7.7 frame
-        planes per channel and builds its operator faster (README, "Speed"). */
+        0.13 dB after 20 tile-wise ones. What it gains in time depends on the CPU: much where
+        bfloat16 multiply-adds outpace float FMAs, little where they barely do (BM_FrameRatePaired's
+        float32_over_rows in perf/perf_deblurrer.cpp measures it; figures in docs/performance.md). A
+        tile-wise restoration holds fewer frame planes per channel (test DeconvMemory). */
     RL_BLUR_BFLOAT16 = 1
 };
 

@@ -68,22 +68,12 @@ if [ ${#tests[@]} -eq 0 ]; then
   exit 1
 fi
 
-# Packages, as scripts/setup.sh installs them.
 packages=(libopencv-dev make)
 [ "$arm" -eq 1 ] && packages+=(g++-aarch64-linux-gnu qemu-user-static)
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  if [ "$install" -eq 0 ]; then
-    echo "[arm_check] missing Debian packages: ${missing[*]}" >&2
-    exit 1
-  fi
-  echo "[arm_check] installing Debian packages: ${missing[*]}"
-  sudo_cmd=""; [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
-  $sudo_cmd apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
+if [ "$install" -eq 1 ]; then
+  "$here/scripts/install_debian_packages.sh" "${packages[@]}"
+else
+  "$here/scripts/install_debian_packages.sh" --check "${packages[@]}"
 fi
 
 # One target per line: name, expected vector width (bytes), compiler, CPU flags it needs to run

@@ -22,6 +22,7 @@
 #     frame, and runs N paired rounds (default 20), the order alternating each round.
 # It prints the median, min and max of the per-round ratio new/old, each side's median time, and
 # whether the restored images are bitwise equal (with their max abs difference).
+# Clean up with: rm -rf build-compare && git worktree prune
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
@@ -55,16 +56,7 @@ fi
 
 # patchelf gives the library copies their own sonames; the rest comes with scripts/setup.sh.
 packages=(patchelf build-essential cmake ninja-build libopencv-dev libbenchmark-dev)
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "[compare] installing Debian packages: ${missing[*]}"
-  sudo_cmd=""; [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
-  $sudo_cmd apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
-fi
+"$here/scripts/install_debian_packages.sh" "${packages[@]}"
 
 work="$here/build-compare"
 run="$work/run"

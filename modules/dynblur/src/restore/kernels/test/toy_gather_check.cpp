@@ -43,8 +43,8 @@ int main()
 
     want = start;
     got = start;
-    toyGatherBf16Ref(packed.data() + margin, offsets.data(), weights.data(), taps, want.data(), width);
-    toyGatherBf16(packed.data() + margin, offsets.data(), weights.data(), taps, got.data(), width);
+    toyGatherRef(packed.data() + margin, offsets.data(), weights.data(), taps, want.data(), width);
+    toyGather(packed.data() + margin, offsets.data(), weights.data(), taps, got.data(), width);
     ok &= kernel_check::report("bfloat16 gather vs reference", kernel_check::maxRelativeError(got.data(), want.data(), width));
 
     std::printf("toy_gather_check: %s\n", ok ? "PASS" : "FAIL");

@@ -8,8 +8,8 @@
 #     (package qemu-user-static), and
 #   - for the host, once per x86 flag set: baseline (SSE2), -mavx2 -mfma, and
 #     -mavx512f -mavx512bw -mavx512vl -mavx512dq -mavx512cd -mfma, running each set the CPU has,
-# and fails if any build or run fails. Packages it lacks are installed first (as scripts/setup.sh
-# does). Builds go to $DYNBLUR_BUILD_DIR/kernel-check/<target>/ (default build/kernel-check/) and are
+# and fails if any build or run fails. Packages it lacks are installed first
+# (scripts/install_debian_packages.sh, as for scripts/setup.sh). Builds go to $DYNBLUR_BUILD_DIR/kernel-check/<target>/ (default build/kernel-check/) and are
 # incremental; a full run takes well under a minute once the packages are installed.
 #
 # Why it works without libopencv: the kernels are header-only over OpenCV's universal intrinsics
@@ -27,7 +27,8 @@
 #     each build force-includes scripts/arm_check/cv_isa_from_compiler.h, which maps __AVX2__, __FMA__,
 #     __AVX512*__ ... onto CV_AVX2, CV_FMA3, CV_AVX512_SKX ... (and includes <immintrin.h>), the way
 #     OpenCV's build does: then -mavx2 -mfma gives 256-bit and the AVX-512 set 512-bit vectors. The
-#     library's per-ISA kernel files need the same mapping.
+#     library's per-ISA kernel files need the same mapping. (The header and the probe below work
+#     the same under clang++, natively and with --target=aarch64-linux-gnu.)
 # scripts/arm_check/simd_probe.cpp, linked into every test, proves it each time: its build fails
 # unless CV_SIMD_WIDTH is the width the target was built for (16 for NEON and SSE, 32 for AVX2, 64 for
 # AVX-512) and not OpenCV's C++ emulation, and at start-up it runs one v_fma and prints the vectors,

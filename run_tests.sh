@@ -2,8 +2,10 @@
 # Runs every test: builds the project (installing what it needs), runs the C++ suite through
 # CTest, then the Python checks with pytest in the project-local virtual environment .venv, then
 # the C++ suite again under ASan + UBSan (scripts/sanitize.sh, build-asan/), the fuzz targets
-# (scripts/fuzz.sh, build-fuzz/: corpus and regressions, then DYNBLUR_FUZZ_SECONDS each) and the
-# short speed check (scripts/benchmark.sh --ci: the row-wise restoration against its filter2D peer).
+# (scripts/fuzz.sh, build-fuzz/: corpus and regressions, then DYNBLUR_FUZZ_SECONDS each), the
+# restoration kernels against their references on aarch64 under qemu and on each x86 instruction set
+# (scripts/arm_check.sh, $build/kernel-check/) and the short speed check (scripts/benchmark.sh --ci:
+# the row-wise restoration against its filter2D peer).
 #
 # DYNBLUR_REQUIRE_TEST_DATA=1 is set for every step: a test whose data file is missing fails instead
 # of skipping, so a run without ../shared/data (or DYNBLUR_TEST_DATA) cannot pass. Whatever is still
@@ -33,6 +35,9 @@ echo "[tests] C++ under AddressSanitizer + UndefinedBehaviorSanitizer (build-asa
 
 echo "[tests] libFuzzer targets: corpus and regressions, then a bounded run each (build-fuzz/)"
 "$here/scripts/fuzz.sh" 2>&1 | tee "$logs/ctest-fuzz.log" || status=$?
+
+echo "[tests] kernels on aarch64 under qemu (scripts/arm_check.sh)"
+"$here/scripts/arm_check.sh" 2>&1 | tee "$logs/arm.log" || status=$?
 
 echo "[tests] speed: a few paired rounds, ratios only (scripts/benchmark.sh --ci)"
 "$here/scripts/benchmark.sh" --ci 2>&1 | tee "$logs/benchmark-ci.log" || status=$?

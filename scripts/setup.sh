@@ -11,16 +11,7 @@ packages=(build-essential cmake ninja-build pkg-config git
           # the fuzz build (scripts/fuzz.sh): clang, its libFuzzer and sanitizer runtimes, and LLVM's
           # OpenMP (only because SUNDIALS' CMake config requires OpenMP, also under clang)
           clang libclang-rt-dev libomp-dev)
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "[setup] installing Debian packages: ${missing[*]}"
-  sudo_cmd=""; [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
-  $sudo_cmd apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
-fi
+"$here/scripts/install_debian_packages.sh" "${packages[@]}"
 
 build="${DYNBLUR_BUILD_DIR:-$here/build}"
 echo "[setup] configuring and building in $build"

@@ -1,5 +1,5 @@
-// The speed targets (docs/performance.md): the frame-rate setting the benchmarks time, and the reference,
-// Richardson–Lucy written plainly with cv::filter2D.
+// The speed targets (docs/performance.md): the frame the frame-rate benchmarks restore, the frame-rate
+// setting they time, and the reference, Richardson–Lucy written plainly with cv::filter2D.
 #ifndef DYNBLUR_PERF_BASELINE_HPP
 #define DYNBLUR_PERF_BASELINE_HPP
 
@@ -7,6 +7,34 @@
 #include <opencv2/imgproc.hpp>
 
 namespace dynblur_perf {
+
+/* The frame-rate benchmarks' move and camera: a C270-sized camera (1280x960) on the speed targets'
+   plant, a robust 10° saccade, and a rolling shutter that puts the exposure in window III. */
+struct SaccadeScene
+{
+    cv::Ptr<cv::dynblur::Plant> plant = cv::dynblur::Plant::create(14.4, 0.12, CV_PI / 180);
+    cv::Ptr<cv::dynblur::CameraModel> camera = cv::dynblur::CameraModel::create(1230, 1230, 639.5, 479.5, 1280, 960);
+    cv::dynblur::SwitchSchedule schedule =
+        cv::dynblur::SwitchPlanner::create(plant, 16, cv::dynblur::PLAN_ROBUST)->plan(0.0, 10 * CV_PI / 180, 0.0);
+    cv::dynblur::RollingShutter shutter{0.012, 0.008, 1.0 / 30 / 960, 960};
+};
+
+//! SaccadeScene's blurred frame, rendered once (rendering is the costly part).
+struct SaccadeFrame : SaccadeScene
+{
+    cv::Mat frame, frame8;  // linear float, and as a webcam delivers it: 8-bit sRGB
+
+    SaccadeFrame()
+    {
+        // A textured linear-intensity scene.
+        cv::Mat sharp(960, 1280, CV_32FC3), blurred;
+        cv::randu(sharp, 0.05f, 0.95f);
+        cv::GaussianBlur(sharp, sharp, cv::Size(0, 0), 1.5);
+        cv::dynblur::renderBlurred(sharp, plant, schedule, camera, shutter, blurred);
+        cv::dynblur::addSensorNoise(blurred, frame);
+        cv::dynblur::linearToSrgb(frame, frame8, CV_8U);
+    }
+};
 
 /* The frame-rate setting (its quality is DeblurQuality's to check): row bands, `iterations` on the
    luminance, 3 on the colour planes of the frame halved (with 3 or fewer iterations every one is

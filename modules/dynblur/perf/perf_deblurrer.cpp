@@ -15,28 +15,9 @@ using namespace cv;
 using namespace cv::dynblur;
 using dynblur_perf::median;
 using dynblur_perf::medianRatio;
+using dynblur_perf::SaccadeFrame;
 
 namespace {
-
-struct SaccadeFrame
-{
-    Ptr<Plant> plant = Plant::create(14.4, 0.12, CV_PI / 180);
-    Ptr<CameraModel> camera = CameraModel::create(1230, 1230, 639.5, 479.5, 1280, 960);
-    SwitchSchedule schedule = SwitchPlanner::create(plant, 16, PLAN_ROBUST)->plan(0.0, 10 * CV_PI / 180, 0.0);
-    RollingShutter shutter{0.012, 0.008, 1.0 / 30 / 960, 960};
-    Mat frame, frame8;  // linear float, and as a webcam delivers it: 8-bit sRGB
-
-    SaccadeFrame()
-    {
-        // A textured linear-intensity scene; rendering is the costly part, so it happens once.
-        Mat sharp(960, 1280, CV_32FC3), blurred;
-        randu(sharp, 0.05f, 0.95f);
-        GaussianBlur(sharp, sharp, Size(0, 0), 1.5);
-        renderBlurred(sharp, plant, schedule, camera, shutter, blurred);
-        addSensorNoise(blurred, frame);
-        linearToSrgb(frame, frame8, CV_8U);
-    }
-};
 
 const SaccadeFrame& saccadeFrame()
 {

@@ -24,10 +24,9 @@
 #   - x86: every other CV_<ISA> macro defaults to 0 whatever -m flags were given, so -mavx2 -mfma
 #     alone still yields 128-bit SSE2 vectors and a v_fma that is a multiply then an add. The
 #     CV_CPU_COMPILE_* macros would not help either: only the __OPENCV_BUILD branch reads them. So
-#     each build force-includes scripts/arm_check/cv_isa_from_compiler.h, which maps __AVX2__, __FMA__,
+#     each build force-includes modules/dynblur/src/restore/kernels/cv_isa_from_compiler.hpp (the library's per-ISA kernel files include it too), which maps __AVX2__, __FMA__,
 #     __AVX512*__ ... onto CV_AVX2, CV_FMA3, CV_AVX512_SKX ... (and includes <immintrin.h>), the way
-#     OpenCV's build does: then -mavx2 -mfma gives 256-bit and the AVX-512 set 512-bit vectors. The
-#     library's per-ISA kernel files need the same mapping. (The header and the probe below work
+#     OpenCV's build does: then -mavx2 -mfma gives 256-bit and the AVX-512 set 512-bit vectors. (The header and the probe below work
 #     the same under clang++, natively and with --target=aarch64-linux-gnu.)
 # scripts/arm_check/simd_probe.cpp, linked into every test, proves it each time: its build fails
 # unless CV_SIMD_WIDTH is the width the target was built for (16 for NEON and SSE, 32 for AVX2, 64 for

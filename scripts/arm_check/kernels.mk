@@ -4,10 +4,11 @@
 # OUT/flags holds the compile line's flags and is rewritten only when they change, so a changed
 # flag set rebuilds and an unchanged one rebuilds only what its headers (-MMD) say changed.
 HERE := $(dir $(lastword $(MAKEFILE_LIST)))
+KERNELS := $(abspath $(HERE)../../modules/dynblur/src/restore/kernels)
 TESTS := $(wildcard $(SRC)/*.cpp)
 BINS := $(patsubst $(SRC)/%.cpp,$(OUT)/%,$(TESTS))
 CXXFLAGS := -std=c++17 -O3 -DNDEBUG -fno-math-errno -Wall -Wextra $(ISAFLAGS) \
-            -include $(HERE)cv_isa_from_compiler.h -I/usr/include/opencv4 -DDYNBLUR_EXPECT_SIMD_WIDTH=$(EXPECT) -MMD -MP
+            -include $(KERNELS)/cv_isa_from_compiler.hpp -I$(KERNELS)/../.. -I/usr/include/opencv4 -DDYNBLUR_EXPECT_SIMD_WIDTH=$(EXPECT) -MMD -MP
 
 all: $(BINS)
 

@@ -8,7 +8,7 @@ namespace kernels {
 
 const GatherKernels* baselineGatherKernels()
 {
-    static const GatherKernels kernels = baseline::table(CV_SIMD ? "baseline" : "baseline (scalar)");
+    static const GatherKernels kernels = baseline::table();
     return &kernels;
 }
 

@@ -142,7 +142,6 @@ const GatherKernels* avx512Bf16GatherKernels()
         if (!wide || !cpuHasAvx512Bf16())
             return nullptr;
         table = *wide;
-        table.name = "avx512bf16";
         table.packedPair = gatherPackedPairBf16;
         return &table;
     }();

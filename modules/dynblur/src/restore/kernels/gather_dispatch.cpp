@@ -15,7 +15,7 @@ namespace {
 const GatherKernels* referenceGatherKernels()
 {
     static const GatherKernels kernels{
-        "reference", reference::gatherRow, reference::gatherPair, reference::gatherPackedPair,
+        reference::gatherRow, reference::gatherPair, reference::gatherPackedPair,
         [](const float* sums, const GatherFold& fold, int begin, int end, float* out) {
             foldColumns(sums, fold, begin, end, out);
         }};

@@ -16,7 +16,6 @@ namespace kernels {
 //! One instruction set's kernels (gather_reference.hpp says what each computes).
 struct GatherKernels
 {
-    const char* name;
     //! out[x] = Σ_t w_t · source(row_t, x + col_t) for x in [begin, end); every read inside.
     void (*row)(float* out, const float* source, size_t sourceStep, const Tap* taps, int tapCount, int begin,
                 int end);

@@ -244,9 +244,9 @@ inline void foldRow(const float* sums, const GatherFold& fold, int begin, int en
 #endif
 
 //! This build's table.
-inline GatherKernels table(const char* name)
+inline GatherKernels table()
 {
-    return GatherKernels{name, gatherRow, gatherPair, gatherPackedPair, foldRow};
+    return GatherKernels{gatherRow, gatherPair, gatherPackedPair, foldRow};
 }
 
 }  // namespace DYNBLUR_KERNELS_ISA

@@ -1,5 +1,6 @@
-/* Force-included (-include) by scripts/arm_check.sh into every kernel test it builds, before any
-   OpenCV header. Outside OpenCV's own build (__OPENCV_BUILD undefined), opencv2/core/cv_cpu_dispatch.h
+/* Included before any OpenCV header by the library's per-instruction-set kernel files
+   (gather_avx2.cpp, gather_avx512.cpp) and force-included (-include) by scripts/arm_check.sh into
+   every kernel test it builds. Outside OpenCV's own build (__OPENCV_BUILD undefined), opencv2/core/cv_cpu_dispatch.h
    sets only CV_SSE2 (from __SSE2__), CV_NEON (from __ARM_NEON on AArch64) and CV_FP16 (from
    __F16C__); every other CV_<ISA> macro defaults to 0 whatever -m flags the compiler got. So -mavx2
    alone still gives 128-bit SSE universal intrinsics, v_fma stays a multiply then an add without
@@ -9,8 +10,8 @@
    compiled with -mavx512f/bw/vl/dq/cd gets v_float32x16. AArch64 needs nothing from here: NEON is
    part of the base ISA, GCC defines __ARM_NEON, and OpenCV's compatibility branch turns that into
    CV_NEON (CV_SIMD128, 4 float lanes). */
-#ifndef DYNBLUR_CV_ISA_FROM_COMPILER_H
-#define DYNBLUR_CV_ISA_FROM_COMPILER_H
+#ifndef OPENCV_DYNBLUR_RESTORE_KERNELS_CV_ISA_FROM_COMPILER_HPP
+#define OPENCV_DYNBLUR_RESTORE_KERNELS_CV_ISA_FROM_COMPILER_HPP
 
 #if defined(__x86_64__) || defined(__i386__)
 #  if defined(__AVX__)

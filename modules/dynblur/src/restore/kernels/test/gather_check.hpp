@@ -1,0 +1,131 @@
+/* Every gather kernel of one table held to its plain C++ reference (gather_reference.hpp) on random
+   taps and sources: each column width from 1 to 3 blocks of the widest vectors (every block size
+   and tail), each way of folding (written, added, weighted, split mid-vector). Float kernels agree to
+   1e-6 of a bound of what a column sums; so do the packed ones, whose products of bfloat16s are exact in
+   float. Shared by tests/test_gather_kernels.cpp (every instruction set this CPU runs, through the
+   library's dispatch) and gather_kernels_check.cpp (the header-only build scripts/arm_check.sh makes
+   for AArch64 and for each x86 instruction set). */
+#ifndef OPENCV_DYNBLUR_RESTORE_KERNELS_TEST_GATHER_CHECK_HPP
+#define OPENCV_DYNBLUR_RESTORE_KERNELS_TEST_GATHER_CHECK_HPP
+
+#include "restore/kernels/gather_kernels.hpp"
+#include "restore/kernels/gather_reference.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+namespace cv {
+namespace dynblur {
+namespace kernels {
+namespace check {
+
+struct Case
+{
+    int width, taps, foldKind;  // foldKind: 0 writes, 1 adds, 2 weighted, 3 split unweighted, 4 split weighted
+};
+
+//! The largest |got − want| / scale over columns [begin, end).
+inline double worstError(const std::vector<float>& got, const std::vector<float>& want, double scale, int begin,
+                         int end)
+{
+    double worst = 0;
+    for (int x = begin; x < end; x++)
+        worst = std::max(worst, std::fabs(double(got[size_t(x)]) - double(want[size_t(x)])) / scale);
+    return worst;
+}
+
+/* Runs `k` against the reference over many cases; prints each kernel's worst relative error and
+   returns whether all are within `tolerance`. */
+inline bool checkGatherKernels(const GatherKernels& k, const char* label, double tolerance = 1e-6)
+{
+    std::mt19937 random(20261202u);
+    std::uniform_real_distribution<float> unit(0.f, 1.f);
+    constexpr int kSourceRows = 24, kMargin = 40, kBegin = 3;
+    double worstRow = 0, worstPair = 0, worstPacked = 0, worstFold = 0;
+    for (int width = 1; width <= 200; width += (width < 70 ? 1 : 7))
+        for (int foldKind = 0; foldKind < 5; foldKind++)
+        {
+            const int taps = 1 + int(random() % 40), end = kBegin + width;
+            const size_t step = size_t(end + 2 * kMargin);
+            std::vector<float> source(step * kSourceRows), weight(static_cast<size_t>(end));
+            std::vector<uint32_t> packed(step * kSourceRows);
+            for (float& v : source)
+                v = unit(random);
+            for (uint32_t& v : packed)
+                v = roundToBfloat16(unit(random)) | (roundToBfloat16(unit(random)) << 16);
+            for (float& v : weight)
+                v = unit(random);
+            std::vector<Tap> rowTaps;
+            std::vector<PairTap> pairTaps;
+            std::vector<PackedTap> packedTaps;
+            for (int t = 0; t < taps; t++)
+            {
+                const int row = int(random() % kSourceRows), col = kMargin - 20 + int(random() % 41);
+                const float w0 = unit(random) - 0.25f, w1 = unit(random) - 0.25f;  // some negative, as a user's may be
+                rowTaps.push_back({row, col, w0});
+                pairTaps.push_back({row, col, {w0, w1}});
+                packedTaps.push_back({row, col, {roundToBfloat16(w0) | (roundToBfloat16(w1) << 16),
+                                                 roundToBfloat16(w1) | (roundToBfloat16(w0) << 16)}});
+            }
+            GatherFold fold;
+            if (foldKind == 1 || foldKind == 3)
+                fold.split = foldKind == 1 ? end : kBegin + width / 2;
+            if (foldKind == 2 || foldKind == 4)
+            {
+                fold.weight = weight.data();
+                fold.split = foldKind == 2 ? end : kBegin + width / 3;
+            }
+            /* The errors are taken relative to a bound of what a column sums: sources and folded
+               values lie in [0, 1], a packed element holds two, and a fold adds at most 1. */
+            double scale = 1;
+            for (const PairTap& t : pairTaps)
+                scale += 2 * (std::fabs(double(t.weight[0])) + std::fabs(double(t.weight[1])));
+            std::vector<float> start(static_cast<size_t>(end));
+            for (float& v : start)
+                v = unit(random);
+            std::vector<float> a0 = start, a1 = start, b0 = start, b1 = start;
+
+            k.row(a0.data(), source.data(), step, rowTaps.data(), taps, kBegin, end);
+            reference::gatherRow(b0.data(), source.data(), step, rowTaps.data(), taps, kBegin, end);
+            worstRow = std::max(worstRow, worstError(a0, b0, scale, kBegin, end));
+
+            a0 = a1 = b0 = b1 = start;
+            k.pair(a0.data(), a1.data(), source.data(), step, pairTaps.data(), taps, kBegin, end, fold);
+            reference::gatherPair(b0.data(), b1.data(), source.data(), step, pairTaps.data(), taps, kBegin, end, fold);
+            worstPair = std::max({worstPair, worstError(a0, b0, scale, kBegin, end), worstError(a1, b1, scale, kBegin, end)});
+
+            a0 = a1 = b0 = b1 = start;
+            k.packedPair(a0.data(), a1.data(), packed.data(), step, packedTaps.data(), taps, kBegin, end, fold);
+            reference::gatherPackedPair(b0.data(), b1.data(), packed.data(), step, packedTaps.data(), taps, kBegin, end,
+                                        fold);
+            worstPacked =
+                std::max({worstPacked, worstError(a0, b0, scale, kBegin, end), worstError(a1, b1, scale, kBegin, end)});
+
+            a0 = b0 = start;
+            k.fold(source.data(), fold, kBegin, end, a0.data());
+            foldColumns(source.data(), fold, kBegin, end, b0.data());
+            worstFold = std::max(worstFold, worstError(a0, b0, scale, kBegin, end));
+        }
+    bool ok = true;
+    const auto report = [&](const char* kernel, double error) {
+        const bool within = error <= tolerance;
+        std::printf("[gather kernels] %-12s %-11s worst relative error %.3g (tolerance %.0e): %s\n", label, kernel, error,
+                    tolerance, within ? "ok" : "MISMATCH");
+        ok = ok && within;
+    };
+    report("row", worstRow);
+    report("pair", worstPair);
+    report("packed pair", worstPacked);
+    report("fold", worstFold);
+    return ok;
+}
+
+}  // namespace check
+}  // namespace kernels
+}  // namespace dynblur
+}  // namespace cv
+
+#endif

@@ -3,6 +3,7 @@
 #define OPENCV_DYNBLUR_DECONV_RL_HPP
 
 #include "restore/deconv_operator.hpp"
+#include "restore/rl_rows.hpp"
 
 #include <vector>
 
@@ -31,6 +32,9 @@ struct ImageLevel
 {
     double mean = 0, peak = 0;
 };
+
+//! The level of an image from per-row (or per-row-and-channel) sums and peaks, added in order over `count` values.
+ImageLevel foldLevel(const std::vector<double>& sums, const std::vector<double>& peaks, double count);
 
 //! A frame as the restoration reads it: see observeFrame.
 struct ObservedFrame
@@ -118,18 +122,6 @@ inline float luminanceChanged(float value, bool lit, float gain, float after, fl
 {
     return std::min(std::max(lit ? value * gain : value + after - before, 0.f), upper);
 }
-
-//! out[x] = the mean of the `channels` interleaved values of pixel x (constant strides, as channelRow).
-void channelMeanRow(const float* interleaved, int channels, int n, float* out);
-
-//! p[x] = min(max(p[x], 0), 1) for x in [0, n): an image in [0, 1] from a restoration that overshoots.
-void clampRowToUnit(float* p, int n);
-
-//! out[x] = interleaved[x · channels + channel] for x in [0, n).
-void channelRow(const float* interleaved, int channels, int channel, int n, float* out);
-
-//! out[x · channels + c] = planes[c][x] for x in [0, n): channelRow's inverse.
-void interleaveRow(const float* const* planes, int channels, int n, float* out);
 
 /** True when every element of `image` (CV_32F, any channels) is finite; then `low` and `high`
 receive the smallest and the largest. Rows in parallel. */

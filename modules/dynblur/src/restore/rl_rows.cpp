@@ -1,0 +1,442 @@
+#include "restore/rl_rows.hpp"
+
+#include "restore/deconv_rl.hpp"
+#include "restore/row_arithmetic.hpp"
+#include "restore/simd_clones.hpp"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace cv {
+namespace dynblur {
+namespace detail {
+
+/* ratio = b / (A x) over one row, damped as MATLAB's deconvlucy does (White 1994): where the
+   Poisson deviance between b and A x is within the damping threshold, the ratio is pulled to 1
+   (no update). The deviance is halfPoissonDeviance's log-free form: the exact one's log made this
+   loop 58 instructions per 16 pixels, and the frame-rate frame took 0.90–0.93 of the time without
+   it (DeblurQuality's figures moved by at most 0.01 dB). Intensities are taken times `scale`
+   (1 / the image's level), so the epsilon and the deviance mean the same at any exposure and
+   nothing under- or overflows. `invThreshold` is 2 / (damping² · scale). Branch-free, so it
+   vectorises. */
+DYNBLUR_SIMD_CLONES
+void ratioRow(const float* __restrict b, const float* __restrict ab, float* __restrict r, int n, float scale,
+              float invThreshold)
+{
+    if (invThreshold == 0.f)
+    {
+        for (int x = 0; x < n; x++)
+            r[x] = ab[x] > 0.f ? b[x] * scale / (ab[x] * scale + kRatioEpsilon) : 0.f;
+        return;
+    }
+    for (int x = 0; x < n; x++)
+    {
+        /* Every value is computed and then selected: a conditional division keeps the loop
+           scalar. A x ≥ 0, so the quotient and the deviance are finite. */
+        const float bs = b[x] * scale, abs = ab[x] * scale;
+        const float quotient = bs / (abs + kRatioEpsilon);
+        const bool both = (b[x] > 0.f) & (ab[x] > 0.f);
+        float g = halfPoissonDeviance(bs, abs) * invThreshold;
+        g = std::min(std::max(g, 0.f), 1.f);
+        const float g2 = g * g, g4 = g2 * g2, g8 = g4 * g4;
+        const float G = g8 * g * (10.f - 9.f * g);  // g^9 (10 − 9 g): 0 within the noise, 1 beyond
+        r[x] = both ? 1.f + G * (quotient - 1.f) : ab[x] > 0.f ? quotient : 0.f;
+    }
+}
+
+
+
+/* x_{k+1} = y ⊙ correction / (norm − λ curvature) over one row, kept within [0, upper]; with
+   `correctionExcess`, `correction` holds correction − norm. With `norm` null the normaliser is
+   `rowNorm` all along the row (kRowNorm): a row-wise bank's Aᵀ1 usually is, and not streaming it
+   leaves the update's loads in the caches (3 % of a frame). Pixels whose normaliser is
+   ≤ kUnobserved keep y. `tv` may be null (no curvature). `out` may be `y` (each element is read
+   before it is written); with `out` null, only tv->ny is computed (the row just above a band).
+   With `step`, the data term's step g = y ⊙ (correction / norm − 1) meets the last one, stored
+   there as bfloat16 (a float's upper half, truncated: it only feeds the extrapolation's two dot
+   products, whose ratio a 2^-8 relative error per element hardly moves, and half the bytes is half
+   that plane's traffic): Σ g·g_old and Σ g_old² (times scale², which keeps the products from
+   under- or overflowing) go to `sums`, and g replaces g_old. The extrapolation follows the data
+   term's step only: TV's curvature term flips sign from one iteration to the next on noise, which
+   would make successive steps look uncorrelated and switch acceleration off.
+   One pass with every term in registers, sixteen lanes in vector types (GCC would vectorise
+   neither the float sums nor the bfloat16 conversions well; nx[x − 1] is the lanes' nx shifted by
+   one), the last columns through padded copies. kWhole: `tv`, `out` and `step` are all given (the
+   accelerated, regularised case), which lets the loop drop its tests of null rows: GCC leaves them
+   in, one per block, and they cost 2–3 % of a frame. */
+template <bool kWhole, bool kRowNorm>
+__attribute__((always_inline)) inline void updateRowTerms(const float* y, const float* __restrict correction,
+                                                          bool correctionExcess, const float* __restrict norm,
+                                                          float rowNorm, const RowTv* tv, float tvWeight, float upper,
+                                                          int n, float* out, uint16_t* __restrict step, float scale,
+                                                          UpdateSums& sums)
+{
+    constexpr int kLanes = 16;
+    const bool hasTv = kWhole || tv;
+    typedef float v16 __attribute__((vector_size(64), aligned(4)));  // aligned(4): unaligned loads allowed
+    typedef int32_t v16i __attribute__((vector_size(64)));
+    typedef uint32_t v16u __attribute__((vector_size(64), aligned(4)));
+    typedef uint16_t v16h __attribute__((vector_size(32), aligned(2)));
+    const v16 zero = {}, ceiling = zero + upper, constantNorm = zero + rowNorm;
+    v16 stepDot = {}, stepBeforeSq = {}, nxLeft = {};
+    /* Lanes x … x + 15 of every row, from the row or (the last ones) from padded copies; yRight is
+       y one column on. Ifs, not ?: between vectors on a scalar condition, which GCC takes lane by
+       lane (it made the update twice as slow). */
+    const auto lanes = [&](const float* yAt, const float* yRightAt, const float* belowAt, const float* nyAboveAt,
+                           float* nyAt, const float* correctionAt, const float* normAt, float* outAt,
+                           uint16_t* stepAt) {
+        const v16 yv = *(const v16*)yAt;
+        v16 curvature = zero;
+        if (hasTv)
+        {
+            // Null yRightAt: the row's last sixteen columns, the last one with no gradient across the edge.
+            const v16 yRight = yRightAt ? *(const v16*)yRightAt
+                                        : __builtin_shufflevector(yv, yv, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13,
+                                                                  14, 15, 15);
+            const v16 gx = (yRight - yv) * tv->scale;
+            v16 gy = zero;
+            if (belowAt)
+                gy = (*(const v16*)belowAt - yv) * tv->scale;
+            /* 1 / |∇y| to 5e-6 relative (TV needs no more): the exponent-halving first guess and
+               two Newton steps, a few multiplies where a square root and a division each take
+               longer than the whole. */
+            const v16 q = gx * gx + gy * gy + tv->eps2, half = 0.5f * q;
+            v16 inv = (v16)(0x5f375a86 - ((v16i)q >> 1));
+            inv *= 1.5f - half * inv * inv;
+            inv *= 1.5f - half * inv * inv;
+            const v16 nx = gx * inv, ny = gy * inv;
+            *(v16*)nyAt = ny;
+            if (!kWhole && !outAt)
+                return;  // the row above a band: its ny is all the walk needs
+            curvature = nx - __builtin_shufflevector(nxLeft, nx, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27,
+                                                     28, 29, 30) +
+                        ny - *(const v16*)nyAboveAt;
+            nxLeft = nx;
+        }
+        const v16 nv = kRowNorm ? constantNorm : *(const v16*)normAt;
+        v16 cv = *(const v16*)correctionAt;
+        if (correctionExcess)
+            cv += nv;
+        v16 den = nv;
+        if (hasTv)
+            den -= tvWeight * curvature;
+        const v16 floor = 0.1f * nv;  // keeps a large λ from flipping the sign
+        den = den > floor ? den : floor;
+        const v16i seen = nv > kUnobserved;
+        v16 x = yv * cv / den;
+        x = x > zero ? x : zero;
+        x = x < ceiling ? x : ceiling;
+        *(v16*)outAt = seen ? x : yv;
+        if (kWhole || stepAt)
+        {
+            const v16 g = seen ? yv * (cv / nv - 1.f) : zero;
+            const v16 before = (v16)(__builtin_convertvector(*(const v16h*)stepAt, v16u) << 16) * scale;
+            const v16 now = g * scale;
+            stepDot += now * before;
+            stepBeforeSq += before * before;
+            *(v16h*)stepAt = __builtin_convertvector((v16u)g >> 16, v16h);
+        }
+    };
+    const auto at = [](auto* row, int x) { return row ? row + x : nullptr; };
+    const auto given = [&](auto* row, int x) { return kWhole ? row + x : at(row, x); };  // non-null when kWhole
+    int x = 0;
+    for (; x + kLanes <= n; x += kLanes)
+        lanes(y + x, x + kLanes < n ? y + x + 1 : nullptr, hasTv ? at(tv->below, x) : nullptr,
+              hasTv ? given(tv->nyAbove, x) : nullptr, hasTv ? tv->ny + x : nullptr, at(correction, x), at(norm, x),
+              given(out, x), given(step, x));
+
+    if (x < n)
+    {
+        /* The last 1 to 15 columns. Padding: y = 0 and a last step of 0 leave the sums alone, a
+           normaliser of 1 the division finite; the last column's yRight is its y (no gradient
+           across the edge). */
+        const int rest = n - x;
+        enum { Y, YRight, Below, NyAbove, Ny, Correction, Norm, Out, Rows };
+        float padded[Rows][kLanes] = {};
+        uint16_t stepTail[kLanes] = {};
+        const auto copy = [&](const float* from, int row) {
+            if (from)
+                std::copy(from + x, from + n, padded[row]);
+        };
+        std::fill(padded[Norm], padded[Norm] + kLanes, 1.f);
+        copy(y, Y);
+        std::copy(y + x + 1, y + n, padded[YRight]);
+        padded[YRight][rest - 1] = y[n - 1];
+        copy(correction, Correction);
+        copy(norm, Norm);
+        if (tv)
+        {
+            copy(tv->below, Below);
+            copy(tv->nyAbove, NyAbove);
+        }
+        if (step)
+            std::copy(step + x, step + n, stepTail);
+        lanes(padded[Y], padded[YRight], tv && tv->below ? padded[Below] : nullptr, padded[NyAbove], padded[Ny],
+              padded[Correction], padded[Norm], out ? padded[Out] : nullptr, step ? stepTail : nullptr);
+        if (tv)
+            std::copy(padded[Ny], padded[Ny] + rest, tv->ny + x);
+        if (out)
+            std::copy(padded[Out], padded[Out] + rest, out + x);
+        if (step)
+            std::copy(stepTail, stepTail + rest, step + x);
+    }
+    for (int k = 0; k < kLanes; k++)
+    {
+        sums.stepDot += stepDot[k];
+        sums.stepBeforeSq += stepBeforeSq[k];
+    }
+}
+
+//! updateRowTerms, its loop built for the whole case when every term is given, and for each kind of normaliser.
+DYNBLUR_SIMD_CLONES
+void updateRow(const float* y, const float* __restrict correction, bool correctionExcess, const float* __restrict norm,
+               float rowNorm, const RowTv* tv, float tvWeight, float upper, int n, float* out,
+               uint16_t* __restrict step, float scale, UpdateSums& sums)
+{
+    const bool whole = tv && out && step;
+    if (whole && !norm)
+        updateRowTerms<true, true>(y, correction, correctionExcess, norm, rowNorm, tv, tvWeight, upper, n, out, step,
+                                   scale, sums);
+    else if (whole)
+        updateRowTerms<true, false>(y, correction, correctionExcess, norm, rowNorm, tv, tvWeight, upper, n, out, step,
+                                    scale, sums);
+    else if (!norm)
+        updateRowTerms<false, true>(y, correction, correctionExcess, norm, rowNorm, tv, tvWeight, upper, n, out, step,
+                                    scale, sums);
+    else
+        updateRowTerms<false, false>(y, correction, correctionExcess, norm, rowNorm, tv, tvWeight, upper, n, out, step,
+                                     scale, sums);
+}
+
+/* The value of a row whose elements are all equal, NaN otherwise. Blocks of 64 columns compared
+   whole (that loop vectorises), so a row that varies early is left early. */
+DYNBLUR_SIMD_CLONES
+float constantValue(const float* p, int n)
+{
+    constexpr int kBlock = 64;
+    const float first = p[0];
+    for (int x0 = 0; x0 < n; x0 += kBlock)
+    {
+        int differs = 0;
+        for (int x = x0; x < std::min(x0 + kBlock, n); x++)
+            differs |= p[x] != first;
+        if (differs)
+            return std::numeric_limits<float>::quiet_NaN();
+    }
+    return first;
+}
+
+//! y = max(x + a (x − y), 0) over one row: x_{k−1} in, the extrapolated y_k out (RL needs y ≥ 0).
+DYNBLUR_SIMD_CLONES
+void extrapolateRow(const float* __restrict x, float a, int n, float* __restrict y)
+{
+    for (int i = 0; i < n; i++)
+        y[i] = std::max(x[i] + a * (x[i] - y[i]), 0.f);
+}
+
+//! Σ p[x] (in eight-lane float sums) and max p[x] over a row.
+DYNBLUR_SIMD_CLONES
+double rowSumAndPeak(const float* p, int n, double& peak)
+{
+    typedef float v8 __attribute__((vector_size(32), aligned(4)));
+    v8 s = {}, m = v8{} - FLT_MAX;
+    int x = 0;
+    for (; x + 8 <= n; x += 8)
+    {
+        const v8 v = *(const v8*)(p + x);
+        s += v;
+        m = v > m ? v : m;
+    }
+    double total = 0;
+    float largest = -FLT_MAX;
+    for (int k = 0; k < 8; k++)
+    {
+        total += s[k];
+        largest = std::max(largest, m[k]);
+    }
+    for (; x < n; x++)
+    {
+        total += p[x];
+        largest = std::max(largest, p[x]);
+    }
+    peak = largest;
+    return total;
+}
+
+/* Σ |mask * image| over one row of Immerkær's 3×3 mask, `channels` interleaved: eight float
+   lanes, in the form GCC vectorises (a single float sum is a reduction it must keep in order). */
+DYNBLUR_SIMD_CLONES
+float noiseMaskSumRow(const float* __restrict a, const float* __restrict m, const float* __restrict b, int width,
+                      int channels)
+{
+    const int c = channels, r = 2 * channels;  // centre and right of a pixel, from its left
+    auto term = [&](int i) {
+        return std::abs(a[i] - 2 * a[i + c] + a[i + r] - 2 * (m[i] - 2 * m[i + c] + m[i + r]) + b[i] - 2 * b[i + c] +
+                        b[i + r]);
+    };
+    float lanes[8] = {};
+    int i = 0;
+    for (; i + 8 <= width; i += 8)
+        for (int k = 0; k < 8; k++)
+            lanes[k] += term(i + k);
+    for (; i < width; i++)
+        lanes[0] += term(i);
+    float sum = 0.f;
+    for (int k = 0; k < 8; k++)
+        sum += lanes[k];
+    return sum;
+}
+
+//! p[x] = p[x] · factor.
+DYNBLUR_SIMD_CLONES
+void scaleRow(float* __restrict p, float factor, int n)
+{
+    for (int x = 0; x < n; x++)
+        p[x] *= factor;
+}
+
+//! One plane's row takes the luminance's change from `before` to `restored` (luminanceChanged).
+DYNBLUR_SIMD_CLONES
+void applyLuminanceRow(const float* __restrict restored, const float* __restrict before, float black, float upper,
+                       int n, const float* __restrict plane, float* __restrict out)
+{
+    for (int x = 0; x < n; x++)
+    {
+        const bool lit = before[x] > black;
+        const float gain = restored[x] / (lit ? before[x] : 1.f);  // the divisor made safe
+        out[x] = luminanceChanged(plane[x], lit, gain, restored[x], before[x], upper);
+    }
+}
+
+/* out[x] = the mean of the planes' rows (the sum in plane order, then times 1 / planes): the
+   luminance phase's start, and the same value again when the planes take its change. */
+void meanRow(const std::vector<Mat>& planes, int y, int x0, int n, float* out)
+{
+    std::fill(out, out + n, 0.f);
+    for (const Mat& p : planes)
+        addRow(p.ptr<float>(y) + x0, n, out);
+    scaleRow(out, 1.f / float(planes.size()), n);
+}
+
+DYNBLUR_SIMD_CLONES
+void channelMeanRow(const float* __restrict interleaved, int channels, int n, float* __restrict out)
+{
+    switch (channels)
+    {
+    case 3:
+        for (int x = 0; x < n; x++)
+            out[x] = (interleaved[3 * x] + interleaved[3 * x + 1] + interleaved[3 * x + 2]) * (1.f / 3.f);
+        return;
+    case 4:
+        for (int x = 0; x < n; x++)
+            out[x] = (interleaved[4 * x] + interleaved[4 * x + 1] + interleaved[4 * x + 2] + interleaved[4 * x + 3]) *
+                     0.25f;
+        return;
+    default:
+        for (int x = 0; x < n; x++)
+        {
+            float s = 0.f;
+            for (int c = 0; c < channels; c++)
+                s += interleaved[x * channels + c];
+            out[x] = s / float(channels);
+        }
+    }
+}
+
+/* The strides a frame has are spelled out: with a constant stride the compiler loads whole vectors
+   and shuffles, where a variable one reads float by float. */
+DYNBLUR_SIMD_CLONES
+void channelRow(const float* interleaved, int channels, int channel, int n, float* __restrict out)
+{
+    const float* p = interleaved + channel;
+    switch (channels)
+    {
+    case 1:
+        std::memcpy(out, p, sizeof(float) * size_t(n));
+        return;
+    case 3:
+        for (int x = 0; x < n; x++)
+            out[x] = p[3 * x];
+        return;
+    case 4:
+        for (int x = 0; x < n; x++)
+            out[x] = p[4 * x];
+        return;
+    default:
+        for (int x = 0; x < n; x++)
+            out[x] = p[x * channels];
+    }
+}
+
+DYNBLUR_SIMD_CLONES
+void interleaveRow(const float* const* planes, int channels, int n, float* __restrict out)
+{
+    switch (channels)
+    {
+    case 1:
+        std::memcpy(out, planes[0], sizeof(float) * size_t(n));
+        return;
+    case 3:
+        for (int x = 0; x < n; x++)
+        {
+            out[3 * x] = planes[0][x];
+            out[3 * x + 1] = planes[1][x];
+            out[3 * x + 2] = planes[2][x];
+        }
+        return;
+    default:
+        for (int x = 0; x < n; x++)
+            for (int c = 0; c < channels; c++)
+                out[x * channels + c] = planes[c][x];
+    }
+}
+
+DYNBLUR_SIMD_CLONES
+void clampRowToUnit(float* __restrict p, int n)
+{
+    for (int x = 0; x < n; x++)
+        p[x] = std::min(std::max(p[x], 0.f), 1.f);
+}
+
+/* Whether a row holds only finite values, and its least and largest: a NaN fails every
+   comparison, so v == v catches it, and ±Inf shows in the range. Sixteen lanes of running minima,
+   maxima and flags, in vector types (written per lane, GCC left this loop scalar). */
+DYNBLUR_SIMD_CLONES
+bool finiteRow(const float* p, int n, float& low, float& high)
+{
+    typedef float v16 __attribute__((vector_size(64), aligned(4)));  // aligned(4): unaligned loads allowed
+    typedef int32_t v16i __attribute__((vector_size(64)));
+    v16 lo = v16{} + p[0], hi = lo;
+    v16i number = v16i{} - 1;  // all ones while every value seen in the lane is a number
+    int x = 0;
+    for (; x + 16 <= n; x += 16)
+    {
+        const v16 v = *(const v16*)(p + x);
+        number &= v == v;
+        lo = v < lo ? v : lo;
+        hi = v > hi ? v : hi;
+    }
+    bool numbers = true;
+    low = lo[0];
+    high = hi[0];
+    for (int k = 0; k < 16; k++)
+    {
+        numbers &= number[k] != 0;
+        low = std::min(low, lo[k]);
+        high = std::max(high, hi[k]);
+    }
+    for (; x < n; x++)
+    {
+        numbers &= p[x] == p[x];
+        low = std::min(low, p[x]);
+        high = std::max(high, p[x]);
+    }
+    return numbers && std::isfinite(low) && std::isfinite(high);
+}
+
+}  // namespace detail
+}  // namespace dynblur
+}  // namespace cv

@@ -24,7 +24,7 @@ even number of rows. */
 CV_EXPORTS RollingShutter halfResolutionShutter(const RollingShutter& shutter);
 
 /** @brief The two images the colour and the luminance are restored from, in one pass over the
-frame (reading it twice took 2.3–2.5 ms for a 1280×960 frame, one pass 0.6–0.7 ms): the frame
+frame (reading it twice would cost several times one pass): the frame
 halved as cv::resize with INTER_AREA halves it (each 2×2 block's mean), and the mean of each
 pixel's channels at full size, the luminance; an 8-bit frame is decoded as it is read, as
 srgbToLinear decodes it.

@@ -282,8 +282,8 @@ namespace {
 /* fillFromNearest where every row is wholly valid or wholly invalid (`rowReach` -1 or INT_MAX), as
    a row-wise bank leaves a frame (the rows beyond the motion at one edge): an invalid row's nearest
    valid pixels are straight up or down in the nearest valid row, which the distance transform finds
-   too (its 5×5 mask measures every other path as longer), so that row is copied. The transform
-   took 1.1 ms of a row-wise frame-rate frame for its 71 such rows. Returns false, doing nothing,
+   too (its 5×5 mask measures every other path as longer), so that row is copied, a copy instead of
+   a transform over every such row of a row-wise frame. Returns false, doing nothing,
    for any other mask, or when a row lies as far from a valid row above as below (the transform's
    choice between them is its own) or has none. */
 bool fillWholeRows(Mat& image, const std::vector<int>& rowReach)

@@ -39,8 +39,8 @@ struct PlanPair
 };
 
 /* FFTW's parallel loops, run on OpenCV's thread pool: with FFTW's own threads beside OpenCV's,
-   the two pools took turns on the cores (most of a small transform's time went to context
-   switches: RestorationBounds.RichardsonLucyUniform spent 17 s of 27 in the kernel). Nested in a
+   the two pools take turns on the cores, and a small transform's time goes to context switches
+   (RestorationBounds.RichardsonLucyUniform, many small transforms, shows it). Nested in a
    parallel_for_, OpenCV runs the jobs in the calling thread. */
 void parallelLoop(void* (*work)(char*), char* jobData, size_t jobSize, int jobs, void* /*unused*/)
 {

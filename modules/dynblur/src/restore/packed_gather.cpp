@@ -79,8 +79,8 @@ void buildPacked(const Gather& gather, int outWidth, int sourceWidth,
    2g + h, so Aᵀ's block between latent pair g and frame pair k is the same four weights with o and
    h swapped, read at column adjointColBase − dx. Both gathers list a pair's taps by source pair,
    then by column ascending: a forward block's run (dx ascending) goes in reversed. The adjoint is
-   then the packed forward's to the bit, in the time of a counting sort (transposing the float lists,
-   sorting them and packing them again, or walking a tile column's kernels again, took longer). */
+   then the packed forward's to the bit, in the time of a counting sort, with no float lists to
+   transpose, sort and pack again, and no second walk of a tile column's kernels. */
 void transposePackedGather(const PackedGather& forward, int colBase, int outRows, int adjointColBase,
                            int outWidth, int sourceWidth, PackedGather& adjoint)
 {

@@ -16,9 +16,9 @@ namespace detail {
 
 /* ratio = b / (A x) over one row, damped as MATLAB's deconvlucy does (White 1994): where the
    Poisson deviance between b and A x is within the damping threshold, the ratio is pulled to 1
-   (no update). The deviance is halfPoissonDeviance's log-free form: the exact one's log made this
-   loop 58 instructions per 16 pixels, and the frame-rate frame took 0.90–0.93 of the time without
-   it (DeblurQuality's figures moved by at most 0.01 dB). Intensities are taken times `scale`
+   (no update). The deviance is halfPoissonDeviance's log-free form: a log would make this the
+   longest loop of the iteration, and DeblurQuality's figures do not tell the two apart.
+   Intensities are taken times `scale`
    (1 / the image's level), so the epsilon and the deviance mean the same at any exposure and
    nothing under- or overflows. `invThreshold` is 2 / (damping² · scale). Branch-free, so it
    vectorises. */
@@ -52,7 +52,7 @@ void ratioRow(const float* __restrict b, const float* __restrict ab, float* __re
 /* x_{k+1} = y ⊙ correction / (norm − λ curvature) over one row, kept within [0, upper]; with
    `correctionExcess`, `correction` holds correction − norm. With `norm` null the normaliser is
    `rowNorm` all along the row (kRowNorm): a row-wise bank's Aᵀ1 usually is, and not streaming it
-   leaves the update's loads in the caches (3 % of a frame). Pixels whose normaliser is
+   leaves the update's loads in the caches. Pixels whose normaliser is
    ≤ kUnobserved keep y. `tv` may be null (no curvature). `out` may be `y` (each element is read
    before it is written); with `out` null, only tv->ny is computed (the row just above a band).
    With `step`, the data term's step g = y ⊙ (correction / norm − 1) meets the last one, stored
@@ -65,8 +65,8 @@ void ratioRow(const float* __restrict b, const float* __restrict ab, float* __re
    One pass with every term in registers, sixteen lanes in vector types (GCC would vectorise
    neither the float sums nor the bfloat16 conversions well; nx[x − 1] is the lanes' nx shifted by
    one), the last columns through padded copies. kWhole: `tv`, `out` and `step` are all given (the
-   accelerated, regularised case), which lets the loop drop its tests of null rows: GCC leaves them
-   in, one per block, and they cost 2–3 % of a frame. */
+   accelerated, regularised case), which lets the loop drop its tests of null rows (GCC leaves
+   them in, one per block). */
 template <bool kWhole, bool kRowNorm>
 __attribute__((always_inline)) inline void updateRowTerms(const float* y, const float* __restrict correction,
                                                           bool correctionExcess, const float* __restrict norm,

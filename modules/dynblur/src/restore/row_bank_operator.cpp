@@ -161,9 +161,8 @@ void RowBankOperator::adjointOfOnes(Mat& latent, Mat& ones)
     latent.create(latent_, CV_32FC1);
     const int width = latent_.width;
     /* Columns gathered inside the safe span at each end: enough for a vector of the gather, so the
-       value copied across comes from the same kernel as the full gather's. For a 1280×960 row bank
-       the whole gather took 0.36–0.48 ms (bfloat16) and 0.95–0.99 ms (float), this 0.13–0.19 and
-       0.27 ms. */
+       value copied across comes from the same kernel as the full gather's, at a fraction of the
+       full gather's work on a wide frame. */
     constexpr int kEdge = 16;
     forRowPairs(latent_.height, [&](const Range& rows) {
         const auto gather = [&](const Range& cols) {

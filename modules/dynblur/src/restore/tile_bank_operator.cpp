@@ -24,8 +24,8 @@ constexpr int kTileBlockRows = 8;
 
 /* One node column's kernels, read from the node table where they lie: each node row's taps in
    (dy, dx) order and where each of its dy's taps start. A frame row's kernel blends two node rows'
-   (nodeRowWeights), and the walk reads both: merging them into union kernels first took as long
-   as the walk itself, and wrote and read back a union table of ~1.4 MB per node column. */
+   (nodeRowWeights), and the walk reads both: merging them into union kernels first would cost as
+   much as the walk itself, and write and read back a union table of megabytes per node column. */
 class ColumnKernels
 {
 public:
@@ -133,7 +133,7 @@ size_t totalTaps(const std::vector<RowKernel>& kernels)
 }
 
 /* One node column's gather, walked straight from its node kernels (building per-row float lists
-   first and merging them took most of a tile-wise frame's set-up). Output rows come in pairs
+   first and merging them would be most of a tile-wise frame's set-up). Output rows come in pairs
    (2k, 2k + 1; the last alone when outRows is odd), source rows in groups of `group` (1, or 2 for
    packed pairs). For each pair k, each source group g in order and each column in order,
    term(k, g, col, weight) gets weight[o][h], the weight of source row group·g + h in output row
@@ -314,8 +314,8 @@ void buildFloatColumn(const ColumnKernels& column, const std::vector<RowKernel>&
 
 /* The latent columns (within [0, width)) an adjoint row of a node column gives anything to: those
    whose reads x + col meet the node column's weighted frame, columns [margin, margin +
-   supportWidth) of its copy. The column's reach spans every row's: on the benchmark frame an
-   8-row block's columns took 0.913 of the multiply-adds. */
+   supportWidth) of its copy: a block of rows gathers only the columns its own rows write, fewer
+   than the column's reach over every row. */
 template <typename TapT>
 Range adjointWrites(const TapT* taps, int count, int margin, int supportWidth, int width)
 {

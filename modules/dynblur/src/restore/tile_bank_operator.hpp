@@ -20,8 +20,8 @@ by each node column's weight, kept per node column with zero margins as wide as 
 kernels reach, so every tap reads inside and no read strays into a neighbour column's share; a
 block of latent rows gathers only as far as its own rows' taps reach (a keystone's kernels slant
 more toward the frame's sides, and their shifts move along the column). In the packed RL loop the
-copies are written from each ratio row pair as it is computed (takesPackedPairs): the frame-rate
-tile-wise frame took 0.979–0.987 of the time against weighting a packed ratio plane afterwards.
+copies are written from each ratio row pair as it is computed (takesPackedPairs), while it is in
+cache, instead of from a packed ratio plane written and read back.
 Each node column's gathered rows are folded into the output by the gathers themselves
 (GatherFold). Both directions' tap lists are built once per bank.
 Domains and padding as BankBlurOperator. The bank is trusted (validated by the caller). */

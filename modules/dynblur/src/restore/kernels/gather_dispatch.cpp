@@ -5,6 +5,9 @@
 #include <opencv2/core/utility.hpp>
 
 #include <atomic>
+#include <cstdlib>
+#include <cstring>
+#include <string>
 
 namespace cv {
 namespace dynblur {
@@ -76,12 +79,31 @@ const char* kernelIsaName(KernelIsa isa)
     return isa >= KERNELS_REFERENCE && isa < KERNELS_ISA_COUNT ? names[isa] : "none";
 }
 
+namespace {
+
+/* The CPU's best kernels, or those the environment variable DYNBLUR_KERNELS names (one of
+   kernelIsaName's names): how a whole program, a test run among them, runs on other kernels. */
+const GatherKernels* defaultGatherKernels()
+{
+    const std::vector<KernelIsa> isas = availableKernelIsas();
+    const char* chosen = std::getenv("DYNBLUR_KERNELS");
+    if (!chosen || !*chosen)
+        return gatherKernelsFor(isas.back());
+    std::string allowed;
+    for (KernelIsa isa : isas)
+    {
+        if (std::strcmp(chosen, kernelIsaName(isa)) == 0)
+            return gatherKernelsFor(isa);
+        allowed += std::string(allowed.empty() ? "" : ", ") + kernelIsaName(isa);
+    }
+    CV_Error(Error::StsBadArg, format("DYNBLUR_KERNELS='%s': this build and CPU run %s", chosen, allowed.c_str()));
+}
+
+}  // namespace
+
 const GatherKernels& gatherKernels()
 {
-    static const GatherKernels* const best = [] {
-        const std::vector<KernelIsa> isas = availableKernelIsas();
-        return gatherKernelsFor(isas.back());
-    }();
+    static const GatherKernels* const best = defaultGatherKernels();
     if (!useOptimized())
         return *referenceGatherKernels();
     const int forced = forcedIsa.load(std::memory_order_relaxed);

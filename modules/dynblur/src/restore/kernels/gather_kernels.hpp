@@ -40,7 +40,9 @@ enum KernelIsa
     KERNELS_ISA_COUNT
 };
 
-//! The kernels to run now: the reference ones when !cv::useOptimized(), else forceKernelIsa's or the CPU's best.
+/** The kernels to run now: the reference ones when !cv::useOptimized(), else forceKernelIsa's, else
+those the environment variable DYNBLUR_KERNELS names (reference, baseline, avx2, avx512 or
+avx512bf16; one this build and CPU run, or an error that lists them), else the CPU's best. */
 const GatherKernels& gatherKernels();
 
 //! The kernels built for `isa`, or null when this build or this CPU has none.

@@ -28,8 +28,9 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 usage() {
   cat <<'EOF'
-Usage: scripts/compare_revisions.sh [--rounds N] OLD_REV [NEW_REV|worktree]
-Times the frame-rate setting's restoration with the library built at OLD_REV and at NEW_REV (default:
+Usage: scripts/compare_revisions.sh [--rounds N] [--setting frame-rate|default] OLD_REV [NEW_REV|worktree]
+Times the frame-rate setting's restoration (--setting default: the DynamicDeblurrer as created,
+tile-wise float blurs) with the library built at OLD_REV and at NEW_REV (default:
 this working tree, uncommitted changes included), both loaded in one process, in N paired rounds
 (default 20) whose order alternates; prints the median, min and max of the per-round ratio new/old
 and whether the two restored images are bitwise equal. Builds go to build-compare/ and are reused.
@@ -38,11 +39,14 @@ EOF
 }
 
 rounds=20
+setting=frame-rate
 revs=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --rounds) [ $# -ge 2 ] || { usage >&2; exit 2; }; rounds="$2"; shift 2 ;;
     --rounds=*) rounds="${1#--rounds=}"; shift ;;
+    --setting) [ $# -ge 2 ] || { usage >&2; exit 2; }; setting="$2"; shift 2 ;;
+    --setting=*) setting="${1#--setting=}"; shift ;;
     -h|--help) usage; exit 0 ;;
     -*) echo "compare_revisions: unknown option $1" >&2; usage >&2; exit 2 ;;
     *) revs+=("$1"); shift ;;
@@ -53,6 +57,10 @@ if [ ${#revs[@]} -lt 1 ] || [ ${#revs[@]} -gt 2 ]; then
   exit 2
 fi
 [ ${#revs[@]} -eq 1 ] && revs+=(worktree)
+case "$setting" in
+  frame-rate|default) ;;
+  *) echo "compare_revisions: --setting must be frame-rate or default, not '$setting'" >&2; exit 2 ;;
+esac
 
 # patchelf gives the library copies their own sonames; the rest comes with scripts/setup.sh.
 packages=(patchelf build-essential cmake ninja-build libopencv-dev libbenchmark-dev)
@@ -106,4 +114,4 @@ done
 "${cxx[@]}" "$here/modules/dynblur/perf/compare_revisions/driver.cpp" -o "$run/compare_revisions_driver" -ldl -lbenchmark
 
 echo "[compare] ${revs[0]} (old) vs ${revs[1]} (new), $rounds rounds"
-"$run/compare_revisions_driver" "$run/shim_old.so" "$run/shim_new.so" "$rounds"
+"$run/compare_revisions_driver" "$run/shim_old.so" "$run/shim_new.so" "$rounds" "$setting"

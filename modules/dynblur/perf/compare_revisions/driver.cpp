@@ -37,7 +37,7 @@ struct Shim
     const char* (*revision)() = nullptr;
     const char* (*library)(const void** base) = nullptr;
     int (*renderFrame)(float* out, int rows, int cols) = nullptr;
-    void* (*setup)(const float* frame, int rows, int cols) = nullptr;
+    void* (*setup)(const float* frame, int rows, int cols, int frameRate) = nullptr;
     void (*run)(void* handle) = nullptr;
     const void* (*result)(void* handle, size_t* bytes, int* type) = nullptr;
     void (*teardown)(void* handle) = nullptr;
@@ -86,11 +86,12 @@ double timeRun(const Shim& s)
 
 int main(int argc, char** argv)
 {
-    if (argc != 4)
+    if (argc != 5 || (std::strcmp(argv[4], "frame-rate") != 0 && std::strcmp(argv[4], "default") != 0))
     {
-        std::fprintf(stderr, "usage: %s OLD_SHIM.so NEW_SHIM.so ROUNDS\n", argv[0]);
+        std::fprintf(stderr, "usage: %s OLD_SHIM.so NEW_SHIM.so ROUNDS frame-rate|default\n", argv[0]);
         return 2;
     }
+    const bool frameRate = std::strcmp(argv[4], "frame-rate") == 0;
     const int rounds = std::atoi(argv[3]);
     if (rounds < 1)
     {
@@ -122,7 +123,7 @@ int main(int argc, char** argv)
         return 2;
     }
     for (Shim& s : sides)
-        s.handle = s.setup(frame.data(), rows, cols);  // each restores once to warm up
+        s.handle = s.setup(frame.data(), rows, cols, frameRate ? 1 : 0);  // each restores once to warm up
 
     std::vector<double> ms[2];
     for (int r = 0; r < rounds; r++)
@@ -134,7 +135,7 @@ int main(int argc, char** argv)
     std::vector<double> ratio;
     for (int r = 0; r < rounds; r++)
         ratio.push_back(ms[1][size_t(r)] / ms[0][size_t(r)]);
-    std::printf("%d paired rounds (order alternating), frame-rate setting, %dx%d RGB float frame:\n", rounds, cols,
+    std::printf("%d paired rounds (order alternating), %s setting, %dx%d RGB float frame:\n", rounds, argv[4], cols,
                 rows);
     std::printf("  old median %.1f ms, new median %.1f ms\n", dynblur_perf::median(ms[0]), dynblur_perf::median(ms[1]));
     std::printf("  new/old per round: median %.3f, min %.3f, max %.3f\n", dynblur_perf::median(ratio),

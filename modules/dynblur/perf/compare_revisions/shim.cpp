@@ -60,13 +60,15 @@ int compare_render_frame(float* out, int rows, int cols)
     return 0;
 }
 
-//! A DynamicDeblurrer in the frame-rate setting, restoring `frame` (copied) once to warm up.
-void* compare_setup(const float* frame, int rows, int cols)
+/* A DynamicDeblurrer in the frame-rate setting (`frameRate` non-zero) or as created (the default:
+   tile-wise float blurs, 20 iterations), restoring `frame` (copied) once to warm up. */
+void* compare_setup(const float* frame, int rows, int cols, int frameRate)
 {
     Side* side = new Side;
     side->frame = cv::Mat(rows, cols, CV_32FC3, const_cast<float*>(frame)).clone();
     side->deblurrer = cv::dynblur::DynamicDeblurrer::create(side->scene.plant, side->scene.camera);
-    dynblur_perf::setFrameRate(*side->deblurrer);
+    if (frameRate)
+        dynblur_perf::setFrameRate(*side->deblurrer);
     side->deblurrer->deblur(side->frame, side->scene.schedule, side->scene.shutter, side->restored);
     return side;
 }

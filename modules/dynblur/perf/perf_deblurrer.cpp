@@ -4,11 +4,14 @@
 // tile-wise restorations, the filter2D reference and the float-blur row-wise one back to back.
 #include "paired_rounds.hpp"
 #include "perf_baseline.hpp"
+#include "restore/kernels/gather_kernels.hpp"
 
 #include <benchmark/benchmark.h>
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <functional>
+#include <string>
 #include <vector>
 
 using namespace cv;
@@ -132,3 +135,31 @@ void BM_RowsVsFilter2DPaired(benchmark::State& state)
 }
 BENCHMARK(BM_RowsVsFilter2DPaired)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()
     ->Iterations(9)->Repetitions(1);
+
+/* The frame-rate restoration on each instruction set's gather kernels this CPU runs (forceKernelIsa),
+   paired rounds: what a CPU without AVX512-BF16 (avx512: the packed gather widened to floats) or
+   without AVX-512 (avx2) would run, here. Counters: each set's median (ms) and its median ratio to
+   the CPU's best kernels. Only the gathers change; the element-wise loops keep this CPU's clones. */
+void BM_FrameRateByKernels(benchmark::State& state)
+{
+    using namespace cv::dynblur::kernels;
+    const SaccadeFrame& f = saccadeFrame();
+    Ptr<DynamicDeblurrer> rows = frameRateDeblurrer(f, PSF_ROWS);
+    std::vector<KernelIsa> isas = availableKernelIsas();
+    isas.erase(isas.begin());  // the reference kernels: a correctness check, not a speed
+    Mat restored;
+    std::vector<std::function<void()>> workloads;
+    for (KernelIsa isa : isas)
+        workloads.push_back([&, isa] {
+            forceKernelIsa(isa);
+            rows->deblur(f.frame, f.schedule, f.shutter, restored);
+        });
+    const std::vector<std::vector<double>> ms = dynblur_perf::timePairedRounds(state, workloads);
+    forceKernelIsa(KERNELS_ISA_COUNT);
+    for (size_t i = 0; i < isas.size(); i++)
+    {
+        state.counters[std::string(kernelIsaName(isas[i])) + "_ms"] = median(ms[i]);
+        state.counters[std::string(kernelIsaName(isas[i])) + "_over_best"] = medianRatio(ms[i], ms.back());
+    }
+}
+BENCHMARK(BM_FrameRateByKernels)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(9)->Repetitions(1);

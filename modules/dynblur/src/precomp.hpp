@@ -31,8 +31,6 @@ inline Matx33d axisRotation(const Vec3d& unitAxis, double angle)
                    z * x * v - y * s, z * y * v + x * s, c + z * z * v);
 }
 
-//! Throws cv::Exception naming the RLParams field that is out of range; `function` prefixes the message.
-void checkRLParams(const RLParams& params, const char* function);
 
 namespace detail {
 

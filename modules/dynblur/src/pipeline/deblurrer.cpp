@@ -1,5 +1,6 @@
 #include "precomp.hpp"
 
+#include "restore/arguments.hpp"
 #include "restore/deconv_rl.hpp"
 #include "pipeline/half_colour.hpp"
 #include "pipeline/motion_fit.hpp"

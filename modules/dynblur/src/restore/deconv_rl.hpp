@@ -3,6 +3,8 @@
 #define OPENCV_DYNBLUR_DECONV_RL_HPP
 
 #include "restore/deconv_operator.hpp"
+#include "restore/fill_unobserved.hpp"
+#include "restore/frame_planes.hpp"
 #include "restore/rl_rows.hpp"
 
 #include <vector>
@@ -27,45 +29,10 @@ struct RLWorkspace
     bool persistent = false;
 };
 
-//! An image's mean over every channel and its largest value.
-struct ImageLevel
-{
-    double mean = 0, peak = 0;
-};
 
-//! The level of an image from per-row (or per-row-and-channel) sums and peaks, added in order over `count` values.
-ImageLevel foldLevel(const std::vector<double>& sums, const std::vector<double>& peaks, double count);
 
-//! A frame as the restoration reads it: see observeFrame.
-struct ObservedFrame
-{
-    std::vector<Mat> planes;  //!< a one-channel frame itself; a colour frame's planes, split into a pool
-    Scalar channelMean;       //!< each channel's mean
-    ImageLevel level;         //!< over every channel
-    double noiseSigma = 0;    //!< Immerkær's noise standard deviation averaged over the channels; 0 when not asked
-};
 
-/** @brief Splits `frame` (CV_32F, 1–4 channels) into its planes and takes its statistics in the
-same pass. RL reads each plane every iteration, and reading one from the interleaved frame would
-pull in every channel; the means, the level and the noise would each read the frame once more.
-Rows in parallel, per-row partial sums added in row order (the same result on every run). A colour
-frame's planes go to `pool`, reused when the sizes fit.
-@param estimateNoise take noiseSigma @cite Immerkaer1996Noise (what an automatic damping needs). */
-CV_EXPORTS ObservedFrame observeFrame(const Mat& frame, std::vector<Mat>& pool, bool estimateNoise);
 
-/** @brief The luminance phase's result, which the colour planes take as they are read out
-(applyRow), not in a pass of their own: that would read and write every plane once more. */
-struct CV_EXPORTS LuminanceChange
-{
-    Mat restored;     //!< the restored luminance (latent size); empty when no luminance phase ran
-    float black = 0;  //!< where the planes' mean is at or below it, the change is added instead of scaled
-    float upper = 0;  //!< the bound the results are kept within (the colour phase's projection bound)
-
-    /** @brief Columns [x0, x0 + n) of latent row y of every plane after the change, plane c into
-    out[c]. The luminance before the change is the planes' mean, taken from the planes themselves
-    into `before` (n floats of scratch). */
-    void applyRow(const std::vector<Mat>& planes, int y, int x0, int n, float* before, float* const* out) const;
-};
 
 /** @brief Runs RL on every channel plane with one operator.
 
@@ -95,11 +62,7 @@ them): the frame-rate path of DynamicDeblurrer.
 void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& params, RLWorkspace& workspace,
                     OutputArray latent, OutputArray validMask, bool clampToUnit = false);
 
-/** @brief Pixels where `valid` is 0 take the value of the nearest valid pixel (Euclidean, as
-OpenCV's labelled distance transform with its 5×5 mask measures it), so unobserved content reads
-as a smooth continuation instead of a hole. Nothing changes when no pixel is valid.
-@param image CV_32F, any number of channels. @param valid CV_8U, image's size, nonzero where valid. */
-CV_EXPORTS void fillFromNearest(Mat& image, const Mat& valid);
+
 
 /** Half the Poisson deviance of data `b` against a model's `ab` (both ≥ 0, one unit),
 b ln(b / ab) − b + ab, which the damped ratio compares with its threshold @cite White1994Damped.
@@ -123,9 +86,6 @@ inline float luminanceChanged(float value, bool lit, float gain, float after, fl
     return std::min(std::max(lit ? value * gain : value + after - before, 0.f), upper);
 }
 
-/** True when every element of `image` (CV_32F, any channels) is finite; then `low` and `high`
-receive the smallest and the largest. Rows in parallel. */
-bool finiteRange(const Mat& image, float& low, float& high);
 
 //! Normaliser below which a latent pixel counts as not seen by any frame pixel.
 constexpr float kUnobserved = 1e-3f;

@@ -487,14 +487,6 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const ObservedFr
     return done;
 }
 
-void LuminanceChange::applyRow(const std::vector<Mat>& planes, int y, int x0, int n, float* before,
-                               float* const* out) const
-{
-    meanRow(planes, y, x0, n, before);
-    for (size_t c = 0; c < planes.size(); c++)
-        applyLuminanceRow(restored.ptr<float>(y) + x0, before, black, upper, n, planes[c].ptr<float>(y) + x0, out[c]);
-}
-
 }  // namespace detail
 }  // namespace dynblur
 }  // namespace cv

@@ -91,6 +91,34 @@ inline void walkColumns(int begin, int end, const Block& block, const Last& last
             single(x);
 }
 
+/* walkColumns for a pair of rows: sums(vectors, x, a, b) gives both rows' sums of `vectors`
+   vectors from column x, folded here into out0 and out1 as `fold` says; single(x) does column x. */
+template <typename Sums, typename Single>
+inline void walkPair(const Sums& sums, float* out0, float* out1, int begin, int end, const GatherFold& fold,
+                     const Single& single)
+{
+    walkColumns<kPairVectors>(
+        begin, end,
+        [&](auto vectors, int x) {
+            constexpr int V = decltype(vectors)::value;
+            v_float32 a[V], b[V];
+            sums(vectors, x, a, b);
+#pragma GCC unroll 8
+            for (int k = 0; k < V; k++)
+            {
+                foldVector(a[k], fold, x + k * kLanes, out0);
+                foldVector(b[k], fold, x + k * kLanes, out1);
+            }
+        },
+        [&](int x, int first) {
+            v_float32 a[1], b[1];
+            sums(std::integral_constant<int, 1>(), x, a, b);
+            foldLastLanes(a[0], fold, x, first, out0);
+            foldLastLanes(b[0], fold, x, first, out1);
+        },
+        single);
+}
+
 //! reference::gatherRow in vectors.
 inline void gatherRow(float* out, const float* source, size_t sourceStep, const Tap* taps, int tapCount, int begin,
                       int end)
@@ -150,26 +178,8 @@ inline void gatherPair(float* out0, float* out1, const float* source, size_t sou
             }
         }
     };
-    walkColumns<kPairVectors>(
-        begin, end,
-        [&](auto vectors, int x) {
-            constexpr int V = decltype(vectors)::value;
-            v_float32 a[V], b[V];
-            sums(vectors, x, a, b);
-#pragma GCC unroll 8
-            for (int k = 0; k < V; k++)
-            {
-                foldVector(a[k], fold, x + k * kLanes, out0);
-                foldVector(b[k], fold, x + k * kLanes, out1);
-            }
-        },
-        [&](int x, int first) {
-            v_float32 a[1], b[1];
-            sums(std::integral_constant<int, 1>(), x, a, b);
-            foldLastLanes(a[0], fold, x, first, out0);
-            foldLastLanes(b[0], fold, x, first, out1);
-        },
-        [&](int x) { reference::gatherPair(out0, out1, source, sourceStep, taps, tapCount, x, x + 1, fold); });
+    walkPair(sums, out0, out1, begin, end, fold,
+             [&](int x) { reference::gatherPair(out0, out1, source, sourceStep, taps, tapCount, x, x + 1, fold); });
 }
 
 /* reference::gatherPackedPair in vectors: each packed element's bfloat16 halves widened to floats
@@ -200,26 +210,9 @@ inline void gatherPackedPair(float* out0, float* out1, const uint32_t* source, s
             }
         }
     };
-    walkColumns<kPairVectors>(
-        begin, end,
-        [&](auto vectors, int x) {
-            constexpr int V = decltype(vectors)::value;
-            v_float32 a[V], b[V];
-            sums(vectors, x, a, b);
-#pragma GCC unroll 8
-            for (int k = 0; k < V; k++)
-            {
-                foldVector(a[k], fold, x + k * kLanes, out0);
-                foldVector(b[k], fold, x + k * kLanes, out1);
-            }
-        },
-        [&](int x, int first) {
-            v_float32 a[1], b[1];
-            sums(std::integral_constant<int, 1>(), x, a, b);
-            foldLastLanes(a[0], fold, x, first, out0);
-            foldLastLanes(b[0], fold, x, first, out1);
-        },
-        [&](int x) { reference::gatherPackedPair(out0, out1, source, sourceStep, taps, tapCount, x, x + 1, fold); });
+    walkPair(sums, out0, out1, begin, end, fold, [&](int x) {
+        reference::gatherPackedPair(out0, out1, source, sourceStep, taps, tapCount, x, x + 1, fold);
+    });
 }
 
 //! foldColumns in vectors.

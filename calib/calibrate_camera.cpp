@@ -6,7 +6,7 @@
 // (OpenCV FileStorage: camera_matrix, distortion_coefficients) and cam_views.png (every view with
 // its detected corners and residual; rejected views framed in red). Each file is written to a
 // temporary name and renamed, so none is ever half-written.
-#include "atomic_file.hpp"  // samples/common
+#include "atomic_file.hpp"  // samples/support
 #include "cli_args.hpp"
 
 #include <opencv2/calib3d.hpp>

@@ -9,7 +9,7 @@
 //
 // Writes the timing file (TimingCalibration::save, atomically) and a plot of the objective around
 // the result (TIMING_objective.png).
-#include "atomic_file.hpp"  // samples/common
+#include "atomic_file.hpp"  // samples/support
 #include "cli_args.hpp"
 #include "plant_file.hpp"
 #include "plot.hpp"

@@ -1,5 +1,5 @@
 // dynblur_identify_plant: natural frequency, damping ratio and gain of the camera positioner from a
-// logged step response (format: samples/common/response_log.hpp, calib/README.md).
+// logged step response (format: samples/support/response_log.hpp, calib/README.md).
 //
 //     dynblur_identify_plant response.csv --out plant.yml
 //     dynblur_identify_plant response.csv --schedule move.yml --out plant.yml
@@ -7,7 +7,7 @@
 //
 // Writes the plant file (naturalFreqHz, dampingRatio, gain, maxLevel; atomically) and a plot of the
 // measured and fitted angle and the residual (PLANT_fit.png).
-#include "atomic_file.hpp"  // samples/common
+#include "atomic_file.hpp"  // samples/support
 #include "cli_args.hpp"
 #include "plant_file.hpp"
 #include "plot.hpp"

@@ -1,4 +1,4 @@
-// Fuzzes loadPlantFile (samples/common/plant_file.cpp), the reader of the plant YAML the
+// Fuzzes loadPlantFile (samples/support/plant_file.cpp), the reader of the plant YAML the
 // calibration tool writes and the demo, the simulator and the servoing sample read (--plant): OpenCV's
 // FileStorage parser, then the field checks and Plant::create. A plant that loads must simulate.
 #include "fuzz_common.hpp"

@@ -5,7 +5,7 @@
 //
 //     dynblur_restore_video --video rec/frame_%04d.png --frames rec/frames.csv --commands rec/commands.csv
 //                           --camera rec/camera.xml --plant rec/plant.yml --timing rec/timing.yml
-#include "atomic_file.hpp"  // samples/common
+#include "atomic_file.hpp"  // samples/support
 #include "cli_args.hpp"
 #include "frame_timing.hpp"
 #include "plant_file.hpp"

@@ -8,7 +8,7 @@
 //   → plant directly, or --bus: upload + start on the actuator controller (ActuatorDriver)
 //   → the rolling-shutter camera keeps taking frames while the mechanism moves: each is classified
 //     (windows I–IV), restored with DynamicDeblurrer, and searched for the target raw and restored.
-// The loop itself is runVisualServo (samples/common/visual_servo.cpp), shared with the tests.
+// The loop itself is runVisualServo (samples/simulation/visual_servo.cpp), shared with the tests.
 //
 //   dynblur_visual_servo --cycles 10 --out servo_out
 //   dynblur_visual_servo --scenario track --targets 16

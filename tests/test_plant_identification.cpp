@@ -1,4 +1,4 @@
-// Plant identification from logged responses: the CSV log format (samples/common/response_log.hpp)
+// Plant identification from logged responses: the CSV log format (samples/support/response_log.hpp)
 // and Plant::identify on simulated noisy logs whose start time is unknown.
 #include "test_common.hpp"
 

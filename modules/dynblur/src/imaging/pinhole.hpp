@@ -22,6 +22,12 @@ struct Pinhole
     double kud, kdu;        //!< ViSP's undistorted-to-distorted and distorted-to-undistorted terms
     Vec3d axis;             //!< unit mount axis in the camera frame
 
+    //! R·(m.x, m.y, 1): the ray m turned by R.
+    static Vec3d turn(const Point2d& m, const Matx33d& R)
+    {
+        return Vec3d(R(0, 0) * m.x + R(0, 1) * m.y + R(0, 2), R(1, 0) * m.x + R(1, 1) * m.y + R(1, 2),
+                     R(2, 0) * m.x + R(2, 1) * m.y + R(2, 2));
+    }
     //! Normalised ray (z = 1) of a pixel: ViSP's vpPixelMeterConversion with kdu.
     Point2d undistort(const Point2d& p) const
     {
@@ -39,12 +45,10 @@ struct Pinhole
     reference camera's front half-space. */
     bool project(const Point2d& m, const Matx33d& R, Point2d& q) const
     {
-        const double X = R(0, 0) * m.x + R(0, 1) * m.y + R(0, 2);
-        const double Y = R(1, 0) * m.x + R(1, 1) * m.y + R(1, 2);
-        const double Z = R(2, 0) * m.x + R(2, 1) * m.y + R(2, 2);
-        if (!(Z > 1e-12))
+        const Vec3d P = turn(m, R);
+        if (!(P[2] > 1e-12))
             return false;
-        q = distort(X / Z, Y / Z);
+        q = distort(P[0] / P[2], P[1] / P[2]);
         return true;
     }
     /** p + distort(R·undistort(p)) − distort(undistort(p)), NaN behind the camera: corrected so
@@ -70,18 +74,18 @@ struct Pinhole
     bool displacementAndRate(const Point2d& m, const Point2d& dm, const Matx33d& R, double rate, Point2d& d,
                              Point2d& dd) const
     {
-        const double X = R(0, 0) * m.x + R(0, 1) * m.y + R(0, 2);
-        const double Y = R(1, 0) * m.x + R(1, 1) * m.y + R(1, 2);
-        const double Z = R(2, 0) * m.x + R(2, 1) * m.y + R(2, 2);
+        const Vec3d P = turn(m, R);
+        const double X = P[0], Y = P[1], Z = P[2];
         if (!(Z > 1e-12))
             return false;
+        // projected with one reciprocal of Z, which the rate needs again
         const double dX = rate * (axis[1] * Z - axis[2] * Y);
         const double dY = rate * (axis[2] * X - axis[0] * Z);
         const double dZ = rate * (axis[0] * Y - axis[1] * X);
         const double iz = 1.0 / Z, x = X * iz, y = Y * iz;
         const double dx = (dX - x * dZ) * iz, dy = (dY - y * dZ) * iz;
         const double f = 1.0 + kud * (x * x + y * y), df = 2 * kud * (x * dx + y * dy);
-        d = Point2d(dm.x - (cx + fx * x * f), dm.y - (cy + fy * y * f));
+        d = dm - distort(x, y);
         dd = Point2d(-fx * (dx * f + x * df), -fy * (dy * f + y * df));
         return true;
     }

@@ -134,6 +134,29 @@ public:
     //! The sharp view's centre, the camera's frame size.
     Rect view() const { return Rect((int)offset_.x, (int)offset_.y, W_, H_); }
 
+    //! Allocates the accumulator and the map's sampling grid.
+    void prepare()
+    {
+        // The map q(p) = camera.viewToReference(p, angle) is evaluated at every kMapStep-th column
+        // (and the last) of each warped row and is linear in between: a rotation's map is smooth,
+        // the interpolation error is far below 0.01 px, and it saves most of the mapping cost.
+        const int kMapStep = 8;
+        for (int x = 0; x < W_ - 1; x += kMapStep)
+            cols_.push_back(x);
+        cols_.push_back(W_ - 1);
+        const int nc = (int)cols_.size();
+        grid_.create(H_, nc, CV_64FC2);
+        for (int y = 0; y < H_; y++)
+        {
+            Point2d* g = grid_.ptr<Point2d>(y);
+            for (int c = 0; c < nc; c++)
+                g[c] = Point2d(cols_[c], y);
+        }
+        acc_ = Mat::zeros(H_, W_, CV_MAKETYPE(sharp_.depth(), sharp_.channels()));
+        rowWeight_.assign(H_, 0.0);
+        rowSum_.assign(H_, 0.0);
+    }
+
     //! Zero exposure: row r is the view at its start time.
     void exposeInstantRows()
     {
@@ -146,39 +169,6 @@ public:
             rowWeight_[r] = 1.0;
             accumulate(theta[r] - thetaRef_, r, r + 1);
             rowWeight_[r] = 0.0;
-        }
-    }
-
-    /** Each time sample stands for the time cell between the midpoints to its neighbours; it adds
-    its view to each row with the exact overlap of that cell and the row's interval. */
-    void exposeSamples(const std::vector<double>& t, const std::vector<double>& theta)
-    {
-        const int ns = (int)t.size();
-        for (int j = 0; j < ns; j++)
-        {
-            const double ts = t[j];
-            const double c0 = j == 0 ? T0_ : 0.5 * (t[j - 1] + ts);
-            const double c1 = j == ns - 1 ? T1_ : 0.5 * (ts + t[j + 1]);
-            if (c1 <= c0)
-                continue;
-            const Range rows = shutter_.rowsOverlapping(c0, c1);
-            int first = -1, last = -1;
-            for (int r = rows.start; r < rows.end; r++)
-            {
-                const Vec2d interval = shutter_.intervalAt(r);
-                const double w = std::min(c1, interval[1]) - std::max(c0, interval[0]);
-                rowWeight_[r] = w > 0 ? w : 0.0;
-                if (w > 0)
-                {
-                    if (first < 0)
-                        first = r;
-                    last = r;
-                }
-            }
-            if (first >= 0)
-                accumulate(theta[j] - thetaRef_, first, last + 1);
-            for (int r = rows.start; r < rows.end; r++)
-                rowWeight_[r] = 0.0;
         }
     }
 
@@ -232,6 +222,39 @@ public:
         }
     }
 
+    /** Each time sample stands for the time cell between the midpoints to its neighbours; it adds
+    its view to each row with the exact overlap of that cell and the row's interval. */
+    void exposeSamples(const std::vector<double>& t, const std::vector<double>& theta)
+    {
+        const int ns = (int)t.size();
+        for (int j = 0; j < ns; j++)
+        {
+            const double ts = t[j];
+            const double c0 = j == 0 ? T0_ : 0.5 * (t[j - 1] + ts);
+            const double c1 = j == ns - 1 ? T1_ : 0.5 * (ts + t[j + 1]);
+            if (c1 <= c0)
+                continue;
+            const Range rows = shutter_.rowsOverlapping(c0, c1);
+            int first = -1, last = -1;
+            for (int r = rows.start; r < rows.end; r++)
+            {
+                const Vec2d interval = shutter_.intervalAt(r);
+                const double w = std::min(c1, interval[1]) - std::max(c0, interval[0]);
+                rowWeight_[r] = w > 0 ? w : 0.0;
+                if (w > 0)
+                {
+                    if (first < 0)
+                        first = r;
+                    last = r;
+                }
+            }
+            if (first >= 0)
+                accumulate(theta[j] - thetaRef_, first, last + 1);
+            for (int r = rows.start; r < rows.end; r++)
+                rowWeight_[r] = 0.0;
+        }
+    }
+
     //! Each row's sum divided by its total exposure: the time average over its own interval.
     Mat averageRows()
     {
@@ -241,29 +264,6 @@ public:
             acc_.row(r) *= 1.0 / rowSum_[r];
         }
         return acc_;
-    }
-
-    //! Allocates the accumulator and the map's sampling grid.
-    void prepare()
-    {
-        // The map q(p) = camera.viewToReference(p, angle) is evaluated at every kMapStep-th column
-        // (and the last) of each warped row and is linear in between: a rotation's map is smooth,
-        // the interpolation error is far below 0.01 px, and it saves most of the mapping cost.
-        const int kMapStep = 8;
-        for (int x = 0; x < W_ - 1; x += kMapStep)
-            cols_.push_back(x);
-        cols_.push_back(W_ - 1);
-        const int nc = (int)cols_.size();
-        grid_.create(H_, nc, CV_64FC2);
-        for (int y = 0; y < H_; y++)
-        {
-            Point2d* g = grid_.ptr<Point2d>(y);
-            for (int c = 0; c < nc; c++)
-                g[c] = Point2d(cols_[c], y);
-        }
-        acc_ = Mat::zeros(H_, W_, CV_MAKETYPE(sharp_.depth(), sharp_.channels()));
-        rowWeight_.assign(H_, 0.0);
-        rowSum_.assign(H_, 0.0);
     }
 
 private:

@@ -68,6 +68,17 @@ private:
     Size grid_;
 };
 
+//! The view's rotation at the start, middle and end of the exposure of row position `row`: the
+//! points that sign a row's path when nodes are placed.
+void exposureRotations(const Trajectory& tr, const RollingShutter& shutter, double row, Matx33d R[3])
+{
+    const Vec2d interval = shutter.intervalAt(row);
+    const double a = interval[0], b = interval[1];
+    R[0] = tr.rotation(tr.angleAt(a));
+    R[1] = tr.rotation(tr.angleAt(0.5 * (a + b)));
+    R[2] = tr.rotation(tr.angleAt(b));
+}
+
 /* Largest change of a kernel's path (start, middle, end) across one automatic row band, pixels.
    0.4 px restores as well as one band per row (DeblurQuality; a point source's spot within 1 % of
    the per-row one, PointSourceMatchesRendererRollingShutter) with three quarters of the kernels
@@ -89,10 +100,8 @@ int PsfGeneratorImpl::autoColumns(const Trajectory& tr, const Pinhole& pr, const
     for (int j = 0; j < nProbeRows; j++)
     {
         const double y = (H - 1) * (double)j / (nProbeRows - 1);
-        const Vec2d interval = shutter.intervalAt(y);
-        const double a = interval[0], b = interval[1];
-        const Matx33d R[3] = {tr.rotation(tr.angleAt(a)), tr.rotation(tr.angleAt(0.5 * (a + b))),
-                              tr.rotation(tr.angleAt(b))};
+        Matx33d R[3];
+        exposureRotations(tr, shutter, y, R);
         Point2d prev[3];
         for (int i = 0; i < nProbeCols; i++)
         {
@@ -124,10 +133,8 @@ std::vector<double> PsfGeneratorImpl::autoBands(const Trajectory& tr, const Pinh
     parallel_for_(Range(0, H), [&](const Range& rows) {
         for (int r = rows.start; r < rows.end; r++)
         {
-            const Vec2d interval = shutter.intervalAt(r);
-            const double a = interval[0], b = interval[1];
-            const Matx33d R[3] = {tr.rotation(tr.angleAt(a)), tr.rotation(tr.angleAt(0.5 * (a + b))),
-                                  tr.rotation(tr.angleAt(b))};
+            Matx33d R[3];
+            exposureRotations(tr, shutter, r, R);
             for (int c = 0; c < nc; c++)
             {
                 const Point2d p(columns[c], r);

@@ -54,6 +54,41 @@ TEST(ShutterTiming, RowIntervalsFollowTheLineDelay)
     EXPECT_EQ(global.rowInterval(0), global.rowInterval(99));
 }
 
+TEST(ShutterTiming, FractionalRowsAndOverlappingRows)
+{
+    const RollingShutter shutter(0.025, 0.008, 62.5e-6, 480);
+    for (int r : {0, 1, 240, 479})
+        EXPECT_EQ(shutter.intervalAt(r), shutter.rowInterval(r)) << "row " << r;
+    const Vec2d a = shutter.intervalAt(10), b = shutter.intervalAt(11), mid = shutter.intervalAt(10.5);
+    EXPECT_NEAR(mid[0], 0.5 * (a[0] + b[0]), 1e-15);
+    EXPECT_NEAR(mid[1] - mid[0], 0.008, 1e-15);
+
+    // every row whose exposure overlaps a span is in the range, and at most one more at each end
+    for (const Vec2d span : {Vec2d(0.0, 0.026), Vec2d(0.030, 0.0301), Vec2d(0.05, 0.06), Vec2d(0.1, 0.2)})
+    {
+        const Range rows = shutter.rowsOverlapping(span[0], span[1]);
+        int first = -1, last = -1;
+        for (int r = 0; r < shutter.rows; r++)
+        {
+            const Vec2d in = shutter.rowInterval(r);
+            if (std::min(span[1], in[1]) > std::max(span[0], in[0]))
+            {
+                if (first < 0)
+                    first = r;
+                last = r;
+            }
+        }
+        if (first < 0)
+            continue;
+        EXPECT_LE(rows.start, first);
+        EXPECT_GE(rows.start, first - 1);
+        EXPECT_GE(rows.end, last + 1);
+        EXPECT_LE(rows.end, last + 2);
+    }
+    const RollingShutter global(0.0, 0.01, 0.0, 100);
+    EXPECT_EQ(global.rowsOverlapping(0.002, 0.003), Range(0, 100));
+}
+
 TEST(ShutterBadInput, OutOfRangeFieldsAreNamed)
 {
     EXPECT_THROW(RollingShutter(0, 0.008, 0, 0).validate(), cv::Exception);

@@ -260,6 +260,8 @@ between the starts of consecutive rows, s, ≥ 0; rows: number of sensor rows, >
         .def_readwrite("rows", &RollingShutter::rows, "number of sensor rows")
         .def("rowInterval", &RollingShutter::rowInterval, py::arg("row"),
              "Exposure interval of row r as (start, end), seconds; 0 ≤ row < rows.")
+        .def("intervalAt", &RollingShutter::intervalAt, py::arg("row"),
+             "Exposure interval (start, end), seconds, of a possibly fractional row position; checks nothing.")
         .def("readoutInterval", &RollingShutter::readoutInterval,
              "Start of the first row's exposure and end of the last one's, seconds.")
         .def("validate", &RollingShutter::validate, "Raises dynblur.error naming the field when a value is out of range.")

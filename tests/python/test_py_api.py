@@ -141,6 +141,7 @@ def test_planner_and_residual_vibration(db):
 def test_shutter_and_exposure_windows(db):
     sh = db.RollingShutter(frameStart=0.01, exposure=0.008, lineDelay=1e-4, rows=100)
     assert sh.rowInterval(10) == pytest.approx((0.011, 0.019))
+    assert sh.intervalAt(10.5) == pytest.approx((0.01105, 0.01905))
     assert sh.readoutInterval() == pytest.approx((0.01, 0.01 + 99e-4 + 0.008))
     sh.validate()
     sh.rows = 0

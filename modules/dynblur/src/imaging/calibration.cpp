@@ -2,6 +2,8 @@
 // solves (per-view virtual visual servoing, then all views with the one-term radial distortion).
 #include "precomp.hpp"
 
+#include "imaging/pinhole.hpp"
+
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -101,6 +103,8 @@ vpCalibration makeViewData(const std::vector<Point2f>& corners, Size boardSize, 
 double forwardResidual(const std::vector<Point2f>& corners, Size boardSize, double squareSize,
                        const vpHomogeneousMatrix& cMo, const vpCameraParameters& cam, double* sumSquares)
 {
+    const detail::Pinhole pinhole{cam.get_px(), cam.get_py(), cam.get_u0(), cam.get_v0(), cam.get_kud(), cam.get_kdu(),
+                                  Vec3d(1, 0, 0)};
     double sum = 0;
     for (int i = 0; i < boardSize.height; ++i)
         for (int j = 0; j < boardSize.width; ++j)
@@ -109,12 +113,9 @@ double forwardResidual(const std::vector<Point2f>& corners, Size boardSize, doub
             const double cX = cMo[0][0] * X + cMo[0][1] * Y + cMo[0][3];
             const double cY = cMo[1][0] * X + cMo[1][1] * Y + cMo[1][3];
             const double cZ = cMo[2][0] * X + cMo[2][1] * Y + cMo[2][3];
-            const double x = cX / cZ, y = cY / cZ;
-            const double radial = 1.0 + cam.get_kud() * (x * x + y * y);
-            const double u = cam.get_u0() + cam.get_px() * x * radial;
-            const double v = cam.get_v0() + cam.get_py() * y * radial;
+            const Point2d q = pinhole.distort(cX / cZ, cY / cZ);
             const Point2f& c = corners[static_cast<size_t>(i * boardSize.width + j)];
-            sum += (u - c.x) * (u - c.x) + (v - c.y) * (v - c.y);
+            sum += (q.x - c.x) * (q.x - c.x) + (q.y - c.y) * (q.y - c.y);
         }
     if (sumSquares)
         *sumSquares = sum;

@@ -2,6 +2,8 @@
 // view-to-reference mapping of a camera rotating about a fixed mount axis (DESIGN §2).
 #include "precomp.hpp"
 
+#include "imaging/pinhole.hpp"
+
 #include <visp3/core/vpCameraParameters.h>
 #include <visp3/core/vpXmlParserCamera.h>
 
@@ -55,7 +57,7 @@ class CameraModelImpl CV_FINAL : public CameraModel
 {
 public:
     CameraModelImpl(double fx, double fy, double cx, double cy, int width, int height, double kud, double kdu)
-        : fx_(fx), fy_(fy), cx_(cx), cy_(cy), kud_(kud), kdu_(kdu), size_(width, height), axis_(1, 0, 0)
+        : pin_{fx, fy, cx, cy, kud, kdu, Vec3d(1, 0, 0)}, size_(width, height)
     {
     }
 
@@ -64,10 +66,10 @@ public:
     {
         CV_Assert(!filename.empty());
         vpCameraParameters cam;
-        if (kud_ != 0.0 || kdu_ != 0.0)
-            cam.initPersProjWithDistortion(fx_, fy_, cx_, cy_, kud_, kdu_);
+        if (pin_.kud != 0.0 || pin_.kdu != 0.0)
+            cam.initPersProjWithDistortion(pin_.fx, pin_.fy, pin_.cx, pin_.cy, pin_.kud, pin_.kdu);
         else
-            cam.initPersProjWithoutDistortion(fx_, fy_, cx_, cy_);
+            cam.initPersProjWithoutDistortion(pin_.fx, pin_.fy, pin_.cx, pin_.cy);
         // vpXmlParserCamera appends to an existing file and refuses a duplicate camera:
         // CameraModel::save overwrites, like every OpenCV writer. It also reports success when it
         // cannot write the file at all (a missing folder): check that it can be created first.
@@ -83,14 +85,14 @@ public:
                                           filename + "'");
     }
 
-    double getFx() const CV_OVERRIDE { return fx_; }
-    double getFy() const CV_OVERRIDE { return fy_; }
-    double getCx() const CV_OVERRIDE { return cx_; }
-    double getCy() const CV_OVERRIDE { return cy_; }
-    double getKud() const CV_OVERRIDE { return kud_; }
-    double getKdu() const CV_OVERRIDE { return kdu_; }
+    double getFx() const CV_OVERRIDE { return pin_.fx; }
+    double getFy() const CV_OVERRIDE { return pin_.fy; }
+    double getCx() const CV_OVERRIDE { return pin_.cx; }
+    double getCy() const CV_OVERRIDE { return pin_.cy; }
+    double getKud() const CV_OVERRIDE { return pin_.kud; }
+    double getKdu() const CV_OVERRIDE { return pin_.kdu; }
     Size getImageSize() const CV_OVERRIDE { return size_; }
-    Vec3d getMountAxis() const CV_OVERRIDE { return axis_; }
+    Vec3d getMountAxis() const CV_OVERRIDE { return pin_.axis; }
 
     void setMountAxis(const Vec3d& axis) CV_OVERRIDE
     {
@@ -98,10 +100,10 @@ public:
         if (!(std::isfinite(n) && n > 1e-12))
             CV_Error_(Error::StsBadArg, ("CameraModel::setMountAxis: axis (%g, %g, %g) must be finite and non-zero",
                                          axis[0], axis[1], axis[2]));
-        axis_ = axis * (1.0 / n);
+        pin_.axis = axis * (1.0 / n);
     }
 
-    Matx33d cameraMatrix() const CV_OVERRIDE { return Matx33d(fx_, 0, cx_, 0, fy_, cy_, 0, 0, 1); }
+    Matx33d cameraMatrix() const CV_OVERRIDE { return Matx33d(pin_.fx, 0, pin_.cx, 0, pin_.fy, pin_.cy, 0, 0, 1); }
 
     void viewToReference(InputArray points, double angle, OutputArray refPoints) const CV_OVERRIDE
     {
@@ -151,59 +153,30 @@ public:
         refPoints.create(outRows, outCols, outType);
         Mat dst = refPoints.getMat();
         CV_Assert(dst.isContinuous());
-        const Matx33d M = rotationMatrix(angle);
+        const Matx33d M = pin_.rotation(angle);
         const Point2d* in = pts.ptr<Point2d>();
         Point2d* out = reinterpret_cast<Point2d*>(dst.data);
         const int n = (int)pts.total();
         parallel_for_(Range(0, n),
                       [&](const Range& r) {
                           for (int i = r.start; i < r.end; i++)
-                              out[i] = map(in[i], M);
+                              out[i] = pin_.map(in[i], M);
                       },
                       n / 16384.0);
     }
 
-    Point2d pixelToNormalized(const Point2d& p) const CV_OVERRIDE
-    {
-        const double xd = (p.x - cx_) / fx_, yd = (p.y - cy_) / fy_;
-        const double fu = 1.0 + kdu_ * (xd * xd + yd * yd);
-        return Point2d(xd * fu, yd * fu);
-    }
+    Point2d pixelToNormalized(const Point2d& p) const CV_OVERRIDE { return pin_.undistort(p); }
 
-    Point2d normalizedToPixel(const Point2d& m) const CV_OVERRIDE
-    {
-        const double fd = 1.0 + kud_ * (m.x * m.x + m.y * m.y);
-        return Point2d(cx_ + fx_ * m.x * fd, cy_ + fy_ * m.y * fd);
-    }
+    Point2d normalizedToPixel(const Point2d& m) const CV_OVERRIDE { return pin_.distort(m.x, m.y); }
 
     Point2d viewToReference(const Point2d& pixel, double angle) const CV_OVERRIDE
     {
-        return map(pixel, rotationMatrix(angle));
+        return pin_.map(pixel, pin_.rotation(angle));
     }
 
 private:
-    //! Rotation of `angle` radians about the mount axis.
-    Matx33d rotationMatrix(double angle) const { return axisRotation(axis_, angle); }
-
-    //! p + distort(R·undistort(p)) − distort(undistort(p)): ViSP's vpPixelMeterConversion (kdu) and
-    //! vpMeterPixelConversion (kud) formulas, corrected so that R = I maps p exactly onto itself.
-    Point2d map(const Point2d& p, const Matx33d& R) const
-    {
-        const Point2d m = pixelToNormalized(p);
-        const double X = R(0, 0) * m.x + R(0, 1) * m.y + R(0, 2);
-        const double Y = R(1, 0) * m.x + R(1, 1) * m.y + R(1, 2);
-        const double Z = R(2, 0) * m.x + R(2, 1) * m.y + R(2, 2);
-        if (!(Z > 1e-12))  // the ray leaves the reference camera's front half-space
-            return Point2d(std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN());
-        const Point2d q = normalizedToPixel(Point2d(X / Z, Y / Z));
-        if (kud_ == 0.0 && kdu_ == 0.0)
-            return q;
-        return p + (q - normalizedToPixel(m));
-    }
-
-    double fx_, fy_, cx_, cy_, kud_, kdu_;
+    detail::Pinhole pin_;  // intrinsics, distortion and mount axis
     Size size_;
-    Vec3d axis_;
 };
 
 }  // namespace

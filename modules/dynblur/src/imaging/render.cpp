@@ -1,40 +1,14 @@
 // The physical forward model (DESIGN §2): a rolling-shutter frame recorded while the positioner
 // moves, by time integration of warped views. Ground truth for PsfGenerator: it shares no code
-// with psf.cpp (it warps images; psf.cpp splats paths).
+// with the PSF generator (it warps images; the generator splats paths).
 #include "precomp.hpp"
 
-#include <random>
+#include "motion/shutter_check.hpp"
 
 namespace cv {
 namespace dynblur {
 
 namespace {
-
-inline double srgbToLinear1(double c)
-{
-    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-}
-
-inline double linearToSrgb1(double l)
-{
-    l = std::min(1.0, std::max(0.0, l));
-    return l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055;
-}
-
-void checkShutterForCamera(const RollingShutter& shutter, const Size& imageSize, const char* where)
-{
-    if (!std::isfinite(shutter.frameStart))
-        CV_Error_(Error::StsBadArg, ("%s: shutter.frameStart must be finite (seconds)", where));
-    if (!(std::isfinite(shutter.exposure) && shutter.exposure >= 0))
-        CV_Error_(Error::StsBadArg, ("%s: shutter.exposure=%g must be finite and >= 0 (seconds)", where,
-                                     shutter.exposure));
-    if (!(std::isfinite(shutter.lineDelay) && shutter.lineDelay >= 0))
-        CV_Error_(Error::StsBadArg, ("%s: shutter.lineDelay=%g must be finite and >= 0 (seconds)", where,
-                                     shutter.lineDelay));
-    if (shutter.rows != imageSize.height)
-        CV_Error_(Error::StsBadArg, ("%s: shutter.rows=%d must equal the camera's image height %d", where,
-                                     shutter.rows, imageSize.height));
-}
 
 //! Bilinear sample of `src` (type T, CN channels) at (x, y), borders by borderMode; adds w·value to acc.
 template <typename T, int CN>
@@ -117,351 +91,101 @@ void warpAccumulateCn(const Mat& sharp, const Mat& coarse, const std::vector<int
     }
 }
 
-}  // namespace
 
-//! `src` as CV_32F (same channels) with `fn` applied to every element, rows in parallel.
-template <typename Fn>
-static Mat mapToFloat(const Mat& src, Fn fn)
+/** One frame of renderBlurred, as the stages of the forward model: the motion's extent over the
+readout, the time samples that resolve it to maxStepPx, and each sample's view added to the rows
+whose exposure overlaps the sample's time cell, in linear light; then each row's time average. */
+class FrameRenderer
 {
-    Mat f;
-    src.convertTo(f, CV_32F);
-    Mat f1 = f.reshape(1);
-    parallel_for_(Range(0, f1.rows), [&](const Range& r) {
-        for (int y = r.start; y < r.end; y++)
+public:
+    FrameRenderer(const Mat& sharpLinear, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
+                  const Ptr<CameraModel>& camera, const RollingShutter& shutter, double thetaRef, int borderMode)
+        : sharp_(sharpLinear), plant_(plant), schedule_(schedule), camera_(camera), shutter_(shutter),
+          thetaRef_(thetaRef), borderMode_(borderMode), W_(camera->getImageSize().width),
+          H_(camera->getImageSize().height),
+          offset_((sharpLinear.cols - W_) / 2, (sharpLinear.rows - H_) / 2)
+    {
+        const Vec2d readout = shutter.readoutInterval();
+        T0_ = readout[0];
+        T1_ = readout[1];
+    }
+
+    /** Angle range (relative to θ_ref) and largest angle step on a uniform grid over the readout,
+    and the fastest image motion per radian over that range. */
+    void surveyMotion()
+    {
+        tGrid_ = uniformGrid(T1_ > T0_ ? 2001 : 1);
+        thetaGrid_ = angles(tGrid_);
+        aMin_ = thetaGrid_[0] - thetaRef_;
+        aMax_ = aMin_;
+        dMax_ = 0;
+        for (size_t i = 0; i < thetaGrid_.size(); i++)
         {
-            float* d = f1.ptr<float>(y);
-            for (int x = 0; x < f1.cols; x++)
-                d[x] = fn(d[x]);
+            aMin_ = std::min(aMin_, thetaGrid_[i] - thetaRef_);
+            aMax_ = std::max(aMax_, thetaGrid_[i] - thetaRef_);
+            if (i > 0)
+                dMax_ = std::max(dMax_, std::abs(thetaGrid_[i] - thetaGrid_[i - 1]));
         }
-    });
-    return f;
-}
+        pxPerRad_ = pixelsPerRadian();
+    }
 
-namespace {
+    //! True when the camera stays at the reference angle to within 1e-6 px: the frame is the view.
+    bool stillAtReference() const { return std::max(std::abs(aMin_), std::abs(aMax_)) * pxPerRad_ < 1e-6; }
+    //! The sharp view's centre, the camera's frame size.
+    Rect view() const { return Rect((int)offset_.x, (int)offset_.y, W_, H_); }
 
-/* 8-bit sRGB by tables: code k covers the linear values from codeStart[k], the sRGB curve's
-   inverse at (k − 0.5) / 255 (the smallest float at or above it), up to codeStart[k + 1], so a
-   value's code is 255·srgb(v) rounded to nearest. bucketCode[i] is the code of i / 4096; the curve
-   never rises faster than 12.92 · 255 ≈ 3294 codes per unit (at black), so a bucket of 1/4096
-   holds at most one step and one comparison finishes the code, where pow per value would be a
-   pass of transcendental calls over every frame (BM_DeblurFrame8Bit against BM_DeblurFrame in
-   perf/perf_deblurrer.cpp times the 8-bit path). */
-struct SrgbEncoder
-{
-    static constexpr int kBuckets = 4096;
-    float codeStart[257];
-    uchar bucketCode[kBuckets + 1];
-
-    SrgbEncoder()
+    //! Allocates the accumulator and the map's sampling grid.
+    void prepare()
     {
-        codeStart[0] = -std::numeric_limits<float>::infinity();
-        for (int k = 1; k < 256; k++)
+        // The map q(p) = camera.viewToReference(p, angle) is evaluated at every kMapStep-th column
+        // (and the last) of each warped row and is linear in between: a rotation's map is smooth,
+        // the interpolation error is far below 0.01 px, and it saves most of the mapping cost.
+        const int kMapStep = 8;
+        for (int x = 0; x < W_ - 1; x += kMapStep)
+            cols_.push_back(x);
+        cols_.push_back(W_ - 1);
+        const int nc = (int)cols_.size();
+        grid_.create(H_, nc, CV_64FC2);
+        for (int y = 0; y < H_; y++)
         {
-            const double linear = srgbToLinear1((k - 0.5) / 255.0);
-            float start = (float)linear;
-            if ((double)start < linear)
-                start = std::nextafter(start, 2.f);
-            codeStart[k] = start;
+            Point2d* g = grid_.ptr<Point2d>(y);
+            for (int c = 0; c < nc; c++)
+                g[c] = Point2d(cols_[c], y);
         }
-        codeStart[256] = std::numeric_limits<float>::infinity();
-        for (int i = 0, k = 0; i <= kBuckets; i++)
+        acc_ = Mat::zeros(H_, W_, CV_MAKETYPE(sharp_.depth(), sharp_.channels()));
+        rowWeight_.assign(H_, 0.0);
+        rowSum_.assign(H_, 0.0);
+    }
+
+    //! Zero exposure: row r is the view at its start time.
+    void exposeInstantRows()
+    {
+        std::vector<double> starts(H_);
+        for (int r = 0; r < H_; r++)
+            starts[r] = shutter_.intervalAt(r)[0];
+        const std::vector<double> theta = angles(starts);
+        for (int r = 0; r < H_; r++)
         {
-            const float v = (float)i / kBuckets;
-            while (v >= codeStart[k + 1])
-                k++;
-            bucketCode[i] = (uchar)k;
-        }
-    }
-
-    static const SrgbEncoder& instance()
-    {
-        static const SrgbEncoder encoder;
-        return encoder;
-    }
-};
-
-}  // namespace
-
-const float* detail::srgbDecodingTable()
-{
-    static const std::vector<float> table = [] {
-        std::vector<float> t(256);
-        for (int i = 0; i < 256; i++)
-            t[size_t(i)] = (float)srgbToLinear1(i / 255.0);
-        return t;
-    }();
-    return table.data();
-}
-
-/* Clamped to [0, 1] first (a NaN to 0, as std::max(0, NaN) gives 0). The multiply by a power of
-   two is exact, so the bucket starts at or below the value. */
-void detail::encodeSrgbRow(const float* __restrict linear, int n, uchar* __restrict out)
-{
-    const SrgbEncoder& e = SrgbEncoder::instance();
-    for (int x = 0; x < n; x++)
-    {
-        const float v = std::min(std::max(0.f, linear[x]), 1.f);
-        const int code = e.bucketCode[(int)(v * SrgbEncoder::kBuckets)];
-        out[x] = (uchar)(code + (v >= e.codeStart[code + 1]));
-    }
-}
-
-void srgbToLinear(InputArray _srgb, OutputArray _linear)
-{
-    Mat src = _srgb.getMat();
-    if (src.empty())
-        CV_Error(Error::StsBadArg, "srgbToLinear: 'srgb' is empty");
-    const int depth = src.depth();
-    if (depth == CV_8U)
-    {
-        const float* lut = detail::srgbDecodingTable();
-        _linear.create(src.size(), CV_MAKETYPE(CV_32F, src.channels()));
-        Mat out = _linear.getMat();
-        const int n = src.cols * src.channels();
-        parallel_for_(Range(0, src.rows), [&](const Range& rows) {
-            for (int y = rows.start; y < rows.end; y++)
-            {
-                const uchar* s = src.ptr<uchar>(y);
-                float* d = out.ptr<float>(y);
-                for (int x = 0; x < n; x++)
-                    d[x] = lut[s[x]];
-            }
-        });
-        return;
-    }
-    CV_CheckType(src.type(), depth == CV_32F || depth == CV_64F, "srgbToLinear: srgb must be CV_8U, CV_32F or CV_64F");
-    mapToFloat(src, [](float v) { return (float)srgbToLinear1(std::min(1.0, std::max(0.0, (double)v))); }).copyTo(_linear);
-}
-
-void linearToSrgb(InputArray _linear, OutputArray _srgb, int depth)
-{
-    Mat src = _linear.getMat();
-    if (src.empty())
-        CV_Error(Error::StsBadArg, "linearToSrgb: 'linear' is empty");
-    CV_CheckType(src.type(), src.depth() == CV_32F || src.depth() == CV_64F,
-                 "linearToSrgb: linear must be CV_32F (or CV_64F)");
-    if (depth != CV_8U && depth != CV_32F)
-        CV_Error_(Error::StsBadArg, ("linearToSrgb: depth=%d must be CV_8U or CV_32F", depth));
-    if (depth == CV_8U)
-    {
-        Mat single = src;
-        if (src.depth() != CV_32F)
-            src.convertTo(single, CV_32F);
-        _srgb.create(src.size(), CV_MAKETYPE(CV_8U, src.channels()));
-        Mat out = _srgb.getMat();
-        const int n = src.cols * src.channels();
-        parallel_for_(Range(0, src.rows), [&](const Range& rows) {
-            for (int y = rows.start; y < rows.end; y++)
-                detail::encodeSrgbRow(single.ptr<float>(y), n, out.ptr<uchar>(y));
-        });
-        return;
-    }
-    mapToFloat(src, [](float v) { return (float)linearToSrgb1(v); }).copyTo(_srgb);
-}
-
-void addSensorNoise(InputArray _linear, OutputArray _noisy, double fullWellElectrons, double readNoiseElectrons,
-                    double darkElectrons, uint64 seed)
-{
-    Mat src = _linear.getMat();
-    if (src.empty())
-        CV_Error(Error::StsBadArg, "addSensorNoise: 'linear' is empty");
-    CV_CheckType(src.type(), src.depth() == CV_32F, "addSensorNoise: linear must be CV_32F");
-    if (!checkRange(src))
-        CV_Error(Error::StsBadArg, "addSensorNoise: 'linear' holds NaN or Inf; it must be finite");
-    if (!(std::isfinite(fullWellElectrons) && fullWellElectrons > 0))
-        CV_Error_(Error::StsBadArg, ("addSensorNoise: fullWellElectrons=%g must be finite and > 0", fullWellElectrons));
-    if (!(std::isfinite(readNoiseElectrons) && readNoiseElectrons >= 0))
-        CV_Error_(Error::StsBadArg,
-                  ("addSensorNoise: readNoiseElectrons=%g must be finite and >= 0", readNoiseElectrons));
-    if (!(std::isfinite(darkElectrons) && darkElectrons >= 0))
-        CV_Error_(Error::StsBadArg, ("addSensorNoise: darkElectrons=%g must be finite and >= 0", darkElectrons));
-    Mat out = src.clone();
-    std::mt19937_64 engine(seed);
-    std::normal_distribution<double> read(0.0, 1.0);
-    for (int y = 0; y < out.rows; y++)
-    {
-        float* d = out.ptr<float>(y);
-        const int n = out.cols * out.channels();
-        for (int x = 0; x < n; x++)
-        {
-            // Photo-electrons plus dark electrons are Poisson; the camera subtracts the mean dark
-            // level (black clamp), so the result is unbiased before clipping.
-            const double mean = std::max(0.0, (double)d[x]) * fullWellElectrons + darkElectrons;
-            double e = 0.0;
-            if (mean > 0)
-            {
-                std::poisson_distribution<long long> shot(mean);
-                e = (double)shot(engine);
-            }
-            e += readNoiseElectrons * read(engine) - darkElectrons;
-            d[x] = (float)std::min(1.0, std::max(0.0, e / fullWellElectrons));
+            rowWeight_[r] = 1.0;
+            accumulate(theta[r] - thetaRef_, r, r + 1);
+            rowWeight_[r] = 0.0;
         }
     }
-    out.copyTo(_noisy);
-}
 
-void renderBlurred(InputArray _sharp, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
-                   const Ptr<CameraModel>& camera, const RollingShutter& shutter, OutputArray _blurred,
-                   double thetaRef, double maxStepPx, int borderMode)
-{
-    static const char* where = "renderBlurred";
-    CV_Assert(plant && "renderBlurred: plant must not be null");
-    CV_Assert(camera && "renderBlurred: camera must not be null");
-    Mat sharp = _sharp.getMat();
-    if (sharp.empty())
-        CV_Error(Error::StsBadArg, "renderBlurred: sharp is empty");
-    const int depth = sharp.depth(), cn = sharp.channels();
-    if (!(depth == CV_8U || depth == CV_32F || depth == CV_64F) || cn < 1 || cn > 4)
-        CV_Error_(Error::StsUnsupportedFormat,
-                  ("renderBlurred: sharp must be CV_8U, CV_32F or CV_64F with 1-4 channels (got depth %d, %d channels)",
-                   depth, cn));
-    const Size size = camera->getImageSize();
-    const int W = size.width, H = size.height;
-    const int dx = sharp.cols - W, dy = sharp.rows - H;
-    if (dx < 0 || dy < 0 || (dx % 2) != 0 || (dy % 2) != 0)
-        CV_Error_(Error::StsBadArg,
-                  ("renderBlurred: sharp is %dx%d; it must be the camera's %dx%d or larger by the same margin on "
-                   "each side (even difference)",
-                   sharp.cols, sharp.rows, W, H));
-    const Point2d offset(dx / 2, dy / 2);
-    checkShutterForCamera(shutter, size, where);
-    if (std::isinf(thetaRef))
-        CV_Error(Error::StsBadArg, "renderBlurred: thetaRef must be finite (radians) or NaN (final resting angle)");
-    if (!(maxStepPx > 0 && maxStepPx <= 1))
-        CV_Error_(Error::StsBadArg, ("renderBlurred: maxStepPx=%g must be in (0, 1] (pixels)", maxStepPx));
-    if (!(borderMode == BORDER_CONSTANT || borderMode == BORDER_REPLICATE || borderMode == BORDER_REFLECT ||
-          borderMode == BORDER_WRAP || borderMode == BORDER_REFLECT_101))
-        CV_Error_(Error::StsBadArg,
-                  ("renderBlurred: borderMode=%d must be BORDER_CONSTANT, _REPLICATE, _REFLECT, _WRAP or _REFLECT_101",
-                   borderMode));
-    if (!(schedule.times.empty() && schedule.levels.empty()))
-        schedule.validate();
-    if (std::isnan(thetaRef))
-        thetaRef = plant->restingAngle(schedule.finalLevel());
-
-    const double T0 = shutter.frameStart;
-    const double T1 = T0 + (H - 1) * shutter.lineDelay + shutter.exposure;
-    const double exposure = shutter.exposure, ld = shutter.lineDelay;
-
-    // ---- Trajectory on a fine uniform grid: angle range and peak speed.
-    auto evalTheta = [&](const std::vector<double>& t, std::vector<double>& th) {
-        Mat out;
-        plant->response(schedule, Mat(t), out);
-        th.assign(out.ptr<double>(), out.ptr<double>() + t.size());
-    };
-    auto uniformGrid = [&](int n) {
-        std::vector<double> t(n);
-        for (int i = 0; i < n; i++)
-            t[i] = (n == 1) ? T0 : T0 + (T1 - T0) * i / (n - 1);
-        return t;
-    };
-    std::vector<double> tg = uniformGrid(T1 > T0 ? 2001 : 1), thg;
-    evalTheta(tg, thg);
-    double aMin = thg[0] - thetaRef, aMax = aMin, dMax = 0;
-    for (size_t i = 0; i < thg.size(); i++)
+    /** Time samples (and their angles) between which the image moves by less than maxStepPx: a
+    fine uniform grid with steps of at most maxStepPx/4 of motion, then greedy merging. */
+    void adaptiveSamples(double maxStepPx, std::vector<double>& t, std::vector<double>& theta) const
     {
-        aMin = std::min(aMin, thg[i] - thetaRef);
-        aMax = std::max(aMax, thg[i] - thetaRef);
-        if (i > 0)
-            dMax = std::max(dMax, std::abs(thg[i] - thg[i - 1]));
-    }
-    // Pixels per radian: numeric derivative of the mapping at probe pixels (the image border and
-    // centre, where a rotation moves pixels fastest) and angles over the range; sizes the fine grid.
-    const double xs[3] = {0, (W - 1) * 0.5, W - 1.0}, ys[3] = {0, (H - 1) * 0.5, H - 1.0};
-    double pxPerRad = 0;
-    {
-        const double eps = 1e-4;
-        const double as[3] = {aMin, 0.5 * (aMin + aMax), aMax};
-        for (double a : as)
-            for (double x : xs)
-                for (double y : ys)
-                {
-                    const Point2d p1 = camera->viewToReference(Point2d(x, y), a + eps);
-                    const Point2d p0 = camera->viewToReference(Point2d(x, y), a - eps);
-                    const double s = norm(p1 - p0) / (2 * eps);
-                    if (std::isfinite(s))
-                        pxPerRad = std::max(pxPerRad, s);
-                }
-        pxPerRad *= 1.25;  // margin for pixels between the probes
-    }
-
-    Mat sharpLin;
-    if (depth == CV_8U)
-        srgbToLinear(sharp, sharpLin);
-    else
-        sharpLin = sharp;
-    const int accType = CV_MAKETYPE(sharpLin.depth(), cn);
-
-    // The map q(p) = camera.viewToReference(p, angle) is evaluated at every kMapStep-th column
-    // (and the last) of each warped row and is linear in between: a rotation's map is smooth, the
-    // interpolation error is far below 0.01 px, and it saves most of the mapping cost.
-    const int kMapStep = 8;
-    std::vector<int> cols;
-    for (int x = 0; x < W - 1; x += kMapStep)
-        cols.push_back(x);
-    cols.push_back(W - 1);
-    const int nc = (int)cols.size();
-    Mat grid(H, nc, CV_64FC2);
-    for (int y = 0; y < H; y++)
-    {
-        Point2d* g = grid.ptr<Point2d>(y);
-        for (int c = 0; c < nc; c++)
-            g[c] = Point2d(cols[c], y);
-    }
-
-    Mat acc = Mat::zeros(H, W, accType);
-    std::vector<double> rowWeight(H, 0.0), rowSum(H, 0.0);
-    Mat coarse;
-    auto accumulate = [&](double angle, int r0, int r1) {
-        camera->viewToReference(grid.rowRange(r0, r1).reshape(2, 1), angle, coarse);
-        coarse = coarse.reshape(2, r1 - r0);
-        if (accType == CV_MAKETYPE(CV_32F, cn))
-            warpAccumulateCn<float>(sharpLin, coarse, cols, r0, r1, rowWeight, offset, borderMode, acc);
-        else
-            warpAccumulateCn<double>(sharpLin, coarse, cols, r0, r1, rowWeight, offset, borderMode, acc);
-        for (int r = r0; r < r1; r++)
-            rowSum[r] += rowWeight[r];
-    };
-
-    const bool stillAtReference = std::max(std::abs(aMin), std::abs(aMax)) * pxPerRad < 1e-6;
-    if (stillAtReference)
-    {
-        // Still throughout at the reference angle: the frame is the centre of the sharp view.
-        sharp(Rect((int)offset.x, (int)offset.y, W, H)).copyTo(_blurred);
-        return;
-    }
-    if (exposure <= 0)
-    {
-        // Instantaneous rows: row r is the view at its start time.
-        std::vector<double> tr(H), thr;
-        for (int r = 0; r < H; r++)
-            tr[r] = T0 + r * ld;
-        evalTheta(tr, thr);
-        for (int r = 0; r < H; r++)
-        {
-            rowWeight[r] = 1.0;
-            accumulate(thr[r] - thetaRef, r, r + 1);
-            rowWeight[r] = 0.0;
-        }
-    }
-    else
-    {
-        // ---- Adaptive time samples: consecutive samples differ by < maxStepPx of image motion.
-        // Fine grid with steps of at most maxStepPx/4 of motion, then greedy merging.
-        const double peakStepPx = dMax * pxPerRad;  // motion per coarse step
-        int nFine = (int)std::min(4.0e6, std::max(2001.0, std::ceil((tg.size() - 1) * peakStepPx * 4.0 / maxStepPx) + 1));
-        std::vector<double> tf = nFine == (int)tg.size() ? tg : uniformGrid(nFine), thf;
-        if (nFine == (int)tg.size())
-            thf = thg;
-        else
-            evalTheta(tf, thf);
+        const double peakStepPx = dMax_ * pxPerRad_;  // motion per coarse step
+        const int nFine = (int)std::min(
+            4.0e6, std::max(2001.0, std::ceil((tGrid_.size() - 1) * peakStepPx * 4.0 / maxStepPx) + 1));
+        const bool coarseSuffices = nFine == (int)tGrid_.size();
+        const std::vector<double> tf = coarseSuffices ? tGrid_ : uniformGrid(nFine);
+        const std::vector<double> thf = coarseSuffices ? thetaGrid_ : angles(tf);
         // Motion of each fine step, measured at the probe pixels (+10% for pixels between them).
-        std::vector<Point2d> probes;
-        for (double x : xs)
-            for (double y : ys)
-                probes.push_back(Point2d(x, y));
+        std::vector<Point2d> probes = probePixels();
         Mat probeMat(1, (int)probes.size(), CV_64FC2, probes.data()), qPrev, qCur;
-        camera->viewToReference(probeMat, thf[0] - thetaRef, qPrev);
+        camera_->viewToReference(probeMat, thf[0] - thetaRef_, qPrev);
         std::vector<int> sampleIdx;
         sampleIdx.push_back(0);
         double moved = 0;
@@ -470,7 +194,7 @@ void renderBlurred(InputArray _sharp, const Ptr<Plant>& plant, const SwitchSched
             double step = 0;
             if (thf[k] != thf[k - 1])
             {
-                camera->viewToReference(probeMat, thf[k] - thetaRef, qCur);
+                camera_->viewToReference(probeMat, thf[k] - thetaRef_, qCur);
                 for (int i = 0; i < (int)probes.size(); i++)
                 {
                     const double d = norm(qCur.at<Point2d>(i) - qPrev.at<Point2d>(i));
@@ -489,29 +213,34 @@ void renderBlurred(InputArray _sharp, const Ptr<Plant>& plant, const SwitchSched
         }
         if (sampleIdx.back() != nFine - 1)
             sampleIdx.push_back(nFine - 1);
+        t.resize(sampleIdx.size());
+        theta.resize(sampleIdx.size());
+        for (size_t j = 0; j < sampleIdx.size(); j++)
+        {
+            t[j] = tf[sampleIdx[j]];
+            theta[j] = thf[sampleIdx[j]];
+        }
+    }
 
-        // ---- Each sample stands for the time cell between the midpoints to its neighbours; it
-        // adds its view to each row with the exact overlap of that cell and the row's interval.
-        const int ns = (int)sampleIdx.size();
+    /** Each time sample stands for the time cell between the midpoints to its neighbours; it adds
+    its view to each row with the exact overlap of that cell and the row's interval. */
+    void exposeSamples(const std::vector<double>& t, const std::vector<double>& theta)
+    {
+        const int ns = (int)t.size();
         for (int j = 0; j < ns; j++)
         {
-            const double ts = tf[sampleIdx[j]];
-            const double c0 = j == 0 ? T0 : 0.5 * (tf[sampleIdx[j - 1]] + ts);
-            const double c1 = j == ns - 1 ? T1 : 0.5 * (ts + tf[sampleIdx[j + 1]]);
+            const double ts = t[j];
+            const double c0 = j == 0 ? T0_ : 0.5 * (t[j - 1] + ts);
+            const double c1 = j == ns - 1 ? T1_ : 0.5 * (ts + t[j + 1]);
             if (c1 <= c0)
                 continue;
-            int ra = 0, rb = H - 1;
-            if (ld > 0)
-            {
-                ra = std::max(0, (int)std::floor((c0 - exposure - T0) / ld));
-                rb = std::min(H - 1, (int)std::ceil((c1 - T0) / ld));
-            }
+            const Range rows = shutter_.rowsOverlapping(c0, c1);
             int first = -1, last = -1;
-            for (int r = ra; r <= rb; r++)
+            for (int r = rows.start; r < rows.end; r++)
             {
-                const double s = T0 + r * ld, e = s + exposure;
-                const double w = std::min(c1, e) - std::max(c0, s);
-                rowWeight[r] = w > 0 ? w : 0.0;
+                const Vec2d interval = shutter_.intervalAt(r);
+                const double w = std::min(c1, interval[1]) - std::max(c0, interval[0]);
+                rowWeight_[r] = w > 0 ? w : 0.0;
                 if (w > 0)
                 {
                     if (first < 0)
@@ -520,22 +249,178 @@ void renderBlurred(InputArray _sharp, const Ptr<Plant>& plant, const SwitchSched
                 }
             }
             if (first >= 0)
-                accumulate(thf[sampleIdx[j]] - thetaRef, first, last + 1);
-            for (int r = ra; r <= rb; r++)
-                rowWeight[r] = 0.0;
+                accumulate(theta[j] - thetaRef_, first, last + 1);
+            for (int r = rows.start; r < rows.end; r++)
+                rowWeight_[r] = 0.0;
         }
     }
 
-    // ---- Time average of each row over its own interval.
-    for (int r = 0; r < H; r++)
+    //! Each row's sum divided by its total exposure: the time average over its own interval.
+    Mat averageRows()
     {
-        CV_Assert(rowSum[r] > 0);
-        acc.row(r) *= 1.0 / rowSum[r];
+        for (int r = 0; r < H_; r++)
+        {
+            CV_Assert(rowSum_[r] > 0);
+            acc_.row(r) *= 1.0 / rowSum_[r];
+        }
+        return acc_;
     }
-    if (depth == CV_8U)
-        linearToSrgb(acc, _blurred, CV_8U);
+
+private:
+    std::vector<double> uniformGrid(int n) const
+    {
+        std::vector<double> t(n);
+        for (int i = 0; i < n; i++)
+            t[i] = (n == 1) ? T0_ : T0_ + (T1_ - T0_) * i / (n - 1);
+        return t;
+    }
+
+    //! θ at the times `t`, radians.
+    std::vector<double> angles(const std::vector<double>& t) const
+    {
+        Mat out;
+        plant_->response(schedule_, Mat(t), out);
+        return std::vector<double>(out.ptr<double>(), out.ptr<double>() + t.size());
+    }
+
+    //! The image's corners, edge midpoints and centre, where a rotation moves pixels fastest.
+    std::vector<Point2d> probePixels() const
+    {
+        const double xs[3] = {0, (W_ - 1) * 0.5, W_ - 1.0}, ys[3] = {0, (H_ - 1) * 0.5, H_ - 1.0};
+        std::vector<Point2d> probes;
+        for (double x : xs)
+            for (double y : ys)
+                probes.push_back(Point2d(x, y));
+        return probes;
+    }
+
+    /** Pixels per radian: numeric derivative of the mapping at the probe pixels and at angles over
+    the range, with a margin for pixels between the probes; sizes the fine time grid. */
+    double pixelsPerRadian() const
+    {
+        const double eps = 1e-4;
+        const double as[3] = {aMin_, 0.5 * (aMin_ + aMax_), aMax_};
+        const std::vector<Point2d> probes = probePixels();
+        double pxPerRad = 0;
+        for (double a : as)
+            for (const Point2d& p : probes)
+            {
+                const Point2d p1 = camera_->viewToReference(p, a + eps);
+                const Point2d p0 = camera_->viewToReference(p, a - eps);
+                const double s = norm(p1 - p0) / (2 * eps);
+                if (std::isfinite(s))
+                    pxPerRad = std::max(pxPerRad, s);
+            }
+        return pxPerRad * 1.25;
+    }
+
+    //! Rows [r0, r1) += rowWeight · the view at `angle`; rowSum gathers the weights.
+    void accumulate(double angle, int r0, int r1)
+    {
+        camera_->viewToReference(grid_.rowRange(r0, r1).reshape(2, 1), angle, coarse_);
+        coarse_ = coarse_.reshape(2, r1 - r0);
+        if (sharp_.depth() == CV_32F)
+            warpAccumulateCn<float>(sharp_, coarse_, cols_, r0, r1, rowWeight_, offset_, borderMode_, acc_);
+        else
+            warpAccumulateCn<double>(sharp_, coarse_, cols_, r0, r1, rowWeight_, offset_, borderMode_, acc_);
+        for (int r = r0; r < r1; r++)
+            rowSum_[r] += rowWeight_[r];
+    }
+
+    const Mat sharp_;
+    const Ptr<Plant> plant_;
+    const SwitchSchedule& schedule_;
+    const Ptr<CameraModel> camera_;
+    const RollingShutter& shutter_;
+    const double thetaRef_;
+    const int borderMode_;
+    const int W_, H_;
+    const Point2d offset_;  // the camera's frame inside the sharp view, pixels
+    double T0_, T1_;        // the readout, seconds
+    std::vector<double> tGrid_, thetaGrid_;  // uniform survey of the readout: times, angles
+    double aMin_ = 0, aMax_ = 0, dMax_ = 0;  // angle range relative to θ_ref, largest survey step, radians
+    double pxPerRad_ = 0;
+    std::vector<int> cols_;  // the columns where the map is evaluated
+    Mat grid_;               // those pixels of every row, CV_64FC2
+    Mat coarse_;             // their map at one angle
+    Mat acc_;
+    std::vector<double> rowWeight_, rowSum_;
+};
+
+/** Throws when an argument of renderBlurred is out of range; returns thetaRef resolved (NaN: the
+schedule's final resting angle). */
+double checkRenderArguments(const Mat& sharp, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
+                            const Ptr<CameraModel>& camera, const RollingShutter& shutter, double thetaRef,
+                            double maxStepPx, int borderMode)
+{
+    CV_Assert(plant && "renderBlurred: plant must not be null");
+    CV_Assert(camera && "renderBlurred: camera must not be null");
+    if (sharp.empty())
+        CV_Error(Error::StsBadArg, "renderBlurred: sharp is empty");
+    const int depth = sharp.depth(), cn = sharp.channels();
+    if (!(depth == CV_8U || depth == CV_32F || depth == CV_64F) || cn < 1 || cn > 4)
+        CV_Error_(Error::StsUnsupportedFormat,
+                  ("renderBlurred: sharp must be CV_8U, CV_32F or CV_64F with 1-4 channels (got depth %d, %d channels)",
+                   depth, cn));
+    const Size size = camera->getImageSize();
+    const int W = size.width, H = size.height;
+    const int dx = sharp.cols - W, dy = sharp.rows - H;
+    if (dx < 0 || dy < 0 || (dx % 2) != 0 || (dy % 2) != 0)
+        CV_Error_(Error::StsBadArg,
+                  ("renderBlurred: sharp is %dx%d; it must be the camera's %dx%d or larger by the same margin on "
+                   "each side (even difference)",
+                   sharp.cols, sharp.rows, W, H));
+    detail::checkShutter(shutter, "renderBlurred", "shutter.", H);
+    if (std::isinf(thetaRef))
+        CV_Error(Error::StsBadArg, "renderBlurred: thetaRef must be finite (radians) or NaN (final resting angle)");
+    if (!(maxStepPx > 0 && maxStepPx <= 1))
+        CV_Error_(Error::StsBadArg, ("renderBlurred: maxStepPx=%g must be in (0, 1] (pixels)", maxStepPx));
+    if (!(borderMode == BORDER_CONSTANT || borderMode == BORDER_REPLICATE || borderMode == BORDER_REFLECT ||
+          borderMode == BORDER_WRAP || borderMode == BORDER_REFLECT_101))
+        CV_Error_(Error::StsBadArg,
+                  ("renderBlurred: borderMode=%d must be BORDER_CONSTANT, _REPLICATE, _REFLECT, _WRAP or _REFLECT_101",
+                   borderMode));
+    if (!(schedule.times.empty() && schedule.levels.empty()))
+        schedule.validate();
+    return std::isnan(thetaRef) ? plant->restingAngle(schedule.finalLevel()) : thetaRef;
+}
+
+
+}  // namespace
+
+void renderBlurred(InputArray _sharp, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
+                   const Ptr<CameraModel>& camera, const RollingShutter& shutter, OutputArray _blurred,
+                   double thetaRef, double maxStepPx, int borderMode)
+{
+    const Mat sharp = _sharp.getMat();
+    thetaRef = checkRenderArguments(sharp, plant, schedule, camera, shutter, thetaRef, maxStepPx, borderMode);
+    Mat linear;  // light adds up in linear intensity, not in sRGB codes
+    if (sharp.depth() == CV_8U)
+        srgbToLinear(sharp, linear);
     else
-        acc.copyTo(_blurred);
+        linear = sharp;
+
+    FrameRenderer frame(linear, plant, schedule, camera, shutter, thetaRef, borderMode);
+    frame.surveyMotion();
+    if (frame.stillAtReference())
+    {
+        sharp(frame.view()).copyTo(_blurred);
+        return;
+    }
+    frame.prepare();
+    if (shutter.exposure <= 0)
+        frame.exposeInstantRows();
+    else
+    {
+        std::vector<double> t, theta;
+        frame.adaptiveSamples(maxStepPx, t, theta);
+        frame.exposeSamples(t, theta);
+    }
+    const Mat average = frame.averageRows();
+    if (sharp.depth() == CV_8U)
+        linearToSrgb(average, _blurred, CV_8U);
+    else
+        average.copyTo(_blurred);
 }
 
 }  // namespace dynblur

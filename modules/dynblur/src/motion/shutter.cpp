@@ -1,5 +1,7 @@
 #include "precomp.hpp"
 
+#include "motion/shutter_check.hpp"
+
 namespace cv {
 namespace dynblur {
 
@@ -8,17 +10,28 @@ RollingShutter::RollingShutter(double frameStart_, double exposure_, double line
 {
 }
 
+void detail::checkShutter(const RollingShutter& shutter, const char* where, const char* prefix, int imageRows)
+{
+    if (!std::isfinite(shutter.frameStart))
+        CV_Error(Error::StsBadArg,
+                 format("%s: %sframeStart = %g must be finite (seconds)", where, prefix, shutter.frameStart));
+    if (!(std::isfinite(shutter.exposure) && shutter.exposure >= 0))
+        CV_Error(Error::StsOutOfRange, format("%s: %sexposure = %g must be finite and >= 0 (seconds)", where, prefix,
+                                              shutter.exposure));
+    if (!(std::isfinite(shutter.lineDelay) && shutter.lineDelay >= 0))
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: %slineDelay = %g must be finite and >= 0 (seconds; 0 = global shutter)", where, prefix,
+                        shutter.lineDelay));
+    if (shutter.rows <= 0)
+        CV_Error(Error::StsOutOfRange, format("%s: %srows = %d must be > 0", where, prefix, shutter.rows));
+    if (imageRows > 0 && shutter.rows != imageRows)
+        CV_Error(Error::StsBadArg, format("%s: %srows = %d must equal the camera's image height %d", where, prefix,
+                                          shutter.rows, imageRows));
+}
+
 void RollingShutter::validate() const
 {
-    if (!std::isfinite(frameStart))
-        CV_Error(Error::StsBadArg, format("RollingShutter: frameStart = %g must be finite (seconds)", frameStart));
-    if (!(std::isfinite(exposure) && exposure >= 0))
-        CV_Error(Error::StsOutOfRange, format("RollingShutter: exposure = %g must be finite and >= 0 (seconds)", exposure));
-    if (!(std::isfinite(lineDelay) && lineDelay >= 0))
-        CV_Error(Error::StsOutOfRange,
-                 format("RollingShutter: lineDelay = %g must be finite and >= 0 (seconds; 0 = global shutter)", lineDelay));
-    if (rows <= 0)
-        CV_Error(Error::StsOutOfRange, format("RollingShutter: rows = %d must be > 0", rows));
+    detail::checkShutter(*this, "RollingShutter", "");
 }
 
 Vec2d RollingShutter::rowInterval(int row) const
@@ -26,14 +39,29 @@ Vec2d RollingShutter::rowInterval(int row) const
     validate();
     if (row < 0 || row >= rows)
         CV_Error(Error::StsOutOfRange, format("RollingShutter::rowInterval: row = %d is outside [0, %d]", row, rows - 1));
+    return intervalAt(row);
+}
+
+Vec2d RollingShutter::intervalAt(double row) const
+{
     const double start = frameStart + row * lineDelay;
     return Vec2d(start, start + exposure);
+}
+
+Range RollingShutter::rowsOverlapping(double start, double end) const
+{
+    if (!(lineDelay > 0))
+        return Range(0, rows);
+    // row r starts at frameStart + r·lineDelay and ends exposure later
+    const int first = std::max(0, (int)std::floor((start - exposure - frameStart) / lineDelay));
+    const int last = std::min(rows - 1, (int)std::ceil((end - frameStart) / lineDelay));
+    return Range(first, last + 1);
 }
 
 Vec2d RollingShutter::readoutInterval() const
 {
     validate();
-    return Vec2d(frameStart, frameStart + (rows - 1) * lineDelay + exposure);
+    return Vec2d(frameStart, intervalAt(rows - 1)[1]);
 }
 
 int classifyExposure(const Ptr<Plant>& plant, const SwitchSchedule& schedule, const RollingShutter& shutter,

@@ -30,6 +30,15 @@ struct CV_EXPORTS_W_SIMPLE RollingShutter
 
     /** @brief Exposure interval of row r (start, end), seconds. @param row 0 ≤ row < rows. */
     CV_WRAP Vec2d rowInterval(int row) const;
+    /** @brief Exposure interval (start, end), seconds, of the sensor position `row` rows below row
+    0: start = frameStart + row·lineDelay, end = start + exposure. Unlike rowInterval() it takes a
+    fractional position (a band's centre row) and checks nothing, for loops over a shutter already
+    validated. @param row position down the sensor, rows (pixels). */
+    CV_WRAP Vec2d intervalAt(double row) const;
+    /** @brief The rows whose exposure may overlap the time span [start, end] (seconds): every row
+    that does, plus at most one more at each end (all rows for a global shutter). Checks nothing,
+    as intervalAt(). @param start, end the span, seconds. */
+    Range rowsOverlapping(double start, double end) const;
     /** @brief Start of the first row's exposure and end of the last one's, seconds. */
     CV_WRAP Vec2d readoutInterval() const;
     /** @brief Throws cv::Exception naming the field when a value is out of range. */

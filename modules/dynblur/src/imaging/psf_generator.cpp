@@ -1,0 +1,266 @@
+// PsfGenerator: blur kernels predicted from the plant's trajectory and the shutter timing (seed
+// equations 4–7, generalised to rolling shutters and to column variation): where the nodes go, and
+// one kernel per node.
+#include "precomp.hpp"
+
+#include "imaging/pinhole.hpp"
+#include "imaging/psf_kernel.hpp"
+#include "imaging/trajectory.hpp"
+#include "motion/shutter_check.hpp"
+
+namespace cv {
+namespace dynblur {
+
+namespace {
+
+using detail::KernelNode;
+using detail::KernelScratch;
+using detail::Pinhole;
+using detail::Trajectory;
+
+class PsfGeneratorImpl CV_FINAL : public PsfGenerator
+{
+public:
+    PsfGeneratorImpl(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera)
+        : plant_(plant), camera_(camera), maxKernel_(401), bandRows_(0), grid_(0, 0)
+    {
+    }
+
+    PsfBank generate(int model, const SwitchSchedule& schedule, const RollingShutter& shutter,
+                     double thetaRef) const CV_OVERRIDE;
+
+    int getMaxKernelSize() const CV_OVERRIDE { return maxKernel_; }
+    void setMaxKernelSize(int pixels) CV_OVERRIDE
+    {
+        if (pixels < 1)
+            CV_Error_(Error::StsBadArg, ("PsfGenerator::setMaxKernelSize: pixels=%d must be >= 1", pixels));
+        maxKernel_ = pixels;
+    }
+    int getBandRows() const CV_OVERRIDE { return bandRows_; }
+    void setBandRows(int rows) CV_OVERRIDE
+    {
+        if (rows < 0)
+            CV_Error_(Error::StsBadArg, ("PsfGenerator::setBandRows: rows=%d must be >= 0 (0: automatic)", rows));
+        bandRows_ = rows;
+    }
+    Size getTileGrid() const CV_OVERRIDE { return grid_; }
+    void setTileGrid(const Size& grid) CV_OVERRIDE
+    {
+        const Size image = camera_->getImageSize();
+        if (grid.width < 0 || grid.height < 0 || grid.width > image.width || grid.height > image.height)
+            CV_Error_(Error::StsBadArg,
+                      ("PsfGenerator::setTileGrid: grid %dx%d must be within [0, %d] x [0, %d] nodes (the image "
+                       "size; 0: automatic)",
+                       grid.width, grid.height, image.width, image.height));
+        grid_ = grid;
+    }
+    String getDefaultName() const CV_OVERRIDE { return "dynblur.PsfGenerator"; }
+
+private:
+    int autoColumns(const Trajectory& tr, const Pinhole& pr, const RollingShutter& shutter) const;
+    std::vector<double> autoBands(const Trajectory& tr, const Pinhole& pr, const RollingShutter& shutter,
+                                  const std::vector<double>& columns) const;
+
+    Ptr<Plant> plant_;
+    Ptr<CameraModel> camera_;
+    int maxKernel_;
+    int bandRows_;
+    Size grid_;
+};
+
+//! The view's rotation at the start, middle and end of the exposure of row position `row`: the
+//! points that sign a row's path when nodes are placed.
+void exposureRotations(const Trajectory& tr, const RollingShutter& shutter, double row, Matx33d R[3])
+{
+    const Vec2d interval = shutter.intervalAt(row);
+    const double a = interval[0], b = interval[1];
+    R[0] = tr.rotation(tr.angleAt(a));
+    R[1] = tr.rotation(tr.angleAt(0.5 * (a + b)));
+    R[2] = tr.rotation(tr.angleAt(b));
+}
+
+/* Largest change of a kernel's path (start, middle, end) across one automatic row band, pixels.
+   0.4 px restores as well as one band per row (DeblurQuality; a point source's spot within 1 % of
+   the per-row one, PointSourceMatchesRendererRollingShutter) with three quarters of the kernels
+   of 0.25 px; at 0.5 px that spot's error grows by 16 %. */
+const double kBandTolerancePx = 0.4;
+//! Range of node columns of an automatic tile grid.
+const int kMinAutoTileCols = 8;
+// 16 columns restore as well as 64 (within 0.1 dB in window I, where the keystone is largest) at a
+// quarter of the cost; see the DeblurQuality tests.
+const int kMaxAutoTileCols = 16;
+
+int PsfGeneratorImpl::autoColumns(const Trajectory& tr, const Pinhole& pr, const RollingShutter& shutter) const
+{
+    // Largest change of a path point (start, middle, end) per pixel along x, over probe rows;
+    // the node spacing keeps adjacent kernels within kBandTolerancePx of each other.
+    const Size size = camera_->getImageSize();
+    const int W = size.width, H = size.height, nProbeCols = 33, nProbeRows = 33;
+    double slope = 0;
+    for (int j = 0; j < nProbeRows; j++)
+    {
+        const double y = (H - 1) * (double)j / (nProbeRows - 1);
+        Matx33d R[3];
+        exposureRotations(tr, shutter, y, R);
+        Point2d prev[3];
+        for (int i = 0; i < nProbeCols; i++)
+        {
+            const double x = (W - 1) * (double)i / (nProbeCols - 1);
+            const Point2d m = pr.undistort(Point2d(x, y));
+            const Point2d dm = pr.distort(m.x, m.y);
+            for (int k = 0; k < 3; k++)
+            {
+                const Point2d d = pr.displacement(m, dm, R[k]);
+                if (i > 0)
+                    slope = std::max(slope, norm(d - prev[k]) / ((W - 1) / (nProbeCols - 1.0)));
+                prev[k] = d;
+            }
+        }
+    }
+    const double needed = std::ceil(W * slope / kBandTolerancePx);
+    return (int)std::min((double)kMaxAutoTileCols, std::max((double)kMinAutoTileCols, needed));
+}
+
+std::vector<double> PsfGeneratorImpl::autoBands(const Trajectory& tr, const Pinhole& pr,
+                                                const RollingShutter& shutter,
+                                                const std::vector<double>& columns) const
+{
+    // Signature of each row: its path's start, middle and end at each probe column. A band grows
+    // while every signature point stays within kBandTolerancePx of the band's first row.
+    const int H = camera_->getImageSize().height;
+    const int nc = (int)columns.size();
+    std::vector<Point2d> sig((size_t)H * nc * 3);
+    parallel_for_(Range(0, H), [&](const Range& rows) {
+        for (int r = rows.start; r < rows.end; r++)
+        {
+            Matx33d R[3];
+            exposureRotations(tr, shutter, r, R);
+            for (int c = 0; c < nc; c++)
+            {
+                const Point2d p(columns[c], r);
+                const Point2d m = pr.undistort(p);
+                const Point2d dm = pr.distort(m.x, m.y);
+                for (int j = 0; j < 3; j++)
+                    sig[((size_t)r * nc + c) * 3 + j] = pr.displacement(m, dm, R[j]);
+            }
+        }
+    }, 8);
+    std::vector<double> centres;
+    int start = 0;
+    for (int r = 1; r <= H; r++)
+    {
+        bool close = r < H;
+        for (int i = 0; close && i < nc * 3; i++)
+            close = norm(sig[(size_t)r * nc * 3 + i] - sig[(size_t)start * nc * 3 + i]) <= kBandTolerancePx;
+        if (!close)
+        {
+            centres.push_back(0.5 * (start + r - 1));
+            start = r;
+        }
+    }
+    return centres;
+}
+
+PsfBank PsfGeneratorImpl::generate(int model, const SwitchSchedule& schedule, const RollingShutter& shutter,
+                                   double thetaRef) const
+{
+    if (model != PSF_UNIFORM && model != PSF_ROWS && model != PSF_TILES)
+        CV_Error_(Error::StsBadArg,
+                  ("PsfGenerator::generate: model=%d must be PSF_UNIFORM (0), PSF_ROWS (1) or PSF_TILES (2)", model));
+    const Size size = camera_->getImageSize();
+    detail::checkShutter(shutter, "PsfGenerator::generate", "shutter.", size.height);
+    if (std::isinf(thetaRef))
+        CV_Error(Error::StsBadArg,
+                 "PsfGenerator::generate: thetaRef must be finite (radians) or NaN (the final resting angle)");
+    if (!(schedule.times.empty() && schedule.levels.empty()))
+        schedule.validate();
+    if (std::isnan(thetaRef))
+        thetaRef = plant_->restingAngle(schedule.finalLevel());
+
+    const Pinhole pr = detail::pinholeOf(*camera_);
+    const Trajectory tr =
+        detail::sampleTrajectory(*plant_, schedule, shutter.readoutInterval(), thetaRef, pr.axis);
+    const int W = size.width, H = size.height;
+
+    PsfBank bank;
+    bank.model = model;
+    bank.imageSize = size;
+    const double xc = 0.5 * (W - 1), yc = 0.5 * (H - 1);
+    if (model == PSF_UNIFORM)
+    {
+        bank.nodeCols.assign(1, xc);
+        bank.nodeRows.assign(1, yc);
+    }
+    else if (model == PSF_ROWS)
+    {
+        bank.nodeCols.assign(1, xc);
+        if (bandRows_ > 0)
+        {
+            for (int a = 0; a < H; a += bandRows_)
+                bank.nodeRows.push_back(0.5 * (a + std::min(H, a + bandRows_) - 1));
+        }
+        else
+            bank.nodeRows = autoBands(tr, pr, shutter, std::vector<double>(1, xc));
+    }
+    else
+    {
+        const int nx = grid_.width > 0 ? grid_.width : autoColumns(tr, pr, shutter);
+        for (int i = 0; i < nx; i++)
+            bank.nodeCols.push_back((i + 0.5) * W / nx - 0.5);
+        if (grid_.height > 0)
+        {
+            for (int j = 0; j < grid_.height; j++)
+                bank.nodeRows.push_back((j + 0.5) * H / grid_.height - 0.5);
+        }
+        else
+            bank.nodeRows = autoBands(tr, pr, shutter, std::vector<double>{0.0, xc, W - 1.0});
+    }
+
+    const int nx = (int)bank.nodeCols.size(), n = (int)(bank.nodeRows.size() * nx);
+    bank.kernels.resize(n);
+    bank.shifts.resize(n);
+    /* Stripes of many kernels (one scratch space each), enough of them to balance the threads. A
+       stripe's kernels share one allocation: a tile bank has ~10⁴ kernels, and allocating and
+       freeing them one by one is a measurable part of a tile-wise frame (BM_PsfTilesAutoWindowIII
+       in perf/perf_psf.cpp times the bank). */
+    parallel_for_(Range(0, n), [&](const Range& range) {
+        /* Kept per thread: a stripe's kernels grew their buffer by doubling, copying it about twice
+           over, for every stripe of every frame. */
+        thread_local KernelScratch scratch;
+        scratch.kernels.clear();
+        std::vector<Size> sizes(size_t(range.size()));
+        for (int i = range.start; i < range.end; i++)
+        {
+            KernelNode node;
+            node.pixel = Point2d(bank.nodeCols[i % nx], bank.nodeRows[i / nx]);
+            const Vec2d interval = shutter.intervalAt(node.pixel.y);
+            node.tStart = interval[0];
+            node.tEnd = interval[1];
+            detail::rasterizeKernel(tr, pr, node, maxKernel_, scratch, sizes[size_t(i - range.start)], bank.shifts[i]);
+        }
+        Mat stripe(1, int(scratch.kernels.size()), CV_32F);
+        std::copy(scratch.kernels.begin(), scratch.kernels.end(), stripe.ptr<float>());
+        int start = 0;
+        for (int i = range.start; i < range.end; i++)
+        {
+            const Size size = sizes[size_t(i - range.start)];
+            bank.kernels[i] = stripe.colRange(start, start + size.area()).reshape(1, size.height);
+            start += size.area();
+        }
+    }, std::min(n, 64));
+    return bank;
+}
+
+}  // namespace
+
+Ptr<PsfGenerator> PsfGenerator::create(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera)
+{
+    if (!plant)
+        CV_Error(Error::StsNullPtr, "PsfGenerator::create: plant must not be null");
+    if (!camera)
+        CV_Error(Error::StsNullPtr, "PsfGenerator::create: camera must not be null");
+    return makePtr<PsfGeneratorImpl>(plant, camera);
+}
+
+}  // namespace dynblur
+}  // namespace cv

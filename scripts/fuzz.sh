@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # libFuzzer targets (docs/reliability.md): builds fuzz/ with clang in build-fuzz/ (DYNBLUR_BUILD_FUZZ=ON: the
-# library and samples/common compiled with ASan + UBSan + coverage), runs every file of
+# library and samples/support, samples/simulation compiled with ASan + UBSan + coverage), runs every file of
 # fuzz/corpus/<target>/ and fuzz/regressions/<target>/ once (CTest), then fuzzes each target for a
 # bounded time. Any crash, sanitizer report, leak, hang (> 10 s per input) or out-of-memory fails the
 # run; the input that caused it is kept in build-fuzz/artifacts/<target>/. Called by run_tests.sh.

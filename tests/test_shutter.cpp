@@ -64,7 +64,7 @@ TEST(ShutterTiming, FractionalRowsAndOverlappingRows)
     EXPECT_NEAR(mid[1] - mid[0], 0.008, 1e-15);
 
     // every row whose exposure overlaps a span is in the range, and at most one more at each end
-    for (const Vec2d span : {Vec2d(0.0, 0.026), Vec2d(0.030, 0.0301), Vec2d(0.05, 0.06), Vec2d(0.1, 0.2)})
+    for (const Vec2d& span : {Vec2d(0.0, 0.026), Vec2d(0.030, 0.0301), Vec2d(0.05, 0.06), Vec2d(0.1, 0.2)})
     {
         const Range rows = shutter.rowsOverlapping(span[0], span[1]);
         int first = -1, last = -1;

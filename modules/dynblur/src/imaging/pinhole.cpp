@@ -2,6 +2,7 @@
 #include "precomp.hpp"
 
 #include "imaging/pinhole.hpp"
+#include "imaging/axis_rotation.hpp"
 
 namespace cv {
 namespace dynblur {

@@ -1,6 +1,7 @@
 // The sRGB transfer curve (IEC 61966-2-1): exact conversions both ways and the table-driven 8-bit
 // encoder and decoder the restoration's color path uses.
 #include "precomp.hpp"
+#include "imaging/srgb.hpp"
 
 namespace cv {
 namespace dynblur {

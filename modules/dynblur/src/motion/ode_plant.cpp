@@ -1,4 +1,5 @@
 #include "precomp.hpp"
+#include "motion/time_vector.hpp"
 
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>

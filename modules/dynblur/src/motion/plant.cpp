@@ -1,4 +1,5 @@
 #include "precomp.hpp"
+#include "motion/time_vector.hpp"
 
 #include <Eigen/Core>
 #include <unsupported/Eigen/NonLinearOptimization>

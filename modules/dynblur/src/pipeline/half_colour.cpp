@@ -3,6 +3,7 @@
 #include "restore/deconv_rl.hpp"
 #include "pipeline/half_colour.hpp"
 #include "restore/simd_clones.hpp"
+#include "imaging/srgb.hpp"
 
 namespace cv {
 namespace dynblur {

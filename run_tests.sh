@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Runs every test: builds the project (installing what it needs), runs the C++ suite through
-# CTest, then the Python checks with pytest in the project-local virtual environment .venv, then
-# the C++ suite again under ASan + UBSan (scripts/sanitize.sh, build-asan/), the fuzz targets
+# CTest, installs the build into a temporary prefix and builds and runs an application against it
+# (scripts/install_check.sh: find_package and pkg-config), then the Python checks with pytest in the
+# project-local virtual environment .venv, then the C++ suite again under ASan + UBSan
+# (scripts/sanitize.sh, build-asan/), the fuzz targets
 # (scripts/fuzz.sh, build-fuzz/: corpus and regressions, then DYNBLUR_FUZZ_SECONDS each) and the
 # short speed check (scripts/benchmark.sh --ci: the row-wise restoration against its filter2D peer).
 #
@@ -23,6 +25,9 @@ rm -f "$logs"/*.log
 echo "[tests] C++ (CTest, GoogleTest); test data: $DYNBLUR_TEST_DATA (required)"
 status=0
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)" 2>&1 | tee "$logs/ctest.log" || status=$?
+
+echo "[tests] installed package: an application built against it with find_package and pkg-config"
+"$here/scripts/install_check.sh" 2>&1 | tee "$logs/install.log" || status=$?
 
 echo "[tests] Python (pytest)"
 python="$("$here/scripts/python_env.sh")"

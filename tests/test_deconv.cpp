@@ -908,8 +908,8 @@ TEST_P(DeconvVariantShift, RowBankImprovesPsnrWithoutSeams)
     EXPECT_LT(between / nBetween, 1.15 * all / nAll);
 }
 
-INSTANTIATE_TEST_CASE_P(Shifts, DeconvVariantShift, ::testing::Values(std::make_pair(0, 8), std::make_pair(40, 8),
-                                                                      std::make_pair(120, 4)));
+INSTANTIATE_TEST_SUITE_P(Shifts, DeconvVariantShift, ::testing::Values(std::make_pair(0, 8), std::make_pair(40, 8),
+                                                                       std::make_pair(120, 4)));
 
 // ---------------------------------------------------------------------------------------------
 // (5) Tile bank: no seam along the lines between nodes.

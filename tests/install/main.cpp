@@ -28,12 +28,16 @@ Mat syntheticScene(Size size)
     RNG rng(7);
     for (int i = 0; i < 40; ++i)
     {
-        const Point centre(rng.uniform(0, size.width), rng.uniform(0, size.height));
-        const Scalar colour(rng.uniform(0, 256), rng.uniform(0, 256), rng.uniform(0, 256));
+        // Braces: their values are drawn left to right with every compiler.
+        const Point centre{rng.uniform(0, size.width), rng.uniform(0, size.height)};
+        const Scalar colour{double(rng.uniform(0, 256)), double(rng.uniform(0, 256)), double(rng.uniform(0, 256))};
         if (i % 2)
             circle(scene, centre, rng.uniform(4, 20), colour, FILLED, LINE_AA);
         else
-            line(scene, centre, Point(rng.uniform(0, size.width), rng.uniform(0, size.height)), colour, 2, LINE_AA);
+        {
+            const Point end{rng.uniform(0, size.width), rng.uniform(0, size.height)};
+            line(scene, centre, end, colour, 2, LINE_AA);
+        }
     }
     return scene;
 }

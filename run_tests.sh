@@ -2,8 +2,8 @@
 # Runs every test: builds the project (installing what it needs), runs the C++ suite through
 # CTest, installs the build into a temporary prefix and builds and runs an application against it
 # (scripts/install_check.sh: find_package and pkg-config), then the Python checks with pytest in the
-# project-local virtual environment .venv, then the C++ suite again under ASan + UBSan
-# (scripts/sanitize.sh, build-asan/), the fuzz targets
+# project-local virtual environment .venv, then the C++ suite again, built with clang, under ASan +
+# UBSan (scripts/sanitize.sh, build-asan/), the fuzz targets
 # (scripts/fuzz.sh, build-fuzz/: corpus and regressions, then DYNBLUR_FUZZ_SECONDS each) and the
 # short speed check (scripts/benchmark.sh --ci: the row-wise restoration against its filter2D peer).
 #
@@ -33,7 +33,7 @@ echo "[tests] Python (pytest)"
 python="$("$here/scripts/python_env.sh")"
 "$python" -m pytest -q -rs "$here/tests/python" 2>&1 | tee "$logs/pytest.log" || status=$?
 
-echo "[tests] C++ under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/)"
+echo "[tests] C++ built with clang, under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/)"
 "$here/scripts/sanitize.sh" 2>&1 | tee "$logs/ctest-asan.log" || status=$?
 
 echo "[tests] libFuzzer targets: corpus and regressions, then a bounded run each (build-fuzz/)"

@@ -19,16 +19,18 @@ case "$cxx" in
   *g++*)     cc="${cxx/g++/gcc}" ;;
   *)         echo "[sanitize] DYNBLUR_SANITIZE_CXX=$cxx: expected a clang++ or a g++" >&2; exit 2 ;;
 esac
-cxx_path="$(command -v "$cxx")" || { echo "[sanitize] no compiler $cxx" >&2; exit 2; }
+cxx_path="$(command -v "$cxx")" && cc_path="$(command -v "$cc")" \
+  || { echo "[sanitize] no compiler $cxx or $cc" >&2; exit 2; }
+# The cache holds the compiler as a path, or as given (CMake keeps a repeated -D's value as it came).
 cached="$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$build/CMakeCache.txt" 2>/dev/null || true)"
-if [ -n "$cached" ] && [ "$(readlink -f "$cached")" != "$(readlink -f "$cxx_path")" ]; then
+if [ -n "$cached" ] && [ "$(readlink -f "$(command -v "$cached" || echo "$cached")")" != "$(readlink -f "$cxx_path")" ]; then
   echo "[sanitize] $build was configured with $cached; reconfiguring it for $cxx"
   rm -rf "$build/CMakeCache.txt" "$build/CMakeFiles"
 fi
 
 echo "[sanitize] configuring and building in $build (ASan + UBSan, $cxx)"
-cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_COMPILER="$cc" \
-      -DCMAKE_CXX_COMPILER="$cxx" -DDYNBLUR_SANITIZE=ON >/dev/null
+cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_COMPILER="$cc_path" \
+      -DCMAKE_CXX_COMPILER="$cxx_path" -DDYNBLUR_SANITIZE=ON >/dev/null
 cmake --build "$build" -j "$(nproc)"
 
 # shellcheck source=scripts/sanitizer_env.sh

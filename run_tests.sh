@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Runs every test: builds the project (installing what it needs), runs the C++ suite through
-# CTest, then the Python checks with pytest in the project-local virtual environment .venv, then
-# the C++ suite again under ASan + UBSan (scripts/sanitize.sh, build-asan/), the fuzz targets
+# CTest, installs the build into a temporary prefix and builds and runs an application against it
+# (scripts/install_check.sh: find_package and pkg-config), then the Python checks with pytest in the
+# project-local virtual environment .venv, then the C++ suite again, built with clang, under ASan +
+# UBSan (scripts/sanitize.sh, build-asan/), the fuzz targets
 # (scripts/fuzz.sh, build-fuzz/: corpus and regressions, then DYNBLUR_FUZZ_SECONDS each), the
 # restoration kernels against their references on aarch64 under qemu and on each x86 instruction set
 # (scripts/arm_check.sh, $build/kernel-check/) and the short speed check (scripts/benchmark.sh --ci:
@@ -26,11 +28,14 @@ echo "[tests] C++ (CTest, GoogleTest); test data: $DYNBLUR_TEST_DATA (required)"
 status=0
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)" 2>&1 | tee "$logs/ctest.log" || status=$?
 
+echo "[tests] installed package: an application built against it with find_package and pkg-config"
+"$here/scripts/install_check.sh" 2>&1 | tee "$logs/install.log" || status=$?
+
 echo "[tests] Python (pytest)"
 python="$("$here/scripts/python_env.sh")"
 "$python" -m pytest -q -rs "$here/tests/python" 2>&1 | tee "$logs/pytest.log" || status=$?
 
-echo "[tests] C++ under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/)"
+echo "[tests] C++ built with clang, under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/)"
 "$here/scripts/sanitize.sh" 2>&1 | tee "$logs/ctest-asan.log" || status=$?
 
 echo "[tests] libFuzzer targets: corpus and regressions, then a bounded run each (build-fuzz/)"

@@ -3,14 +3,34 @@
 # UndefinedBehaviorSanitizer in build-asan/ (DYNBLUR_SANITIZE=ON) and runs the GoogleTest suite and
 # the CLI tests through CTest. A sanitizer report aborts the test that triggered it, so the run
 # fails on any report. Called by run_tests.sh after scripts/setup.sh installed the packages.
+# It compiles with clang: the normal build (build/) is GCC's, so the test command builds and runs
+# the C++ suite with both compilers.
 #
 #   DYNBLUR_ASAN_BUILD_DIR  build folder (default build-asan/)
+#   DYNBLUR_SANITIZE_CXX    C++ compiler (default clang++; g++ gives GCC's sanitizers); the C
+#                           compiler is its sibling (clang, gcc). A folder configured with another
+#                           compiler is reconfigured from scratch.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${DYNBLUR_ASAN_BUILD_DIR:-$here/build-asan}"
+cxx="${DYNBLUR_SANITIZE_CXX:-clang++}"
+case "$cxx" in
+  *clang++*) cc="${cxx/clang++/clang}" ;;
+  *g++*)     cc="${cxx/g++/gcc}" ;;
+  *)         echo "[sanitize] DYNBLUR_SANITIZE_CXX=$cxx: expected a clang++ or a g++" >&2; exit 2 ;;
+esac
+cxx_path="$(command -v "$cxx")" && cc_path="$(command -v "$cc")" \
+  || { echo "[sanitize] no compiler $cxx or $cc" >&2; exit 2; }
+# The cache holds the compiler as a path, or as given (CMake keeps a repeated -D's value as it came).
+cached="$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$build/CMakeCache.txt" 2>/dev/null || true)"
+if [ -n "$cached" ] && [ "$(readlink -f "$(command -v "$cached" || echo "$cached")")" != "$(readlink -f "$cxx_path")" ]; then
+  echo "[sanitize] $build was configured with $cached; reconfiguring it for $cxx"
+  rm -rf "$build/CMakeCache.txt" "$build/CMakeFiles"
+fi
 
-echo "[sanitize] configuring and building in $build (ASan + UBSan)"
-cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DDYNBLUR_SANITIZE=ON >/dev/null
+echo "[sanitize] configuring and building in $build (ASan + UBSan, $cxx)"
+cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_COMPILER="$cc_path" \
+      -DCMAKE_CXX_COMPILER="$cxx_path" -DDYNBLUR_SANITIZE=ON >/dev/null
 cmake --build "$build" -j "$(nproc)"
 
 # shellcheck source=scripts/sanitizer_env.sh

@@ -913,8 +913,8 @@ TEST_P(DeconvVariantShift, RowBankImprovesPsnrWithoutSeams)
     EXPECT_LT(between / nBetween, 1.15 * all / nAll);
 }
 
-INSTANTIATE_TEST_CASE_P(Shifts, DeconvVariantShift, ::testing::Values(std::make_pair(0, 8), std::make_pair(40, 8),
-                                                                      std::make_pair(120, 4)));
+INSTANTIATE_TEST_SUITE_P(Shifts, DeconvVariantShift, ::testing::Values(std::make_pair(0, 8), std::make_pair(40, 8),
+                                                                       std::make_pair(120, 4)));
 
 // ---------------------------------------------------------------------------------------------
 // (5) Tile bank: no seam along the lines between nodes.
@@ -1041,14 +1041,22 @@ TEST(DeconvVariant, UnobservedPixelsTakeTheNearestObservedOne)
         cv::Mat m(300 + 40 * t, 400 - 30 * t, CV_8U, cv::Scalar(255));
         for (int k = 0; k < 3 + t; k++)
         {
-            const cv::Point c(rng.uniform(0, m.cols), rng.uniform(0, m.rows));
+            // One draw per declarator: the order of a call's arguments is the compiler's (GCC went right
+            // to left, clang goes left to right). This is GCC's, the masks the tolerances were set on.
+            const int cy = rng.uniform(0, m.rows);
+            const cv::Point c(rng.uniform(0, m.cols), cy);
             if (k % 3 == 0)
                 cv::circle(m, c, rng.uniform(2, 60), cv::Scalar(0), -1);
             else if (k % 3 == 1)
-                cv::rectangle(m, cv::Rect(c, cv::Size(rng.uniform(1, 200), rng.uniform(1, 40))), cv::Scalar(0), -1);
+            {
+                const int h = rng.uniform(1, 40);
+                cv::rectangle(m, cv::Rect(c, cv::Size(rng.uniform(1, 200), h)), cv::Scalar(0), -1);
+            }
             else
-                cv::line(m, c, cv::Point(rng.uniform(0, m.cols), rng.uniform(0, m.rows)), cv::Scalar(0),
-                         rng.uniform(1, 9));
+            {
+                const int thickness = rng.uniform(1, 9), y = rng.uniform(0, m.rows);
+                cv::line(m, c, cv::Point(rng.uniform(0, m.cols), y), cv::Scalar(0), thickness);
+            }
         }
         if (t == 5)
             m.rowRange(0, 150).setTo(0);

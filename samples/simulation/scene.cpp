@@ -21,8 +21,12 @@ cv::Mat makeScene(const cv::Size& size, unsigned seed)
     // Random filled shapes: large edges in every direction.
     for (int i = 0; i < 90; ++i)
     {
-        const cv::Point centre(rng.uniform(0, size.width), rng.uniform(0, size.height));
-        const cv::Scalar colour(rng.uniform(20, 235), rng.uniform(20, 235), rng.uniform(20, 235));
+        // One draw per declarator: the order of a call's arguments is the compiler's (GCC went right
+        // to left, clang goes left to right). This is GCC's, the scene the figures were measured on.
+        const int y = rng.uniform(0, size.height), x = rng.uniform(0, size.width);
+        const int red = rng.uniform(20, 235), green = rng.uniform(20, 235), blue = rng.uniform(20, 235);
+        const cv::Point centre(x, y);
+        const cv::Scalar colour(blue, green, red);
         const int radius = static_cast<int>(rng.uniform(8, 70) * scale) + 2;
         if (i % 3 == 0)
             cv::circle(scene, centre, radius, colour, cv::FILLED, cv::LINE_AA);

@@ -50,7 +50,8 @@ is first explained by the reference carried through the predicted blur; the corr
 explains it best (setRefinement) is used for the restoration, and a frame that no correction
 explains (consistency above setConsistencyLimit: a wrong schedule, something moving in the scene,
 a bumped camera) is returned unchanged rather than made worse. Without a reference the model is
-used as told (with setCalibration's correction).
+used as told (with setCalibration's correction), or, with setBlindRefinement, the time offset is
+estimated from the frame alone.
 */
 class CV_EXPORTS_W DynamicDeblurrer : public Algorithm
 {

@@ -27,8 +27,6 @@ namespace {
 const int kMaxLag = 48;
 // Lags between moving rows that are compared, rows.
 const int kLags = 8;
-// Fewer rows still under every candidate than this, and the scene's statistics are not measured.
-const int kMinStillRows = 24;
 // Columns at each side left out of the variograms (the projective blur's edge, the frame's border).
 const int kMarginColumns = 4;
 // A kernel spanning at most this many rows moves less than a pixel: the row counts as still.
@@ -191,7 +189,7 @@ std::vector<double> blindObjective(const Ptr<Plant>& plant, const BlindFrame& fr
             if (stillEverywhere[size_t(r + t)])
                 gamma[size_t(t)] += frame.variogram.at<double>(r, t) / 2 - frame.noiseVariance, count[size_t(t)]++;
     }
-    if (stillRows < kMinStillRows || stillRows == rows)
+    if (stillRows < kBlindMinStillRows || stillRows == rows)
         return objective;
     for (size_t t = 1; t < gamma.size(); t++)
         gamma[t] = count[t] > 0 ? std::max(0.0, gamma[t] / count[t]) : gamma[t - 1];

@@ -10,6 +10,9 @@ namespace cv {
 namespace dynblur {
 namespace detail {
 
+//! Fewer rows than this still under every candidate, and the blind criterion does not measure the scene.
+const int kBlindMinStillRows = 24;
+
 /** @brief A frame as the blind criterion reads it: its linear luminance halved to at most
 kFitFineWidth pixels wide, the noise, and each row's vertical variogram. */
 struct BlindFrame

@@ -317,9 +317,10 @@ private:
         correction = result.correction;
         correction.consistency = result.observed ? result.score : std::numeric_limits<double>::quiet_NaN();
         if (!result.observed)
-            correction.reason = "blind: fewer than 24 rows stay still (a global shutter moving throughout the "
-                                "exposure, or window II), so nothing measures the scene's statistics: the model as "
-                                "told";
+            correction.reason = format("blind: fewer than %d rows stay still (a global shutter moving throughout the "
+                                       "exposure, or window II), so nothing measures the scene's statistics: the "
+                                       "model as told",
+                                       detail::kBlindMinStillRows);
         else if (result.applied)
             correction.reason = format("blind: time offset %+.3f ms decided by the row variograms (criterion %.3f, "
                                        "%.0f %% better than the model as told; %d blur models)",

@@ -341,6 +341,41 @@ TEST(RefinementBlindCurves, DISABLED_PrintCurves)
     }
 }
 
+/* Blind evidence over a sequence: ten frames over the move sharing one clock offset, each frame's
+   blind criterion over the offset normalised by its own minimum and summed (docs/refinement.md). */
+TEST(RefinementBlindCurves, DISABLED_SequenceSharesOneOffset)
+{
+    const std::vector<MotionCorrection> scan = offsetScan();
+    for (const char* image : {"building.jpg", "fruits.jpg"})
+    {
+        DYNBLUR_REQUIRE_DATA(path, image);
+        SaccadeScene s(path);
+        for (const Drift& drift : {kDrifts[1], kDrifts[2], kDrifts[3], kDrifts[10]})
+        {
+            std::vector<double> total(scan.size(), 0.0);
+            int used = 0;
+            std::printf("[ sequence ] %s %-10s per frame:", image, drift.name);
+            for (int k = 0; k < 10; k++)
+            {
+                const RollingShutter told(-0.030 + 0.0065 * k, 0.008, 1.0 / 30 / 480, 480);
+                const Mat frame = s.capture(drift.shutter(told), 100 + k, drift.plant(s));
+                const std::vector<double> v = blindMotionConsistency(s.plant, s.camera, frame, s.schedule, told, scan);
+                if (!std::isfinite(v[0]))
+                    continue;
+                const double low = *std::min_element(v.begin(), v.end());
+                const size_t best = size_t(std::min_element(v.begin(), v.end()) - v.begin());
+                std::printf(" %+.2f", scan[best].timeOffset * 1e3);
+                for (size_t j = 0; j < v.size(); j++)
+                    total[j] += v[j] / low;
+                used++;
+            }
+            const size_t best = size_t(std::min_element(total.begin(), total.end()) - total.begin());
+            std::printf(" | %d frames: sum's minimum at %+.2f ms (true %+.2f)\n", used, scan[best].timeOffset * 1e3,
+                        drift.timeOffset * 1e3);
+        }
+    }
+}
+
 /* Told the truth, refinement against the reference moves a window III restoration of fruits by
    about −0.5 dB: which part of the correction it found costs it (docs/refinement.md). */
 TEST(RefinementTruth, DISABLED_WhereTheLossToldTheTruthComesFrom)

@@ -410,7 +410,13 @@ dtype; a window-IV frame comes back unchanged), or (restored, validMask) with re
         .def("setCalibration", &DynamicDeblurrer::setCalibration, py::arg("correction"))
         .def("getConsistencyLimit", &DynamicDeblurrer::getConsistencyLimit,
              "Frames whose consistency exceeds it are returned unchanged (default 3; inf: no check)")
-        .def("setConsistencyLimit", &DynamicDeblurrer::setConsistencyLimit, py::arg("limit"));
+        .def("setConsistencyLimit", &DynamicDeblurrer::setConsistencyLimit, py::arg("limit"))
+        .def("getBlindRefinement", &DynamicDeblurrer::getBlindRefinement,
+             "Whether frames without a reference frame are refined blind (default False: the model as told)")
+        .def("setBlindRefinement", &DynamicDeblurrer::setBlindRefinement, py::arg("enabled"))
+        .def("getBlindConsistencyLimit", &DynamicDeblurrer::getBlindConsistencyLimit,
+             "Blind frames whose criterion exceeds it are returned unchanged (default inf: no check)")
+        .def("setBlindConsistencyLimit", &DynamicDeblurrer::setBlindConsistencyLimit, py::arg("limit"));
 }
 
 }  // namespace dynblur_py

@@ -1,4 +1,5 @@
-// Bindings of refinement.hpp: MotionCorrection, TimingCalibration, calibrateTiming, motionConsistency.
+// Bindings of refinement.hpp: MotionCorrection, TimingCalibration, calibrateTiming, motionConsistency,
+// blindMotionConsistency.
 #include "bindings.hpp"
 
 #include <opencv2/dynblur/refinement.hpp>
@@ -129,6 +130,20 @@ resting angle. Returns a TimingCalibration.)doc");
         py::arg("shutter"), py::arg("candidates"), py::arg("referenceAngle") = std::numeric_limits<double>::quiet_NaN(),
         py::arg("maxWidth") = 320,
         "The consistency of each candidate MotionCorrection with one frame (for plots and diagnostics).");
+
+    m.def("blindMotionConsistency",
+        [](const std::shared_ptr<Plant>& plant, const std::shared_ptr<CameraModel>& camera, py::handle frame,
+           const SwitchSchedule& schedule, const RollingShutter& shutter,
+           const std::vector<MotionCorrection>& candidates, int maxWidth) {
+            MatIn blurred = toMat(frame, "frame");
+            py::gil_scoped_release release;
+            return blindMotionConsistency(required(plant, "plant"), required(camera, "camera"), blurred.mat, schedule,
+                                          shutter, candidates, maxWidth);
+        },
+        py::arg("plant"), py::arg("camera"), py::arg("frame"), py::arg("schedule"), py::arg("shutter"),
+        py::arg("candidates"), py::arg("maxWidth") = 320,
+        "The blind criterion of each candidate MotionCorrection for one frame without a reference (NaN: the "
+        "frame has too few still rows).");
 }
 
 }  // namespace dynblur_py

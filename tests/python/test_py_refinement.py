@@ -102,3 +102,35 @@ def test_bad_input_is_named(db, tele):
     with pytest.raises(ValueError, match="references"):
         db.calibrateTiming(plant, cam, [None], [np.zeros((120, 160), np.float32)], [sched], [
             db.RollingShutter(frameStart=0.0, exposure=0.008, lineDelay=0.0, rows=120)])
+
+
+def test_blind_refinement_finds_the_clock_offset(db, tele):
+    """Blind, on a stationary texture (the criterion measures the scene's statistics on the still rows
+    and applies them to the moving ones; conftest's bars and disks are not stationary)."""
+    import cv2
+    plant, sched, cam, _ = tele
+    texture = np.random.default_rng(3).uniform(0.1, 0.9, (120 + 2 * 64, 160 + 2 * 8)).astype(np.float32)
+    texture = cv2.GaussianBlur(texture, (0, 0), 1.0)
+    start = window_start(db, plant, sched, 120, 0.008, 1 / 30 / 120, db.EXPOSURE_III)
+    told = db.RollingShutter(frameStart=start, exposure=0.008, lineDelay=1 / 30 / 120, rows=120)
+    truth = db.RollingShutter(frameStart=start + 2e-3, exposure=0.008, lineDelay=1 / 30 / 120, rows=120)
+    frame = capture(db, (plant, sched, cam, texture), truth, 1)
+    d = db.DynamicDeblurrer.create(plant, cam)
+    d.setPsfModel(db.PSF_ROWS)
+    assert not d.getBlindRefinement() and math.isinf(d.getBlindConsistencyLimit())
+    d.setBlindRefinement(True)
+    restored = d.deblur(frame, sched, told)
+    c = d.getLastCorrection()
+    assert restored.shape == frame.shape and c.applied, c.reason
+    assert c.reason.startswith("blind: time offset"), c.reason
+    assert c.timeOffset == pytest.approx(2e-3, abs=5e-4)
+    values = db.blindMotionConsistency(plant, cam, frame, sched, told,
+                                       [db.MotionCorrection(), db.MotionCorrection(timeOffset=c.timeOffset)])
+    assert values[1] < values[0] and values[1] == pytest.approx(c.consistency, rel=0.2)
+    d.setBlindConsistencyLimit(c.consistency / 2)
+    unchanged = d.deblur(frame, sched, told)
+    assert not d.getLastCorrection().applied and np.array_equal(unchanged, frame)
+    with pytest.raises(db.error, match="limit = 0 must be > 0"):
+        d.setBlindConsistencyLimit(0.0)
+    with pytest.raises(db.error, match=r"maxWidth \(pixels\) must be in \[64, 4096\]"):
+        db.blindMotionConsistency(plant, cam, frame, sched, told, [db.MotionCorrection()], maxWidth=32)

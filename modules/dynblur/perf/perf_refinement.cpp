@@ -2,7 +2,7 @@
 // it precedes, on a 1280x960 RGB rolling-shutter frame in window III of a 10° saccade whose camera
 // clock runs 1 ms late. The targets (docs/refinement.md): refining all four parameters costs at most one default
 // restoration; refining the offset alone (after a sequence calibration) adds at most half of the
-// frame-rate setting's restoration.
+// frame-rate setting's restoration. Blind refinement (no reference frame) is timed alike, over both.
 #include "paired_rounds.hpp"
 #include "perf_baseline.hpp"
 
@@ -45,8 +45,9 @@ struct DriftedSaccade
 
 /* Each round runs the four workloads in an order that rotates from round to round: the default
    restoration with and without refining all four parameters, and the frame-rate setting with and
-   without refining the offset alone (from a calibration 0.3 ms off, as a sequence leaves it). The
-   refinement's cost is the difference, over the restoration's time, median over the rounds. */
+   without refining the offset alone (from a calibration 0.3 ms off, as a sequence leaves it), and
+   both settings refined blind. The refinement's cost is the difference, over the restoration's
+   time, median over the rounds. */
 void BM_RefinementCostPaired(benchmark::State& state)
 {
     static const DriftedSaccade f;
@@ -64,12 +65,19 @@ void BM_RefinementCostPaired(benchmark::State& state)
     MotionCorrection calibration;
     calibration.timeOffset = 0.7e-3;
     fastOffset->setCalibration(calibration);
+    Ptr<DynamicDeblurrer> blind = DynamicDeblurrer::create(f.plant, f.camera);
+    blind->setBlindRefinement(true);
+    Ptr<DynamicDeblurrer> fastBlind = DynamicDeblurrer::create(f.plant, f.camera);
+    dynblur_perf::setFrameRate(*fastBlind);
+    fastBlind->setBlindRefinement(true);
     Mat restored;
     const std::vector<std::vector<double>> ms = dynblur_perf::timePairedRounds(
         state, {[&] { plain->deblur(f.frame, f.schedule, f.shutter, restored); },
                 [&] { refined->deblur(f.frame, f.schedule, f.shutter, restored); },
                 [&] { fast->deblur(f.frame, f.schedule, f.shutter, restored); },
-                [&] { fastOffset->deblur(f.frame, f.schedule, f.shutter, restored); }});
+                [&] { fastOffset->deblur(f.frame, f.schedule, f.shutter, restored); },
+                [&] { blind->deblur(f.frame, f.schedule, f.shutter, restored); },
+                [&] { fastBlind->deblur(f.frame, f.schedule, f.shutter, restored); }});
     //! The median over the rounds of the time workload `with` adds to `without`, over the latter's.
     const auto addedOver = [&](int with, int without) {
         return dynblur_perf::medianRatio(ms[size_t(with)], ms[size_t(without)]) - 1;
@@ -86,6 +94,9 @@ void BM_RefinementCostPaired(benchmark::State& state)
     state.counters["refine_offset_over_frame_rate"] = addedOver(3, 2);
     state.counters["found_offset_ms"] = all.timeOffset * 1e3;
     state.counters["found_offset_fast_ms"] = offset.timeOffset * 1e3;
+    state.counters["blind_over_default"] = addedOver(4, 0);
+    state.counters["blind_over_frame_rate"] = addedOver(5, 2);
+    state.counters["found_offset_blind_ms"] = blind->getLastCorrection().timeOffset * 1e3;
 }
 BENCHMARK(BM_RefinementCostPaired)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(5)->Repetitions(1);
 

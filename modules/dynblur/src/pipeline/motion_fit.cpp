@@ -49,6 +49,14 @@ LuminancePyramid buildPyramid(const Mat& luminance, const Ptr<CameraModel>& came
     return pyramid;
 }
 
+RollingShutter shutterAtLevel(const RollingShutter& shutter, int halvings)
+{
+    RollingShutter result = shutter;
+    for (int k = 0; k < halvings; k++)
+        result = halfResolutionShutter(result);
+    return result;
+}
+
 namespace {
 
 //! The level of `pyramid` whose width is the largest at or below `width` (the coarsest when none is).
@@ -58,15 +66,6 @@ int levelAtMostWide(const LuminancePyramid& pyramid, int width)
         if (pyramid.images[size_t(level)].cols <= width)
             return level;
     return pyramid.levels() - 1;
-}
-
-//! The shutter of a frame halved `halvings` times (halfResolutionShutter applied that often).
-RollingShutter shutterAtLevel(const RollingShutter& shutter, int halvings)
-{
-    RollingShutter result = shutter;
-    for (int k = 0; k < halvings; k++)
-        result = halfResolutionShutter(result);
-    return result;
 }
 
 /* The parameters in the units the fit works in, chosen so that a unit step moves the image by

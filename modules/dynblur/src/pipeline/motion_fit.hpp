@@ -33,6 +33,9 @@ Mat linearLuminance(const Mat& frame);
 LuminancePyramid buildPyramid(const Mat& luminance, const Ptr<CameraModel>& camera, int coarsestWidth,
                               bool estimateNoise);
 
+//! The shutter of a frame halved `halvings` times (halfResolutionShutter applied that often).
+RollingShutter shutterAtLevel(const RollingShutter& shutter, int halvings);
+
 //! One frame and the still frame it is compared with.
 struct FitFrame
 {

@@ -1,8 +1,9 @@
 // MotionCorrection, TimingCalibration and the calls that estimate them (refinement.hpp).
 #include "precomp.hpp"
 
-#include "restore/deconv_rl.hpp"
+#include "pipeline/blind_fit.hpp"
 #include "pipeline/motion_fit.hpp"
+#include "restore/deconv_rl.hpp"
 
 #include <cstdio>
 
@@ -312,6 +313,30 @@ std::vector<double> motionConsistency(const Ptr<Plant>& plant, const Ptr<CameraM
     for (double& v : values)
         v = std::sqrt(v);
     return values;
+}
+
+std::vector<double> blindMotionConsistency(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera, InputArray frame,
+                                           const SwitchSchedule& schedule, const RollingShutter& shutter,
+                                           const std::vector<MotionCorrection>& candidates, int maxWidth)
+{
+    const char* fn = "blindMotionConsistency";
+    if (plant.empty() || camera.empty())
+        CV_Error(Error::StsNullPtr, format("%s: '%s' is null", fn, plant.empty() ? "plant" : "camera"));
+    CV_CheckGE(maxWidth, 64, "blindMotionConsistency: maxWidth (pixels) must be in [64, 4096]");
+    CV_CheckLE(maxWidth, 4096, "blindMotionConsistency: maxWidth (pixels) must be in [64, 4096]");
+    const Mat image = frame.getMat();
+    detail::checkCameraFrame(image, *camera, fn, "frame");
+    schedule.validate();
+    shutter.validate();
+    if (shutter.rows != image.rows)
+        CV_Error(Error::StsBadSize,
+                 format("%s: shutter.rows = %d differs from the frame's height %d", fn, shutter.rows, image.rows));
+    for (const MotionCorrection& c : candidates)
+        c.validate();
+    if (candidates.empty())
+        return std::vector<double>();
+    return detail::blindObjective(plant, detail::prepareBlindFrame(image, camera, maxWidth), schedule, shutter,
+                                  candidates);
 }
 
 }  // namespace dynblur

@@ -42,8 +42,10 @@ struct CV_EXPORTS_W_SIMPLE MotionCorrection
         reference frame carried through the corrected blur, over the pixels both frames observe, in
         units of the sensor noise's standard deviation (estimated on the reference). About 1 where the
         model is right (up to √2 on rows that do not move, where both frames' noise adds); a wrong
-        schedule, a moving object or a bumped camera gives several. NaN when it was not measured
-        (no reference frame). */
+        schedule, a moving object or a bumped camera gives several. Refined blind (no reference
+        frame, DynamicDeblurrer::setBlindRefinement): blindMotionConsistency's criterion at the
+        correction kept, another scale. NaN when it was not measured (no reference frame and no blind
+        refinement, or too few still rows). */
     CV_PROP_RW double consistency;
     CV_PROP_RW bool applied;             //!< false: the frame was returned unrestored (see reason)
     CV_PROP_RW String reason;            //!< why it was not applied, or how the correction was found
@@ -137,6 +139,31 @@ CV_EXPORTS_W std::vector<double> motionConsistency(const Ptr<Plant>& plant, cons
                                                    const std::vector<MotionCorrection>& candidates,
                                                    double referenceAngle = std::numeric_limits<double>::quiet_NaN(),
                                                    int maxWidth = 320);
+
+/** @brief The blind criterion of candidate corrections for one frame without a reference frame:
+the objective DynamicDeblurrer::setBlindRefinement minimises, for plots and diagnostics.
+
+A blurred row is a weighted sum of scene rows; for a scene with vertical semivariogram γ the mean
+squared difference of two rows follows from their two kernels and γ. The rows that stay still under
+every candidate measure γ; the criterion is the mean squared log ratio of the moving rows' measured
+differences (lags of 1 to 8 rows, at most `maxWidth` wide) to the ones each candidate's blur
+predicts, at the scene contrast that fits best. It has no unit: 0 is a perfect fit, measured about
+0.02 to 0.1 where the model is right. Every value is NaN when fewer than 24 rows (at that width) are
+still under every candidate: a global shutter in motion throughout the readout, window II, or a
+rolling frame whose moving rows cover it.
+@param plant the nominal plant.
+@param camera the camera.
+@param frame the blurred frame (8-bit sRGB or CV_32F linear [0, 1], 1, 3 or 4 channels, the camera's size).
+@param schedule the frame's command.
+@param shutter the frame's timing as reported.
+@param candidates corrections to evaluate (the rows still under all of them measure the scene).
+@param maxWidth the frame is halved (as cv::resize with INTER_AREA) until at most this wide, pixels, in [64, 4096].
+@return one value per candidate. */
+CV_EXPORTS_W std::vector<double> blindMotionConsistency(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera,
+                                                        InputArray frame, const SwitchSchedule& schedule,
+                                                        const RollingShutter& shutter,
+                                                        const std::vector<MotionCorrection>& candidates,
+                                                        int maxWidth = 320);
 
 //! @}
 

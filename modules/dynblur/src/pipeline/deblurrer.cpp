@@ -21,6 +21,8 @@ public:
         halfWorkspace_.persistent = true;
     }
 
+    /* One frame, stage by stage: the motion that happened (refined), the frame as light, its blur
+       (the PSF bank), the restoration, and the restored frame in the input's encoding. */
     void deblur(InputArray frame, const SwitchSchedule& schedule, const RollingShutter& shutter, OutputArray restored,
                 double thetaRef, OutputArray validMask) CV_OVERRIDE
     {
@@ -33,89 +35,24 @@ public:
         lastWindow_ = classifyExposure(plant, schedule, corrected);
         lastBank_ = PsfBank();
         if (lastWindow_ == EXPOSURE_IV || !lastCorrection_.applied)
-        {
-            // Still throughout, the frame already is a sharp global-shutter view; or no model explains it.
-            input.copyTo(restored);
-            if (validMask.needed())
-            {
-                validMask.create(input.size(), CV_8U);
-                validMask.setTo(Scalar::all(255));
-            }
-            return;
-        }
+            return passThrough(input, restored, validMask);  // still throughout, or no model explains it
 
-        // Alpha is coverage, not light: it is neither linearised nor restored, and passes through.
-        Mat colour = input, alpha;
-        if (input.channels() == 4)
-        {
-            std::vector<Mat> planes;
-            split(input, planes);
-            alpha = planes[3];
-            planes.pop_back();
-            merge(planes, colour);
-        }
-        // The colour at half resolution decodes an 8-bit frame as it reads it.
-        const bool halfColour = method_ == DEBLUR_RICHARDSON_LUCY && colourAtHalfResolution(colour.channels());
-        Mat linear = colour;
-        if (colour.depth() == CV_8U && !halfColour)
-        {
-            srgbToLinear(colour, linear_);  // kept: a fresh frame-sized buffer faults in its pages
-            linear = linear_;
-        }
+        Mat alpha;
+        const Mat color = withoutAlpha(input, alpha);
+        // The color at half resolution decodes an 8-bit frame as it reads it.
+        const bool halfColor = method_ == DEBLUR_RICHARDSON_LUCY && colourAtHalfResolution(color.channels());
+        const Mat linear = color.depth() == CV_8U && !halfColor ? linearized(color) : color;
 
         lastBank_ = generatorFor(plant)->generate(psfModel_, schedule, corrected, thetaRef);
+
         /* A frame without alpha is restored straight into the output (written last, after every
            read of the frame, so restoring in place works) when it is linear, or 8-bit with the
-           colour at half resolution (encoded as it is written); others go through latent_. */
-        const bool direct = alpha.empty() && (input.depth() == CV_32F || halfColour);
-        Mat latent = direct ? Mat() : latent_;
-        _OutputArray target = direct ? restored : _OutputArray(latent);
-        // Restoration may overshoot a little at edges; the output is an image in [0, 1].
-        if (method_ == DEBLUR_WIENER)
-        {
-            wienerDeconvolve(linear, lastBank_, target, wienerNoiseToSignal_);
-            mask_.create(input.size(), CV_8U);
-            mask_.setTo(Scalar::all(255));
-        }
-        else if (halfColour)
-        {
-            restoreWithHalfColour(linear, plant, schedule, corrected, thetaRef, target,
-                                  direct ? input.depth() : CV_32F);
-        }
-        else
-        {
-            detail::restoreVariant(linear, lastBank_, params_, workspace_, target, mask_, true);
-        }
-        if (direct)
-            latent = restored.getMat();
-        else
-            latent_ = latent;
-        if (method_ == DEBLUR_WIENER)
-            parallel_for_(Range(0, latent.rows), [&](const Range& rows) {
-                for (int y = rows.start; y < rows.end; y++)
-                    detail::clampRowToUnit(latent.ptr<float>(y), latent.cols * latent.channels());
-            });
-
-        if (!direct && alpha.empty())
-        {
-            linearToSrgb(latent, restored, CV_8U);  // an 8-bit frame, encoded straight into the output
-        }
-        else if (!direct)
-        {
-            Mat encoded;
-            if (input.depth() == CV_8U)
-                linearToSrgb(latent, encoded, CV_8U);
-            else
-                encoded = latent;
-            if (!alpha.empty())
-            {
-                std::vector<Mat> planes;
-                split(encoded, planes);
-                planes.push_back(alpha);
-                merge(planes, encoded);
-            }
-            encoded.copyTo(restored);
-        }
+           color at half resolution (encoded as it is written); others go through latent_. */
+        const bool direct = alpha.empty() && (input.depth() == CV_32F || halfColor);
+        const Mat latent = restore(linear, plant, schedule, corrected, thetaRef, halfColor, direct, input.depth(),
+                                   restored);
+        if (!direct)
+            encode(latent, input.depth(), alpha, restored);
         if (validMask.needed())
             mask_.copyTo(validMask);
     }
@@ -231,6 +168,89 @@ private:
     {
         return colourResolution_ == DEBLUR_COLOR_HALF_RESOLUTION && channels == 3 && params_.colorIterations >= 0 &&
                params_.colorIterations < params_.iterations;
+    }
+
+    //! The frame returned as it came, every pixel valid.
+    static void passThrough(const Mat& input, OutputArray restored, OutputArray validMask)
+    {
+        input.copyTo(restored);
+        if (validMask.needed())
+        {
+            validMask.create(input.size(), CV_8U);
+            validMask.setTo(Scalar::all(255));
+        }
+    }
+
+    //! The frame's color planes; a fourth channel, alpha, goes to `alpha`: coverage, not light, it passes through.
+    static Mat withoutAlpha(const Mat& input, Mat& alpha)
+    {
+        if (input.channels() != 4)
+            return input;
+        std::vector<Mat> planes;
+        split(input, planes);
+        alpha = planes[3];
+        planes.pop_back();
+        Mat color;
+        merge(planes, color);
+        return color;
+    }
+
+    //! An 8-bit sRGB frame as linear light, in a buffer kept between frames (a fresh one faults in its pages).
+    Mat linearized(const Mat& color)
+    {
+        srgbToLinear(color, linear_);
+        return linear_;
+    }
+
+    /* The restoration of `linear` by the method set, in [0, 1]: straight into `restored` when
+       `direct` (8-bit there when the input is, with the color at half resolution), else into latent_. */
+    Mat restore(const Mat& linear, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
+                const RollingShutter& shutter, double thetaRef, bool halfColor, bool direct, int inputDepth,
+                OutputArray restored)
+    {
+        Mat latent = direct ? Mat() : latent_;
+        _OutputArray target = direct ? restored : _OutputArray(latent);
+        if (method_ == DEBLUR_WIENER)
+        {
+            wienerDeconvolve(linear, lastBank_, target, wienerNoiseToSignal_);
+            mask_.create(linear.size(), CV_8U);
+            mask_.setTo(Scalar::all(255));
+        }
+        else if (halfColor)
+            restoreWithHalfColour(linear, plant, schedule, shutter, thetaRef, target, direct ? inputDepth : CV_32F);
+        else
+            detail::restoreVariant(linear, lastBank_, params_, workspace_, target, mask_, true);
+        if (direct)
+            latent = restored.getMat();
+        else
+            latent_ = latent;
+        // Wiener may overshoot at edges; the output is an image in [0, 1] (RL's keeps itself there).
+        if (method_ == DEBLUR_WIENER)
+            parallel_for_(Range(0, latent.rows), [&](const Range& rows) {
+                for (int y = rows.start; y < rows.end; y++)
+                    detail::clampRowToUnit(latent.ptr<float>(y), latent.cols * latent.channels());
+            });
+        return latent;
+    }
+
+    //! `latent` (linear) into `restored` in the input's encoding (8-bit sRGB or linear), alpha put back.
+    static void encode(const Mat& latent, int inputDepth, const Mat& alpha, OutputArray restored)
+    {
+        if (alpha.empty())
+        {
+            linearToSrgb(latent, restored, CV_8U);  // an 8-bit frame, encoded straight into the output
+            return;
+        }
+        Mat encoded;
+        if (inputDepth == CV_8U)
+            linearToSrgb(latent, encoded, CV_8U);
+        else
+            encoded = latent;
+        std::vector<Mat> planes;
+        split(encoded, planes);
+        planes.push_back(alpha);
+        merge(planes, encoded);
+        encoded.copyTo(restored);
     }
 
     /* The correction for this frame: the calibration, refined against the reference frame when

@@ -809,7 +809,7 @@ TEST(RefinementBadInput, ArgumentsAreCheckedAndNamed)
             calibrateTiming(s.plant, s.camera, two, twoFrames, schedules,
                             {told, RollingShutter(0.02, 0.008, told.lineDelay, 100)});
         },
-        "the shutter of 'frames[1]' has 100 rows but the frame has 120");
+        "the shutter of 'frames[1]': rows = 100 must equal the image's height 120");
     expectErrorNaming(
         [&] { motionConsistency(s.plant, s.camera, still, frame, s.schedule, told, {MotionCorrection()}, 0.0, 8); },
         "maxWidth = 8 px must be at least 16");

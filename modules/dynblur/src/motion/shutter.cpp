@@ -25,7 +25,7 @@ void detail::checkShutter(const RollingShutter& shutter, const char* where, cons
     if (shutter.rows <= 0)
         CV_Error(Error::StsOutOfRange, format("%s: %srows = %d must be > 0", where, prefix, shutter.rows));
     if (imageRows > 0 && shutter.rows != imageRows)
-        CV_Error(Error::StsBadArg, format("%s: %srows = %d must equal the camera's image height %d", where, prefix,
+        CV_Error(Error::StsBadArg, format("%s: %srows = %d must equal the image's height %d", where, prefix,
                                           shutter.rows, imageRows));
 }
 

@@ -3,6 +3,7 @@
 #include "pipeline/blind_fit.hpp"
 #include "pipeline/half_colour.hpp"
 #include "pipeline/motion_fit.hpp"
+#include "motion/shutter_check.hpp"
 #include "restore/arguments.hpp"
 #include "restore/deconv_rl.hpp"
 
@@ -440,11 +441,7 @@ private:
         // Richardson–Lucy cannot take negative data, and a float frame scaled for another range
         // than [0, 1] would be restored wrongly: checkCameraFrame refuses both.
         detail::checkCameraFrame(input, *camera_, "DynamicDeblurrer::deblur", "frame");
-        shutter.validate();
-        if (shutter.rows != input.rows)
-            CV_Error(Error::StsBadSize,
-                     format("DynamicDeblurrer::deblur: shutter.rows = %d differs from the frame's height %d",
-                            shutter.rows, input.rows));
+        detail::checkShutter(shutter, "DynamicDeblurrer::deblur", "shutter.", input.rows);
     }
 
     Ptr<Plant> plant_;

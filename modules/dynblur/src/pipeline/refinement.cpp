@@ -1,6 +1,7 @@
 // MotionCorrection, TimingCalibration and the calls that estimate them (refinement.hpp).
 #include "precomp.hpp"
 
+#include "motion/shutter_check.hpp"
 #include "pipeline/blind_fit.hpp"
 #include "pipeline/motion_fit.hpp"
 #include "restore/deconv_rl.hpp"
@@ -170,10 +171,7 @@ detail::FitFrame makeFitFrame(const Mat& reference, const Mat& frame, const Ptr<
                         referenceName.c_str(), typeToString(reference.type()).c_str(), frameName.c_str(),
                         typeToString(frame.type()).c_str()));
     schedule.validate();
-    shutter.validate();
-    if (shutter.rows != frame.rows)
-        CV_Error(Error::StsBadSize, format("%s: the shutter of '%s' has %d rows but the frame has %d", fn,
-                                           frameName.c_str(), shutter.rows, frame.rows));
+    detail::checkShutter(shutter, fn, ("the shutter of '" + frameName + "': ").c_str(), frame.rows);
     const double angle = std::isnan(referenceAngle) ? plant->restingAngle(schedule.initialLevel) : referenceAngle;
     if (!std::isfinite(angle) || std::abs(angle) > CV_PI / 2)
         CV_Error(Error::StsOutOfRange, format("%s: the angle of '%s' = %g rad must be finite and within [-pi/2, pi/2]",
@@ -327,10 +325,7 @@ std::vector<double> blindMotionConsistency(const Ptr<Plant>& plant, const Ptr<Ca
     const Mat image = frame.getMat();
     detail::checkCameraFrame(image, *camera, fn, "frame");
     schedule.validate();
-    shutter.validate();
-    if (shutter.rows != image.rows)
-        CV_Error(Error::StsBadSize,
-                 format("%s: shutter.rows = %d differs from the frame's height %d", fn, shutter.rows, image.rows));
+    detail::checkShutter(shutter, fn, "shutter.", image.rows);
     for (const MotionCorrection& c : candidates)
         c.validate();
     if (candidates.empty())

@@ -116,8 +116,8 @@ static void writeMosaic(const std::string& path, const std::vector<Mat>& images,
             putText(canvas, "unreadable", Point(cell.x + 100, cell.y + thumbH / 2), FONT_HERSHEY_SIMPLEX, 0.7,
                     Scalar(0, 0, 200), 2, LINE_AA);
         const bool used = calib.viewUsed[static_cast<size_t>(i)] != 0;
-        const Scalar colour = used ? Scalar(40, 140, 40) : Scalar(0, 0, 220);
-        rectangle(canvas, Rect(cell.x + 1, cell.y + 1, thumbW - 2, thumbH - 2), colour, used ? 1 : 3);
+        const Scalar color = used ? Scalar(40, 140, 40) : Scalar(0, 0, 220);
+        rectangle(canvas, Rect(cell.x + 1, cell.y + 1, thumbW - 2, thumbH - 2), color, used ? 1 : 3);
         const double r = calib.viewResiduals[static_cast<size_t>(i)];
         std::string label = baseName(calib.viewNames[static_cast<size_t>(i)]);
         label += std::isnan(r) ? "  -" : format("  %.3f px", r);
@@ -126,7 +126,7 @@ static void writeMosaic(const std::string& path, const std::vector<Mat>& images,
         std::string status = calib.viewStatus[static_cast<size_t>(i)];
         if (status.size() > 44)
             status = status.substr(0, 41) + "...";
-        putText(canvas, status, Point(cell.x + 6, cell.y + thumbH + 34), FONT_HERSHEY_SIMPLEX, 0.42, colour, 1,
+        putText(canvas, status, Point(cell.x + 6, cell.y + thumbH + 34), FONT_HERSHEY_SIMPLEX, 0.42, color, 1,
                 LINE_AA);
     }
     const std::string temporary = temporaryPathFor(path);

@@ -167,12 +167,12 @@ void writeTrajectoryPlot(const std::string& path, const Ptr<Plant>& plant, const
     for (size_t k = 0; k < cases.size(); ++k)
     {
         const RollingShutter& shutter = cases[k].shutter;
-        const cv::Scalar colour = dynblur_plot::paletteColor(static_cast<int>(k) + 2);
+        const cv::Scalar color = dynblur_plot::paletteColor(static_cast<int>(k) + 2);
         for (int r = 0; r < shutter.rows; r += 60)
         {
             const Vec2d interval = shutter.rowInterval(r);
             rows.hBar(1e3 * interval[0], 1e3 * interval[1], -r + 0.15 * 60 * static_cast<double>(k),
-                      r == 0 ? cases[k].name : "", colour, 3);
+                      r == 0 ? cases[k].name : "", color, 3);
         }
     }
     rows.yLimits(-maxShutterRows(cases), 60);

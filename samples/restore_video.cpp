@@ -66,14 +66,14 @@ const size_t kSheetRows = 6;
 static Mat sheetRow(const Mat& blurred, const Mat& restored, int frame, const MotionCorrection& c)
 {
     const auto cell = [](const Mat& image, const std::string& text) {
-        Mat small, colour;
+        Mat small, color;
         resize(image, small, Size(480, image.rows * 480 / image.cols), 0, 0, INTER_AREA);
-        colour = small;
+        color = small;
         if (small.channels() == 1)
-            cvtColor(small, colour, COLOR_GRAY2BGR);
-        rectangle(colour, Rect(0, 0, colour.cols, 22), Scalar(0, 0, 0), FILLED);
-        putText(colour, text, Point(5, 16), FONT_HERSHEY_SIMPLEX, 0.45, Scalar(255, 255, 255), 1, LINE_AA);
-        return colour;
+            cvtColor(small, color, COLOR_GRAY2BGR);
+        rectangle(color, Rect(0, 0, color.cols, 22), Scalar(0, 0, 0), FILLED);
+        putText(color, text, Point(5, 16), FONT_HERSHEY_SIMPLEX, 0.45, Scalar(255, 255, 255), 1, LINE_AA);
+        return color;
     };
     Mat row;
     hconcat(cell(blurred, format("frame %d: as recorded", frame)),
@@ -178,10 +178,10 @@ int main(int argc, char** argv)
                     if (sheetRows.size() < kSheetRows && deblurrer->getLastExposureWindow() != EXPOSURE_IV)
                         sheetRows.push_back(sheetRow(item.image, restored, item.record.frame, c));
                 }
-                Mat colour = out;
+                Mat color = out;
                 if (out.channels() == 1)
-                    cvtColor(out, colour, COLOR_GRAY2BGR);
-                writer.write(colour);
+                    cvtColor(out, color, COLOR_GRAY2BGR);
+                writer.write(color);
                 std::string reason = item.still ? std::string("still") : c.reason;
                 for (char& ch : reason)
                     ch = ch == ',' || ch == '"' ? ';' : ch;

@@ -44,8 +44,8 @@ REPO = pathlib.Path(__file__).resolve().parents[1]
 # x_k+1 (2 + 4 + 2 + 2 + 4). TV's gradient and the curvature stay in registers, and a row-wise
 # bank's normaliser, one value along each row, is not read from its plane. (With float blurs: 40.)
 BYTES_PER_PIXEL_ITERATION = (4 + 4 + 4 + 2) + (2 + 4 + 2) + (2 + 4 + 2 + 2 + 4)
-# Colour iterations of the frame-rate setting (RLParams::colorIterations; DeblurQuality checks its quality).
-COLOUR_ITERATIONS = 3
+# Color iterations of the frame-rate setting (RLParams::colorIterations; DeblurQuality checks its quality).
+COLOR_ITERATIONS = 3
 
 
 def progress(message):
@@ -102,7 +102,7 @@ def run_peers(repetitions):
     # The frame-rate setting, as BM_DeblurFrame and BM_FrameRatePaired run it: the whole deblur.
     deblurrer = dynblur.DynamicDeblurrer.create(plant, camera)
     deblurrer.setPsfModel(dynblur.PSF_ROWS)
-    deblurrer.setRLParams(dynblur.RLParams(iterations=10, damping=float("nan"), colorIterations=COLOUR_ITERATIONS,
+    deblurrer.setRLParams(dynblur.RLParams(iterations=10, damping=float("nan"), colorIterations=COLOR_ITERATIONS,
                                            blurPrecision=dynblur.RL_BLUR_BFLOAT16))
     deblurrer.setColorResolution(dynblur.DEBLUR_COLOR_HALF_RESOLUTION)
 
@@ -136,9 +136,9 @@ def plot(results, bandwidth, path):
 
     size = sorted((v["megapixels"], v["ms"]) for k, v in results.items() if k.startswith("BM_RestoreRowsVsSize"))
     iters = sorted((v["iterations"], v["ms"]) for k, v in results.items() if k.startswith("BM_RestoreRowsVsIterations"))
-    # Plane iterations of the frame-rate setting, in frame-sized planes: with more iterations than colour ones,
-    # all of them on the luminance and the colour ones on 3 planes of a quarter of the pixels; else all in colour.
-    plane_passes = lambda n: n + 3 * COLOUR_ITERATIONS / 4 if n > COLOUR_ITERATIONS else 3 * n
+    # Plane iterations of the frame-rate setting, in frame-sized planes: with more iterations than color ones,
+    # all of them on the luminance and the color ones on 3 planes of a quarter of the pixels; else all in color.
+    plane_passes = lambda n: n + 3 * COLOR_ITERATIONS / 4 if n > COLOR_ITERATIONS else 3 * n
     bound_ms = lambda mp, n: BYTES_PER_PIXEL_ITERATION * mp * 1e6 * plane_passes(n) / bandwidth * 1e3
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
@@ -154,7 +154,7 @@ def plot(results, bandwidth, path):
     axes[1].plot(n, [i[1] for i in iters], "o-", label="row-wise RL, 1280x960 (measured)")
     axes[1].plot(n, [bound_ms(1.2288, k) for k in n], "--", label="memory-bandwidth bound")
     axes[1].axhline(33.3, color="grey", lw=0.8, ls=":", label="30 fps (33 ms)")
-    axes[1].set_xlabel(f"RL iterations (luminance; {COLOUR_ITERATIONS} in colour at half resolution)")
+    axes[1].set_xlabel(f"RL iterations (luminance; {COLOR_ITERATIONS} in color at half resolution)")
     axes[1].set_ylabel("time, ms")
     axes[1].set_title("time against iterations")
     axes[1].legend(fontsize=8)
@@ -260,9 +260,9 @@ def main():
     skimage_ratio = peers["skimage_over_dynblur"]
     # (kind, name, measured, required, met): "held" targets decide the exit status.
     targets = [
-        ("reported", f"1280x960 RGB, row-wise PSF, 10 RL iterations ({COLOUR_ITERATIONS} in colour at half resolution, "
+        ("reported", f"1280x960 RGB, row-wise PSF, 10 RL iterations ({COLOR_ITERATIONS} in color at half resolution, "
          f"bfloat16 blurs), whole deblur (median; in paired rounds float blurs {paired['float32_over_rows']:.2f}x as "
-         f"long, the colour at full resolution {paired['full_colour_over_rows']:.2f}x)", f"{rows:.1f} ms",
+         f"long, the color at full resolution {paired['full_color_over_rows']:.2f}x)", f"{rows:.1f} ms",
          "<= 33 ms", rows <= 33.0),
         ("held", f"same vs RL with cv::filter2D, uniform 21x1 (C++, median of paired rounds: "
          f"{paired['rows_ms']:.0f} vs {paired['filter2d_ms']:.0f} ms)", f"{filter2d_ratio:.2f}x", ">= 4x",

@@ -52,8 +52,8 @@ Restorations restoreBoth(const SaccadeScene& s, const RollingShutter& shutter)
     return r;
 }
 
-/* PSNR of the frame-rate setting (10 iterations, 3 in colour) with `model`, `blurPrecision` and the
-   colour at `resolution`. */
+/* PSNR of the frame-rate setting (10 iterations, 3 in color) with `model`, `blurPrecision` and the
+   color at `resolution`. */
 double frameRatePsnr(const SaccadeScene& s, const RollingShutter& shutter, const Mat& frame, const Mat& judged,
                      int model, int blurPrecision, int resolution)
 {
@@ -83,28 +83,28 @@ const std::map<std::string, double>& documentedGains()
         // window III rolling, most blurred third
         {"building: III rolling, variant - blurred", 11.02},
         {"building: III rolling, variant - uniform", 11.04},
-        {"building: III rolling, variant - rows (full colour)", 3.18},
+        {"building: III rolling, variant - rows (full color)", 3.18},
         {"building: III rolling, frame-rate rows - blurred", 6.77},
-        {"building: III rolling, frame-rate half colour - blurred", 7.36},
-        {"building: III rolling, frame-rate half colour - full colour", 0.61},
-        {"building: III rolling, frame-rate tiles half colour - blurred", 9.79},
-        {"building: III rolling, frame-rate tiles half colour - full colour", 1.03},
+        {"building: III rolling, frame-rate half color - blurred", 7.36},
+        {"building: III rolling, frame-rate half color - full color", 0.61},
+        {"building: III rolling, frame-rate tiles half color - blurred", 9.79},
+        {"building: III rolling, frame-rate tiles half color - full color", 1.03},
         {"fruits: III rolling, variant - blurred", 4.85},
         {"fruits: III rolling, variant - uniform", 4.69},
-        {"fruits: III rolling, variant - rows (full colour)", 0.41},
+        {"fruits: III rolling, variant - rows (full color)", 0.41},
         {"fruits: III rolling, frame-rate rows - blurred", 4.17},
-        {"fruits: III rolling, frame-rate half colour - blurred", 4.74},
-        {"fruits: III rolling, frame-rate half colour - full colour", 0.58},
-        {"fruits: III rolling, frame-rate tiles half colour - blurred", 5.03},
-        {"fruits: III rolling, frame-rate tiles half colour - full colour", 0.60},
+        {"fruits: III rolling, frame-rate half color - blurred", 4.74},
+        {"fruits: III rolling, frame-rate half color - full color", 0.58},
+        {"fruits: III rolling, frame-rate tiles half color - blurred", 5.03},
+        {"fruits: III rolling, frame-rate tiles half color - full color", 0.60},
         {"board: III rolling, variant - blurred", 7.75},
         {"board: III rolling, variant - uniform", 7.90},
-        {"board: III rolling, variant - rows (full colour)", 2.79},
+        {"board: III rolling, variant - rows (full color)", 2.79},
         {"board: III rolling, frame-rate rows - blurred", 4.66},
-        {"board: III rolling, frame-rate half colour - blurred", 4.75},
-        {"board: III rolling, frame-rate half colour - full colour", 0.12},
-        {"board: III rolling, frame-rate tiles half colour - blurred", 6.87},
-        {"board: III rolling, frame-rate tiles half colour - full colour", 0.44},
+        {"board: III rolling, frame-rate half color - blurred", 4.75},
+        {"board: III rolling, frame-rate half color - full color", 0.12},
+        {"board: III rolling, frame-rate tiles half color - blurred", 6.87},
+        {"board: III rolling, frame-rate tiles half color - full color", 0.44},
         // window III global, whole frame
         {"building: III global, variant - blurred", 11.88},
         {"building: III global, uniform - blurred", 10.38},
@@ -118,16 +118,16 @@ const std::map<std::string, double>& documentedGains()
         // window I rolling, whole frame
         {"building: I rolling, variant - blurred", 18.54},
         {"building: I rolling, variant - uniform", 13.65},
-        {"building: I rolling, frame-rate tiles half colour - blurred", 17.43},
-        {"building: I rolling, frame-rate tiles half colour - full colour", 0.71},
+        {"building: I rolling, frame-rate tiles half color - blurred", 17.43},
+        {"building: I rolling, frame-rate tiles half color - full color", 0.71},
         {"fruits: I rolling, variant - blurred", 17.89},
         {"fruits: I rolling, variant - uniform", 11.16},
-        {"fruits: I rolling, frame-rate tiles half colour - blurred", 16.76},
-        {"fruits: I rolling, frame-rate tiles half colour - full colour", 0.13},
+        {"fruits: I rolling, frame-rate tiles half color - blurred", 16.76},
+        {"fruits: I rolling, frame-rate tiles half color - full color", 0.13},
         {"board: I rolling, variant - blurred", 13.77},
         {"board: I rolling, variant - uniform", 13.02},
-        {"board: I rolling, frame-rate tiles half colour - blurred", 13.02},
-        {"board: I rolling, frame-rate tiles half colour - full colour", 0.24},
+        {"board: I rolling, frame-rate tiles half color - blurred", 13.02},
+        {"board: I rolling, frame-rate tiles half color - full color", 0.24},
         // window II rolling, whole frame
         {"building: II rolling, variant - blurred", 6.32},
         {"building: II rolling, variant - uniform", 4.84},
@@ -181,16 +181,16 @@ TEST_P(DeblurQuality, RollingShutterWindowIIIGainsInTheMostBlurredThird)
     expectGain(GetParam(), "III rolling, variant - blurred", variant, blurred);
     expectGain(GetParam(), "III rolling, variant - uniform", variant, uniform);
 
-    // The default (tiles) against the row model, both full colour and 20 iterations: the keystone of
+    // The default (tiles) against the row model, both full color and 20 iterations: the keystone of
     // the rotation varies along a row, which only tiles follow.
     Ptr<DynamicDeblurrer> rowWise = DynamicDeblurrer::create(s.plant, s.camera);
     rowWise->setPsfModel(PSF_ROWS);
     Mat rowsRestored;
     rowWise->deblur(r.frame, s.schedule, shutter, rowsRestored);
     const double rows = maskedPsnr(s.truth, rowsRestored, judged, 255);
-    expectGain(GetParam(), "III rolling, variant - rows (full colour)", variant, rows);
+    expectGain(GetParam(), "III rolling, variant - rows (full color)", variant, rows);
 
-    // The frame-rate setting (the speed benchmark's): row bands, 10 iterations, 3 of them in colour.
+    // The frame-rate setting (the speed benchmark's): row bands, 10 iterations, 3 of them in color.
     const double frameRate =
         frameRatePsnr(s, shutter, r.frame, judged, PSF_ROWS, RL_BLUR_FLOAT32, DEBLUR_COLOR_FULL_RESOLUTION);
     expectGain(GetParam(), "III rolling, frame-rate rows - blurred", frameRate, blurred);
@@ -203,21 +203,21 @@ TEST_P(DeblurQuality, RollingShutterWindowIIIGainsInTheMostBlurredThird)
                 imageName(GetParam()).c_str(), bfloat16 - frameRate, bfloat16, frameRate, kBfloat16Tolerance);
     EXPECT_NEAR(bfloat16, frameRate, kBfloat16Tolerance);
 
-    // The colour phase at half resolution (the speed benchmark's setting): the luminance takes all
-    // 10 iterations at full resolution, so detail is kept, and the colour starts from the frame
+    // The color phase at half resolution (the speed benchmark's setting): the luminance takes all
+    // 10 iterations at full resolution, so detail is kept, and the color starts from the frame
     // instead of from a third of the luminance's iterations.
-    const double halfColour =
+    const double halfColor =
         frameRatePsnr(s, shutter, r.frame, judged, PSF_ROWS, RL_BLUR_BFLOAT16, DEBLUR_COLOR_HALF_RESOLUTION);
-    expectGain(GetParam(), "III rolling, frame-rate half colour - blurred", halfColour, blurred);
-    expectGain(GetParam(), "III rolling, frame-rate half colour - full colour", halfColour, bfloat16);
+    expectGain(GetParam(), "III rolling, frame-rate half color - blurred", halfColor, blurred);
+    expectGain(GetParam(), "III rolling, frame-rate half color - full color", halfColor, bfloat16);
 
     // The same tile-wise.
     const double tiles[2] = {frameRatePsnr(s, shutter, r.frame, judged, PSF_TILES, RL_BLUR_BFLOAT16,
                                            DEBLUR_COLOR_FULL_RESOLUTION),
                              frameRatePsnr(s, shutter, r.frame, judged, PSF_TILES, RL_BLUR_BFLOAT16,
                                            DEBLUR_COLOR_HALF_RESOLUTION)};
-    expectGain(GetParam(), "III rolling, frame-rate tiles half colour - blurred", tiles[1], blurred);
-    expectGain(GetParam(), "III rolling, frame-rate tiles half colour - full colour", tiles[1], tiles[0]);
+    expectGain(GetParam(), "III rolling, frame-rate tiles half color - blurred", tiles[1], blurred);
+    expectGain(GetParam(), "III rolling, frame-rate tiles half color - full color", tiles[1], tiles[0]);
 }
 
 TEST_P(DeblurQuality, GlobalShutterVariantMatchesUniform)
@@ -251,14 +251,14 @@ TEST_P(DeblurQuality, RollingShutterWindowIPutsRowsBackInPlace)
     expectGain(GetParam(), "I rolling, variant - blurred", variant, blurred);
     expectGain(GetParam(), "I rolling, variant - uniform", variant, uniform);
 
-    /* Window I is where columns differ most (the tile model's gain): the colour's kernels at half
+    /* Window I is where columns differ most (the tile model's gain): the color's kernels at half
        resolution take half the tile grid's columns (the same spacing in pixels). */
     const double tiles[2] = {frameRatePsnr(s, shutter, r.frame, judged, PSF_TILES, RL_BLUR_BFLOAT16,
                                            DEBLUR_COLOR_FULL_RESOLUTION),
                              frameRatePsnr(s, shutter, r.frame, judged, PSF_TILES, RL_BLUR_BFLOAT16,
                                            DEBLUR_COLOR_HALF_RESOLUTION)};
-    expectGain(GetParam(), "I rolling, frame-rate tiles half colour - blurred", tiles[1], blurred);
-    expectGain(GetParam(), "I rolling, frame-rate tiles half colour - full colour", tiles[1], tiles[0]);
+    expectGain(GetParam(), "I rolling, frame-rate tiles half color - blurred", tiles[1], blurred);
+    expectGain(GetParam(), "I rolling, frame-rate tiles half color - full color", tiles[1], tiles[0]);
 }
 
 TEST_P(DeblurQuality, RollingShutterWindowIIMovingThroughout)
@@ -305,7 +305,7 @@ TEST(DeblurWindowIV, OutputEqualsInput)
     EXPECT_EQ(norm(linear, restored, NORM_INF), 0.0);
 }
 
-TEST(DeblurChannels, AlphaPassesThroughAndColourMatchesTheThreeChannelResult)
+TEST(DeblurChannels, AlphaPassesThroughAndColorMatchesTheThreeChannelResult)
 {
     Ptr<Plant> plant = Plant::create(14.4, 0.12, kDeg);
     Ptr<CameraModel> camera = CameraModel::create(300.0, 300.0, 79.5, 59.5, 160, 120);
@@ -316,7 +316,7 @@ TEST(DeblurChannels, AlphaPassesThroughAndColourMatchesTheThreeChannelResult)
     randu(alpha, 0, 256);
     merge(std::vector<Mat>{bgr, alpha}, bgra);
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
-    // The default, then a colour phase at half resolution (test_half_colour.cpp)
+    // The default, then a color phase at half resolution (test_half_color.cpp)
     for (int resolution : {DEBLUR_COLOR_FULL_RESOLUTION, DEBLUR_COLOR_HALF_RESOLUTION})
     {
         if (resolution == DEBLUR_COLOR_HALF_RESOLUTION)
@@ -334,9 +334,9 @@ TEST(DeblurChannels, AlphaPassesThroughAndColourMatchesTheThreeChannelResult)
         std::vector<Mat> planes;
         split(restoredBgra, planes);
         EXPECT_EQ(norm(planes[3], alpha, NORM_INF), 0.0) << "resolution " << resolution;
-        Mat colour;
-        merge(std::vector<Mat>{planes[0], planes[1], planes[2]}, colour);
-        EXPECT_EQ(norm(colour, restoredBgr, NORM_INF), 0.0) << "resolution " << resolution;
+        Mat color;
+        merge(std::vector<Mat>{planes[0], planes[1], planes[2]}, color);
+        EXPECT_EQ(norm(color, restoredBgr, NORM_INF), 0.0) << "resolution " << resolution;
     }
     Mat grey, restoredGrey;
     cvtColor(bgr, grey, COLOR_BGR2GRAY);

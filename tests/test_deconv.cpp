@@ -968,7 +968,7 @@ double borderToInterior(const Mat& restored, const Mat& truth, int border)
     return mean(err, borderMask)[0] / mean(err, ~borderMask)[0];
 }
 
-// bfloat16 blurs restore as float ones do, with and without extrapolation, in colour and through
+// bfloat16 blurs restore as float ones do, with and without extrapolation, in color and through
 // the luminance phase, row-wise and tile-wise (odd heights: a last row without a partner).
 TEST(DeconvVariant, Bfloat16BlursRestoreAsFloatDoes)
 {
@@ -1427,8 +1427,8 @@ TEST(DeconvColorIterations, UniformPathTakesTheLuminanceChangeAndItsStart)
     EXPECT_EQ(norm(started, reduced, NORM_INF), 0.0);
 }
 
-// Luminance iterations: exact where they must be, and close to full colour on a colourful frame.
-TEST(DeconvColorIterations, LuminancePhaseAgreesWithFullColour)
+// Luminance iterations: exact where they must be, and close to full color on a colorful frame.
+TEST(DeconvColorIterations, LuminancePhaseAgreesWithFullColor)
 {
     const PsfBank bank = rowBank(Size(120, 90), 6, 20);
     Mat grey(90, 120, CV_32F), blurredGrey;
@@ -1439,7 +1439,7 @@ TEST(DeconvColorIterations, LuminancePhaseAgreesWithFullColour)
     params.iterations = 8;
     Mat full, reduced, above;
 
-    /* Equal planes: their mean is each plane, so the luminance phase is colour RL exactly (without
+    /* Equal planes: their mean is each plane, so the luminance phase is color RL exactly (without
        acceleration, which restarts with the luminance phase). */
     params.accelerate = false;
     Mat equalPlanes;
@@ -1449,24 +1449,24 @@ TEST(DeconvColorIterations, LuminancePhaseAgreesWithFullColour)
     richardsonLucyVariant(equalPlanes, bank, reduced, params);
     EXPECT_LT(norm(full, reduced, NORM_INF), 1e-4);
 
-    // colorIterations ≥ iterations is every iteration in colour.
+    // colorIterations ≥ iterations is every iteration in color.
     params.colorIterations = 8;
     richardsonLucyVariant(equalPlanes, bank, above, params);
     EXPECT_EQ(norm(full, above, NORM_INF), 0.0);
 
-    // A colourful frame: the luminance phase stays close to full colour RL.
+    // A colorful frame: the luminance phase stays close to full color RL.
     params.accelerate = true;
-    Mat colour(90, 120, CV_32FC3), blurred;
-    RNG(22).fill(colour, RNG::UNIFORM, 0.05, 0.95);
-    GaussianBlur(colour, colour, Size(0, 0), 1.5);
-    applyPsfBank(colour, bank, blurred);
+    Mat color(90, 120, CV_32FC3), blurred;
+    RNG(22).fill(color, RNG::UNIFORM, 0.05, 0.95);
+    GaussianBlur(color, color, Size(0, 0), 1.5);
+    applyPsfBank(color, bank, blurred);
     params.colorIterations = -1;
     richardsonLucyVariant(blurred, bank, full, params);
     params.colorIterations = 3;
     richardsonLucyVariant(blurred, bank, reduced, params);
     const Rect inner(10, 10, 100, 70);
-    const double fullPsnr = psnr(full(inner), colour(inner)), reducedPsnr = psnr(reduced(inner), colour(inner));
-    std::printf("[ measured ] colourful 120x90, 8 iterations: full colour %.2f dB, 3 colour + 5 luminance %.2f dB\n",
+    const double fullPsnr = psnr(full(inner), color(inner)), reducedPsnr = psnr(reduced(inner), color(inner));
+    std::printf("[ measured ] colorful 120x90, 8 iterations: full color %.2f dB, 3 color + 5 luminance %.2f dB\n",
                 fullPsnr, reducedPsnr);
     EXPECT_GT(reducedPsnr, fullPsnr - 1.0);
 }
@@ -1497,7 +1497,7 @@ TEST(DeconvRegularisation, AutomaticDampingFollowsTheFramesNoise)
     EXPECT_NEAR(meanAuto[0], 0.4, 0.01);
 }
 
-// The restoration splits a colour frame and takes its means, level and noise in one pass
+// The restoration splits a color frame and takes its means, level and noise in one pass
 // (detail::observeFrame): each must equal what OpenCV computes separately, Immerkær's estimate must
 // find the noise added to a smooth frame, and a one-channel frame is used in place.
 TEST(DeconvRegularisation, ObservedFrameSplitsAndMeasuresInOnePass)
@@ -1692,7 +1692,7 @@ TEST(DeconvMemory, RowWiseRestorationStaysWithinFourFramePlanesPerChannel)
     for (int model : {PSF_ROWS, PSF_TILES})
     {
         const PsfBank bank = generator->generate(model, schedule, shutter);
-        // Full colour, then the frame-rate setting in float and in bfloat16.
+        // Full color, then the frame-rate setting in float and in bfloat16.
         for (const std::pair<int, int>& setting :
              {std::make_pair(-1, int(RL_BLUR_FLOAT32)), std::make_pair(3, int(RL_BLUR_FLOAT32)),
               std::make_pair(3, int(RL_BLUR_BFLOAT16))})
@@ -1711,8 +1711,8 @@ TEST(DeconvMemory, RowWiseRestorationStaysWithinFourFramePlanesPerChannel)
         }
     }
 
-    /* The frame-rate setting as DynamicDeblurrer runs it, the colour at half resolution: every Mat
-       it keeps for the next frame (both workspaces, the half-size colour, the luminance)
+    /* The frame-rate setting as DynamicDeblurrer runs it, the color at half resolution: every Mat
+       it keeps for the next frame (both workspaces, the half-size color, the luminance)
        and its temporaries, at their peak, plus the full-size operator's taps (the half-size one's
        are gone before it is built). Its figure is in docs/performance.md. */
     const double plane = double(frame.total()) * sizeof(float) * frame.channels();
@@ -1739,7 +1739,7 @@ TEST(DeconvMemory, RowWiseRestorationStaysWithinFourFramePlanesPerChannel)
     Mat::setDefaultAllocator(previous);
     const double mats = (double(counter.peak()) - double(restored.total() * restored.elemSize())) / plane;
     restored.release();
-    std::cout << "[ measured ] DynamicDeblurrer, row-wise, 1280x960 RGB, 10 iterations, 3 in colour at half "
+    std::cout << "[ measured ] DynamicDeblurrer, row-wise, 1280x960 RGB, 10 iterations, 3 in color at half "
                  "resolution, bfloat16: peak extra memory "
               << mats + taps << " frame planes per channel (Mats " << mats << ", operator's taps " << taps << ")"
               << std::endl;

@@ -770,8 +770,8 @@ TEST(RefinementBadInput, ArgumentsAreCheckedAndNamed)
 
     // A frame of another type than its reference.
     d->setReferenceFrame(still);
-    Mat colour(120, 160, CV_8UC3, Scalar::all(100)), out;
-    expectErrorNaming([&] { d->deblur(colour, s.schedule, told, out); }, "'frame' is CV_8UC3 but the reference frame is CV_32FC1");
+    Mat color(120, 160, CV_8UC3, Scalar::all(100)), out;
+    expectErrorNaming([&] { d->deblur(color, s.schedule, told, out); }, "'frame' is CV_8UC3 but the reference frame is CV_32FC1");
 
     // calibrateTiming: counts, window IV only, flags, ranges.
     const Mat frame = s.render(told, s.plant, 5);

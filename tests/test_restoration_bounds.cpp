@@ -624,9 +624,9 @@ TEST(RestorationBounds, DynamicDeblurrer)
                             frame = c.image;
                         else
                         {
-                            Mat colour;
-                            merge(std::vector<Mat>{c.image, c.image * 0.5, c.image * 0.25}, colour);
-                            colour.convertTo(frame, CV_8U, 255.0);
+                            Mat color;
+                            merge(std::vector<Mat>{c.image, c.image * 0.5, c.image * 0.25}, color);
+                            color.convertTo(frame, CV_8U, 255.0);
                             what += ", 8-bit, 3 channels";
                         }
                         Mat out, mask;

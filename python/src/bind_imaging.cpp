@@ -255,7 +255,7 @@ camera's image height; thetaRef: radians, NaN = the schedule's final resting ang
         .def_readwrite("tolerance", &RLParams::tolerance,
                        "stop a plane early when the relative change of its iteration falls below it, ≥ 0 (0: never)")
         .def_readwrite("colorIterations", &RLParams::colorIterations,
-                       "iterations on every colour plane of a 3–4 channel image, >= 0; the rest restore the luminance "
+                       "iterations on every color plane of a 3–4 channel image, >= 0; the rest restore the luminance "
                        "alone and scale every plane by its change; -1 (default) or >= iterations: all")
         .def_readwrite("blurPrecision", &RLParams::blurPrecision,
                        "RL_BLUR_FLOAT32 (default) or RL_BLUR_BFLOAT16: the blurs of richardsonLucyVariant and "
@@ -378,7 +378,7 @@ dtype; a window-IV frame comes back unchanged), or (restored, validMask) with re
         .def("getMethod", &DynamicDeblurrer::getMethod, "DeblurMethod (DEBLUR_RICHARDSON_LUCY or DEBLUR_WIENER)")
         .def("setMethod", &DynamicDeblurrer::setMethod, py::arg("method"))
         .def("getColorResolution", &DynamicDeblurrer::getColorResolution,
-             "DeblurColorResolution of the colour iterations (RLParams.colorIterations in [0, iterations), 3-4 "
+             "DeblurColorResolution of the color iterations (RLParams.colorIterations in [0, iterations), 3-4 "
              "channels): DEBLUR_COLOR_FULL_RESOLUTION (default) or DEBLUR_COLOR_HALF_RESOLUTION (the frame halved, "
              "the luminance at full resolution with every iteration; needs an even image size)")
         .def("setColorResolution", &DynamicDeblurrer::setColorResolution, py::arg("resolution"))

@@ -8,7 +8,7 @@ cv::Mat makeScene(const cv::Size& size, unsigned seed)
 {
     cv::RNG rng(seed);
     cv::Mat scene(size, CV_8UC3);
-    // A smooth two-axis colour gradient as the backdrop.
+    // A smooth two-axis color gradient as the backdrop.
     for (int y = 0; y < size.height; ++y)
     {
         cv::Vec3b* row = scene.ptr<cv::Vec3b>(y);
@@ -26,14 +26,14 @@ cv::Mat makeScene(const cv::Size& size, unsigned seed)
         const int y = rng.uniform(0, size.height), x = rng.uniform(0, size.width);
         const int red = rng.uniform(20, 235), green = rng.uniform(20, 235), blue = rng.uniform(20, 235);
         const cv::Point centre(x, y);
-        const cv::Scalar colour(blue, green, red);
+        const cv::Scalar color(blue, green, red);
         const int radius = static_cast<int>(rng.uniform(8, 70) * scale) + 2;
         if (i % 3 == 0)
-            cv::circle(scene, centre, radius, colour, cv::FILLED, cv::LINE_AA);
+            cv::circle(scene, centre, radius, color, cv::FILLED, cv::LINE_AA);
         else if (i % 3 == 1)
-            cv::rectangle(scene, cv::Rect(centre, cv::Size(radius * 2, radius)), colour, cv::FILLED);
+            cv::rectangle(scene, cv::Rect(centre, cv::Size(radius * 2, radius)), color, cv::FILLED);
         else
-            cv::ellipse(scene, centre, cv::Size(radius, radius / 2 + 1), rng.uniform(0, 180), 0, 360, colour, 3,
+            cv::ellipse(scene, centre, cv::Size(radius, radius / 2 + 1), rng.uniform(0, 180), 0, 360, color, 3,
                         cv::LINE_AA);
     }
     // Fine stripes (horizontal ones are what a vertical blur erases first) and a Siemens star.

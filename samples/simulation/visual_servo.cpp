@@ -57,8 +57,8 @@ World makeWorld(const Ptr<CameraModel>& camera, int maxShiftPx)
     const Size frame = camera->getImageSize();
     World world;
     world.margin = Point(40, maxShiftPx + 40);
-    Mat colour = makeScene(Size(frame.width + 2 * world.margin.x, frame.height + 2 * world.margin.y), 20261122u);
-    cvtColor(colour, world.background, COLOR_BGR2GRAY);
+    Mat color = makeScene(Size(frame.width + 2 * world.margin.x, frame.height + 2 * world.margin.y), 20261122u);
+    cvtColor(color, world.background, COLOR_BGR2GRAY);
     return world;
 }
 
@@ -586,14 +586,14 @@ Mat detectionChart(const std::vector<DetectionRow>& rows, const std::string& tit
     const int width = left + groupWidth * static_cast<int>(rows.size()) + 10;
     Mat chart(top + plotHeight + bottom, width, CV_8UC3, Scalar(255, 255, 255));
     const Scalar ink(40, 40, 40), grid(220, 220, 220);
-    const Scalar colours[4] = {Scalar(150, 150, 235), Scalar(130, 210, 120), Scalar(50, 50, 190), Scalar(40, 130, 30)};
+    const Scalar colors[4] = {Scalar(150, 150, 235), Scalar(130, 210, 120), Scalar(50, 50, 190), Scalar(40, 130, 30)};
     const char* names[4] = {"raw, all frames", "restored, all frames",
                             "raw, tag moved >= 2 px", "restored, tag moved >= 2 px"};
     putText(chart, title, Point(left, 22), FONT_HERSHEY_SIMPLEX, 0.55, ink, 1, LINE_AA);
     for (int b = 0; b < 4; ++b)
     {
         const Point at(left + b * 230, 42);
-        rectangle(chart, Rect(at.x, at.y - 10, 12, 12), colours[b], FILLED);
+        rectangle(chart, Rect(at.x, at.y - 10, 12, 12), colors[b], FILLED);
         putText(chart, names[b], at + Point(18, 0), FONT_HERSHEY_SIMPLEX, 0.42, ink, 1, LINE_AA);
     }
     for (int percent = 0; percent <= 100; percent += 25)
@@ -612,7 +612,7 @@ Mat detectionChart(const std::vector<DetectionRow>& rows, const std::string& tit
             const int found = b % 2 ? t.restored : t.raw;
             const int height = t.frames ? cvRound(plotHeight * double(found) / t.frames) : 0;
             const int x = x0 + b * barWidth + (b >= 2 ? 10 : 0);
-            rectangle(chart, Rect(x, top + plotHeight - height, barWidth - 4, std::max(height, 1)), colours[b], FILLED);
+            rectangle(chart, Rect(x, top + plotHeight - height, barWidth - 4, std::max(height, 1)), colors[b], FILLED);
             putText(chart, format("%d/%d", found, t.frames), Point(x, top + plotHeight - height - 5),
                     FONT_HERSHEY_SIMPLEX, 0.38, ink, 1, LINE_AA);
         }

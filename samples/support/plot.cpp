@@ -71,7 +71,7 @@ void dashedLine(cv::Mat& image, cv::Point a, cv::Point b, cv::Scalar color, int 
 
 cv::Scalar paletteColor(int index)
 {
-    // Okabe–Ito colours, BGR.
+    // Okabe–Ito colors, BGR.
     static const cv::Scalar palette[] = {{178, 114, 0}, {0, 94, 213}, {115, 158, 0}, {167, 121, 204},
                                          {0, 159, 230}, {233, 180, 86}, {66, 228, 240}, {0, 0, 0}};
     const int count = static_cast<int>(sizeof(palette) / sizeof(palette[0]));

@@ -1,6 +1,6 @@
 // A small PNG line-plot utility on OpenCV drawing (cv::line, cv::putText, cv::imwrite), shared by
 // the samples and calibration tools: a figure of stacked panels sharing the x axis, each with
-// ticks, tick labels, axis labels, a title, several coloured series with a legend, and shaded
+// ticks, tick labels, axis labels, a title, several colored series with a legend, and shaded
 // bands (a y range, e.g. a settle band) or spans (an x range, e.g. a row's exposure interval).
 //
 //     dynblur_plot::Figure figure(1000, "Planned move");
@@ -21,7 +21,7 @@
 
 namespace dynblur_plot {
 
-//! Colour of the i-th series when none is given (a colour-blind friendly palette, BGR).
+//! Color of the i-th series when none is given (a color-blind friendly palette, BGR).
 cv::Scalar paletteColor(int index);
 
 //! One plot area: its series, bands and labels. Created by Figure::addPanel.

@@ -30,13 +30,13 @@ Mat syntheticScene(Size size)
     {
         // Braces: their values are drawn left to right with every compiler.
         const Point centre{rng.uniform(0, size.width), rng.uniform(0, size.height)};
-        const Scalar colour{double(rng.uniform(0, 256)), double(rng.uniform(0, 256)), double(rng.uniform(0, 256))};
+        const Scalar color{double(rng.uniform(0, 256)), double(rng.uniform(0, 256)), double(rng.uniform(0, 256))};
         if (i % 2)
-            circle(scene, centre, rng.uniform(4, 20), colour, FILLED, LINE_AA);
+            circle(scene, centre, rng.uniform(4, 20), color, FILLED, LINE_AA);
         else
         {
             const Point end{rng.uniform(0, size.width), rng.uniform(0, size.height)};
-            line(scene, centre, end, colour, 2, LINE_AA);
+            line(scene, centre, end, color, 2, LINE_AA);
         }
     }
     return scene;

@@ -280,9 +280,9 @@ def test_deblurrer(db, small_setup):
     assert not np.shares_memory(out, blurred)
 
 
-def test_deblurrer_colour_at_half_resolution(db, small_setup):
+def test_deblurrer_color_at_half_resolution(db, small_setup):
     plant, sched, cam, shutter = small_setup
-    # Detail in the luminance, colour that varies smoothly (as in natural images)
+    # Detail in the luminance, color that varies smoothly (as in natural images)
     y, x = np.mgrid[0:120, 0:160].astype(np.float32)
     tint = np.dstack([0.6 + 0.4 * x / 160, 0.6 + 0.4 * y / 120, 1.0 - 0.4 * x / 160])
     sharp = (make_scene(120, 160, channels=1, seed=1)[..., None] * tint).astype(np.float32)
@@ -296,7 +296,7 @@ def test_deblurrer_colour_at_half_resolution(db, small_setup):
     half = deb.deblur(blurred, sched, shutter)
     assert half.shape == blurred.shape and half.dtype == np.float32
     assert 0.0 <= half.min() and half.max() <= 1.0
-    # the colour phase ran at half resolution, and both restore the frame alike
+    # the color phase ran at half resolution, and both restore the frame alike
     assert np.abs(half - full).max() > 1e-3
     inner = (slice(10, -10), slice(10, -10))
     error = {name: np.mean(np.abs(image - sharp)[inner]) for name, image in

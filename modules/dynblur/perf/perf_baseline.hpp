@@ -37,14 +37,14 @@ struct SaccadeFrame : SaccadeScene
 };
 
 /* The frame-rate setting (its quality is DeblurQuality's to check): row bands, `iterations` on the
-   luminance, 3 on the colour planes of the frame halved (with 3 or fewer iterations every one is
-   in colour), bfloat16 blurs; `blurPrecision` and `colourResolution` vary it. */
+   luminance, 3 on the color planes of the frame halved (with 3 or fewer iterations every one is
+   in color), bfloat16 blurs; `blurPrecision` and `colorResolution` vary it. */
 inline void setFrameRate(cv::dynblur::DynamicDeblurrer& deblurrer, int iterations = 10,
                          int blurPrecision = cv::dynblur::RL_BLUR_BFLOAT16,
-                         int colourResolution = cv::dynblur::DEBLUR_COLOR_HALF_RESOLUTION)
+                         int colorResolution = cv::dynblur::DEBLUR_COLOR_HALF_RESOLUTION)
 {
     deblurrer.setPsfModel(cv::dynblur::PSF_ROWS);
-    deblurrer.setColorResolution(colourResolution);
+    deblurrer.setColorResolution(colorResolution);
     cv::dynblur::RLParams params = deblurrer.getRLParams();  // defaults: automatic damping, TV, acceleration
     params.iterations = iterations;
     params.colorIterations = 3;

@@ -29,12 +29,12 @@ const SaccadeFrame& saccadeFrame()
 }
 
 /* DynamicDeblurrer in the frame-rate setting (dynblur_perf::setFrameRate) with `psfModel`, or with
-   float blurs or the colour at full resolution. */
+   float blurs or the color at full resolution. */
 Ptr<DynamicDeblurrer> frameRateDeblurrer(const SaccadeFrame& f, int psfModel, int blurPrecision = RL_BLUR_BFLOAT16,
-                                         int colourResolution = DEBLUR_COLOR_HALF_RESOLUTION)
+                                         int colorResolution = DEBLUR_COLOR_HALF_RESOLUTION)
 {
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(f.plant, f.camera);
-    dynblur_perf::setFrameRate(*deblurrer, 10, blurPrecision, colourResolution);
+    dynblur_perf::setFrameRate(*deblurrer, 10, blurPrecision, colorResolution);
     deblurrer->setPsfModel(psfModel);
     return deblurrer;
 }
@@ -79,7 +79,7 @@ BENCHMARK(BM_DeblurFrame8Bit)->Unit(benchmark::kMillisecond)->UseRealTime()->Ite
 
 /* The targets' ratios: each round restores the frame row-wise and tile-wise, runs the filter2D
    reference (10 iterations, uniform 21×1 kernel) on it and restores it row-wise with float blurs
-   and with the colour at full resolution, in an order that rotates from round to round; each ratio is the median of the rounds' ratios.
+   and with the color at full resolution, in an order that rotates from round to round; each ratio is the median of the rounds' ratios.
    This machine's speed drifts by ±20 % over minutes, which ratios of medians taken minutes apart
    carry in full; within a round the four see nearly the same machine. Counters: the medians (ms)
    and the ratios. */
@@ -88,7 +88,7 @@ void BM_FrameRatePaired(benchmark::State& state)
     const SaccadeFrame& f = saccadeFrame();
     Ptr<DynamicDeblurrer> rows = frameRateDeblurrer(f, PSF_ROWS), tiles = frameRateDeblurrer(f, PSF_TILES),
                           rowsFloat = frameRateDeblurrer(f, PSF_ROWS, RL_BLUR_FLOAT32),
-                          rowsFullColour = frameRateDeblurrer(f, PSF_ROWS, RL_BLUR_BFLOAT16, DEBLUR_COLOR_FULL_RESOLUTION);
+                          rowsFullColor = frameRateDeblurrer(f, PSF_ROWS, RL_BLUR_BFLOAT16, DEBLUR_COLOR_FULL_RESOLUTION);
     const Mat kernel = dynblur_perf::uniformKernel21x1();
     Mat restored, estimate;
     const std::vector<std::vector<double>> ms = dynblur_perf::timePairedRounds(
@@ -96,7 +96,7 @@ void BM_FrameRatePaired(benchmark::State& state)
                 [&] { tiles->deblur(f.frame, f.schedule, f.shutter, restored); },
                 [&] { dynblur_perf::filter2DRichardsonLucy(f.frame, kernel, 10, estimate); },
                 [&] { rowsFloat->deblur(f.frame, f.schedule, f.shutter, restored); },
-                [&] { rowsFullColour->deblur(f.frame, f.schedule, f.shutter, restored); }});
+                [&] { rowsFullColor->deblur(f.frame, f.schedule, f.shutter, restored); }});
     //! Median over the rounds of workload `which`'s time over the row-wise one's.
     const auto overRows = [&](int which) { return medianRatio(ms[size_t(which)], ms[0]); };
     state.counters["rows_ms"] = median(ms[0]);
@@ -106,8 +106,8 @@ void BM_FrameRatePaired(benchmark::State& state)
     state.counters["tiles_over_rows"] = overRows(1);
     state.counters["filter2d_over_rows"] = overRows(2);
     state.counters["float32_over_rows"] = overRows(3);
-    state.counters["rows_full_colour_ms"] = median(ms[4]);
-    state.counters["full_colour_over_rows"] = overRows(4);
+    state.counters["rows_full_color_ms"] = median(ms[4]);
+    state.counters["full_color_over_rows"] = overRows(4);
 }
 BENCHMARK(BM_FrameRatePaired)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(15)->Repetitions(1);
 

@@ -1,7 +1,7 @@
 // How the frame-rate restoration's cost grows: DynamicDeblurrer with the row-wise model (the
 // PSF_ROWS bank a C270-like camera sees in window III of a 10° saccade, scaled with the image)
-// in its frame-rate setting (the luminance at full resolution, 3 colour iterations at half
-// resolution once there are more than 3; up to 3, every one in colour) against image size and
+// in its frame-rate setting (the luminance at full resolution, 3 color iterations at half
+// resolution once there are more than 3; up to 3, every one in color) against image size and
 // iteration count, and the machine's memory bandwidth, which bounds any
 // restoration that streams its planes from DRAM. scripts/benchmark.py plots these beside the
 // bandwidth line.

@@ -1,7 +1,7 @@
 #include "precomp.hpp"
 
 #include "pipeline/blind_fit.hpp"
-#include "pipeline/half_colour.hpp"
+#include "pipeline/half_color.hpp"
 #include "pipeline/motion_fit.hpp"
 #include "motion/shutter_check.hpp"
 #include "restore/arguments.hpp"
@@ -41,7 +41,7 @@ public:
         Mat alpha;
         const Mat color = withoutAlpha(input, alpha);
         // The color at half resolution decodes an 8-bit frame as it reads it.
-        const bool halfColor = method_ == DEBLUR_RICHARDSON_LUCY && colourAtHalfResolution(color.channels());
+        const bool halfColor = method_ == DEBLUR_RICHARDSON_LUCY && colorAtHalfResolution(color.channels());
         const Mat linear = color.depth() == CV_8U && !halfColor ? linearized(color) : color;
 
         lastBank_ = generatorFor(plant)->generate(psfModel_, schedule, corrected, thetaRef);
@@ -137,7 +137,7 @@ public:
                             "DEBLUR_WIENER (1)", method));
         method_ = method;
     }
-    int getColorResolution() const CV_OVERRIDE { return colourResolution_; }
+    int getColorResolution() const CV_OVERRIDE { return colorResolution_; }
     void setColorResolution(int resolution) CV_OVERRIDE
     {
         if (resolution != DEBLUR_COLOR_FULL_RESOLUTION && resolution != DEBLUR_COLOR_HALF_RESOLUTION)
@@ -151,7 +151,7 @@ public:
                      format("DynamicDeblurrer::setColorResolution: DEBLUR_COLOR_HALF_RESOLUTION needs an even "
                             "image size; the camera's is %dx%d",
                             size.width, size.height));
-        colourResolution_ = resolution;
+        colorResolution_ = resolution;
     }
     RLParams getRLParams() const CV_OVERRIDE { return params_; }
     void setRLParams(const RLParams& params) CV_OVERRIDE
@@ -165,9 +165,9 @@ public:
     String getDefaultName() const CV_OVERRIDE { return "dynblur.DynamicDeblurrer"; }
 
 private:
-    bool colourAtHalfResolution(int channels) const
+    bool colorAtHalfResolution(int channels) const
     {
-        return colourResolution_ == DEBLUR_COLOR_HALF_RESOLUTION && channels == 3 && params_.colorIterations >= 0 &&
+        return colorResolution_ == DEBLUR_COLOR_HALF_RESOLUTION && channels == 3 && params_.colorIterations >= 0 &&
                params_.colorIterations < params_.iterations;
     }
 
@@ -218,7 +218,7 @@ private:
             mask_.setTo(Scalar::all(255));
         }
         else if (halfColor)
-            restoreWithHalfColour(linear, plant, schedule, shutter, thetaRef, target, direct ? inputDepth : CV_32F);
+            restoreWithHalfColor(linear, plant, schedule, shutter, thetaRef, target, direct ? inputDepth : CV_32F);
         else
             detail::restoreVariant(linear, lastBank_, params_, workspace_, target, mask_, true);
         if (direct)
@@ -389,28 +389,28 @@ private:
         return generator;
     }
 
-    /* DEBLUR_COLOR_HALF_RESOLUTION: the colour phase on the halved frame, with a half-size
+    /* DEBLUR_COLOR_HALF_RESOLUTION: the color phase on the halved frame, with a half-size
        camera's kernels; the luminance with every iteration at full resolution; then one pass that
-       upsamples the colour, scales it to the luminance and writes it in `depth` (CV_8U: sRGB).
+       upsamples the color, scales it to the luminance and writes it in `depth` (CV_8U: sRGB).
        `frame` is CV_32FC3 (linear) or CV_8UC3 (sRGB). */
-    void restoreWithHalfColour(const Mat& frame, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
+    void restoreWithHalfColor(const Mat& frame, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
                                const RollingShutter& shutter, double thetaRef, const _OutputArray& target, int depth)
     {
         const PsfBank halfBank =
             halfGenerator(plant)->generate(psfModel_, schedule, detail::halfResolutionShutter(shutter), thetaRef);
         // Both restorations run in place (restoreVariant writes its output after its last read of the frame).
-        detail::halveAndAverageChannels(frame, halfColour_, luminance_);
-        RLParams colourParams = params_;
-        colourParams.iterations = params_.colorIterations;  // 0: the start, the frame moved back
-        colourParams.colorIterations = -1;
-        detail::restoreVariant(halfColour_, halfBank, colourParams, halfWorkspace_, halfColour_, noArray(), true);
+        detail::halveAndAverageChannels(frame, halfColor_, luminance_);
+        RLParams colorParams = params_;
+        colorParams.iterations = params_.colorIterations;  // 0: the start, the frame moved back
+        colorParams.colorIterations = -1;
+        detail::restoreVariant(halfColor_, halfBank, colorParams, halfWorkspace_, halfColor_, noArray(), true);
 
         RLParams luminanceParams = params_;
         luminanceParams.colorIterations = -1;
         detail::restoreVariant(luminance_, lastBank_, luminanceParams, workspace_, luminance_, mask_, true);
         // Written last: the frame may be the output (restoring in place). Below a millionth of
-        // full well a pixel's colour has no chromaticity to keep: the change is added.
-        detail::combineLuminanceAndHalfColour(luminance_, halfColour_, 1e-6f, depth, target);
+        // full well a pixel's color has no chromaticity to keep: the change is added.
+        detail::combineLuminanceAndHalfColor(luminance_, halfColor_, 1e-6f, depth, target);
     }
 
     /* The generator of the half-size camera for `plant`, with the settings of getPsfGenerator()'s,
@@ -449,7 +449,7 @@ private:
     Ptr<PsfGenerator> generator_;
     int psfModel_ = PSF_TILES;  // the most accurate model; see the quality tests
     int method_ = DEBLUR_RICHARDSON_LUCY;
-    int colourResolution_ = DEBLUR_COLOR_FULL_RESOLUTION;
+    int colorResolution_ = DEBLUR_COLOR_FULL_RESOLUTION;
     Ptr<CameraModel> halfCamera_;  // created when first needed
     Ptr<PsfGenerator> halfGenerator_;
     Ptr<Plant> halfPlant_;         // the plant halfGenerator_ was made for
@@ -475,7 +475,7 @@ private:
     // Kept between frames, so a stream of frames faults in no fresh memory.
     detail::RLWorkspace workspace_, halfWorkspace_;
     Mat linear_, latent_, mask_;
-    Mat halfColour_, luminance_;  // DEBLUR_COLOR_HALF_RESOLUTION's planes
+    Mat halfColor_, luminance_;  // DEBLUR_COLOR_HALF_RESOLUTION's planes
     int lastWindow_ = 0;
     PsfBank lastBank_;
 };

@@ -3,7 +3,7 @@
 
 #include "restore/deconv_operator.hpp"
 #include "restore/deconv_rl.hpp"
-#include "pipeline/half_colour.hpp"
+#include "pipeline/half_color.hpp"
 #include "pipeline/motion_fit.hpp"
 
 #include <opencv2/imgproc.hpp>
@@ -20,7 +20,7 @@ Mat linearLuminance(const Mat& frame)
     if (linear.channels() == 1)
         return linear;
     Mat weights = Mat::zeros(1, linear.channels(), CV_32F);
-    weights.colRange(0, 3).setTo(1.0 / 3);  // colour only: alpha is coverage, not light
+    weights.colRange(0, 3).setTo(1.0 / 3);  // color only: alpha is coverage, not light
     Mat luminance;
     transform(linear, luminance, weights);
     return luminance;

@@ -24,7 +24,7 @@ struct LuminancePyramid
     int levels() const { return int(images.size()); }
 };
 
-/** @brief The linear luminance (mean of the colour channels; alpha dropped) of an 8-bit sRGB or
+/** @brief The linear luminance (mean of the color channels; alpha dropped) of an 8-bit sRGB or
 linear CV_32F frame. */
 Mat linearLuminance(const Mat& frame);
 

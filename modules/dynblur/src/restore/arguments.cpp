@@ -77,7 +77,7 @@ void checkRLParams(const RLParams& params, const char* function)
                         params.tolerance));
     if (params.colorIterations < -1)
         CV_Error(Error::StsOutOfRange,
-                 format("%s: params.colorIterations = %d must be >= 0, or -1 (every iteration in colour)", function,
+                 format("%s: params.colorIterations = %d must be >= 0, or -1 (every iteration in color)", function,
                         params.colorIterations));
     if (params.boundary != RL_BOUNDARY_ZERO && params.boundary != RL_BOUNDARY_PAD)
         CV_Error(Error::StsOutOfRange,

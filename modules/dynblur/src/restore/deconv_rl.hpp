@@ -79,7 +79,7 @@ inline float halfPoissonDeviance(float b, float ab)
 
 /** One channel's `value` after the luminance's change from `before` to `after`: times `gain` =
 after / before where `lit` (before above the black level), plus after − before elsewhere, kept
-within [0, upper]. The one rule of LuminanceChange::applyRow and of the half-resolution colour's
+within [0, upper]. The one rule of LuminanceChange::applyRow and of the half-resolution color's
 combination; both loops compute both results and select, so they vectorise. */
 inline float luminanceChanged(float value, bool lit, float gain, float after, float before, float upper)
 {

@@ -22,7 +22,7 @@ ImageLevel foldLevel(const std::vector<double>& sums, const std::vector<double>&
 //! A frame as the restoration reads it: see observeFrame.
 struct ObservedFrame
 {
-    std::vector<Mat> planes;  //!< a one-channel frame itself; a colour frame's planes, split into a pool
+    std::vector<Mat> planes;  //!< a one-channel frame itself; a color frame's planes, split into a pool
     Scalar channelMean;       //!< each channel's mean
     ImageLevel level;         //!< over every channel
     double noiseSigma = 0;    //!< Immerkær's noise standard deviation averaged over the channels; 0 when not asked
@@ -31,7 +31,7 @@ struct ObservedFrame
 /** @brief Splits `frame` (CV_32F, 1–4 channels) into its planes and takes its statistics in the
 same pass. RL reads each plane every iteration, and reading one from the interleaved frame would
 pull in every channel; the means, the level and the noise would each read the frame once more.
-Rows in parallel, per-row partial sums added in row order (the same result on every run). A colour
+Rows in parallel, per-row partial sums added in row order (the same result on every run). A color
 frame's planes go to `pool`, reused when the sizes fit.
 @param estimateNoise take noiseSigma @cite Immerkaer1996Noise (what an automatic damping needs). */
 CV_EXPORTS ObservedFrame observeFrame(const Mat& frame, std::vector<Mat>& pool, bool estimateNoise);
@@ -40,13 +40,13 @@ CV_EXPORTS ObservedFrame observeFrame(const Mat& frame, std::vector<Mat>& pool, 
 receive the smallest and the largest. Rows in parallel. */
 bool finiteRange(const Mat& image, float& low, float& high);
 
-/** @brief The luminance phase's result, which the colour planes take as they are read out
+/** @brief The luminance phase's result, which the color planes take as they are read out
 (applyRow), not in a pass of their own: that would read and write every plane once more. */
 struct CV_EXPORTS LuminanceChange
 {
     Mat restored;     //!< the restored luminance (latent size); empty when no luminance phase ran
     float black = 0;  //!< where the planes' mean is at or below it, the change is added instead of scaled
-    float upper = 0;  //!< the bound the results are kept within (the colour phase's projection bound)
+    float upper = 0;  //!< the bound the results are kept within (the color phase's projection bound)
 
     /** @brief Columns [x0, x0 + n) of latent row y of every plane after the change, plane c into
     out[c]. The luminance before the change is the planes' mean, taken from the planes themselves

@@ -432,21 +432,21 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const ObservedFr
 {
     change = LuminanceChange();
     const RowNormalizer rowNormalizer(normalizer, op.latentSize().height);
-    const int colour = params.colorIterations;
-    const ImageLevel& colourLevel = observed.level;
-    if (blurred.channels() < 3 || colour < 0 || colour >= params.iterations)
-        return iteratePlanes(op, observed.planes, colourLevel, rowNormalizer, params, estimate, ws);
+    const int color = params.colorIterations;
+    const ImageLevel& colorLevel = observed.level;
+    if (blurred.channels() < 3 || color < 0 || color >= params.iterations)
+        return iteratePlanes(op, observed.planes, colorLevel, rowNormalizer, params, estimate, ws);
 
     int done = 0;
-    if (colour > 0)
+    if (color > 0)
     {
         RLParams first = params;
-        first.iterations = colour;
-        done = iteratePlanes(op, observed.planes, colourLevel, rowNormalizer, first, estimate, ws);
-        if (params.tolerance > 0 && done < colour)
-            return done;  // converged in colour already
+        first.iterations = color;
+        done = iteratePlanes(op, observed.planes, colorLevel, rowNormalizer, first, estimate, ws);
+        if (params.tolerance > 0 && done < color)
+            return done;  // converged in color already
     }
-    /* The luminance phase works in the colour phase's buffers (`observed`, whose planes that phase
+    /* The luminance phase works in the color phase's buffers (`observed`, whose planes that phase
        no longer reads, `other` and `step`), `other` grown to two latent planes: the running
        plane's and the luminance estimate. */
     const Size latentSize = op.latentSize();
@@ -473,17 +473,17 @@ int iterateRichardsonLucy(BlurOperator& op, const Mat& blurred, const ObservedFr
         }
     });
     RLParams rest = params;
-    rest.iterations = params.iterations - colour;
+    rest.iterations = params.iterations - color;
     done += iteratePlanes(op, {luminance}, foldLevel(rowSum, rowPeak, double(luminance.total())), rowNormalizer,
                           rest, latent, ws);
     ws.other[1] = latent[0];  // the two buffers may have swapped: keep the pool's set intact
     /* The luminance's change goes to every plane as a ratio, which keeps each pixel's chromaticity
-       (an added difference shifts dark and saturated colours: in DeblurQuality's fruits it cost
-       3.5 dB with no colour iteration, 0.5 dB with one). Where the start is (nearly) black the difference is added instead.
-       The planes stay within the bound the colour phase kept them in (see iteratePlanes). */
+       (an added difference shifts dark and saturated colors: in DeblurQuality's fruits it cost
+       3.5 dB with no color iteration, 0.5 dB with one). Where the start is (nearly) black the difference is added instead.
+       The planes stay within the bound the color phase kept them in (see iteratePlanes). */
     change.restored = latent[0];
-    change.black = float(1e-6 * std::max(colourLevel.mean, 0.0));
-    change.upper = projectionBound(op, colourLevel);
+    change.black = float(1e-6 * std::max(colorLevel.mean, 0.0));
+    change.upper = projectionBound(op, colorLevel);
     return done;
 }
 

@@ -18,19 +18,19 @@ enum DeblurMethod
     DEBLUR_WIENER = 1            //!< Wiener: fast, non-iterative
 };
 
-/** @brief Resolution of DynamicDeblurrer's colour phase: the RLParams::colorIterations that run on
-every colour plane of a 3- or 4-channel frame. */
+/** @brief Resolution of DynamicDeblurrer's color phase: the RLParams::colorIterations that run on
+every color plane of a 3- or 4-channel frame. */
 enum DeblurColorResolution
 {
-    /** the colour iterations run on the frame's planes, then the luminance (the planes' mean) takes
+    /** the color iterations run on the frame's planes, then the luminance (the planes' mean) takes
         the remaining ones and its change scales every plane (RLParams::colorIterations) */
     DEBLUR_COLOR_FULL_RESOLUTION = 0,
-    /** the colour iterations run on the frame halved (cv::INTER_AREA), with the kernels of a
+    /** the color iterations run on the frame halved (cv::INTER_AREA), with the kernels of a
         half-size camera and shutter, as video codecs subsample chroma @cite Poynton2012Digital; the
         luminance takes every iteration at full resolution from the start, and each pixel's
-        upsampled colour is scaled to it. Colour costs a quarter; fine detail, which is mostly
+        upsampled color is scaled to it. Color costs a quarter; fine detail, which is mostly
         luminance, is kept (DeblurQuality holds its gain over DEBLUR_COLOR_FULL_RESOLUTION in the
-        frame-rate setting; BM_FrameRatePaired's full_colour_over_rows in perf/perf_deblurrer.cpp
+        frame-rate setting; BM_FrameRatePaired's full_color_over_rows in perf/perf_deblurrer.cpp
         measures the time it saves). The camera's image size must be even. */
     DEBLUR_COLOR_HALF_RESOLUTION = 1
 };
@@ -132,7 +132,7 @@ public:
     /** @param resolution DeblurColorResolution; DEBLUR_COLOR_HALF_RESOLUTION needs an even image size. */
     CV_WRAP virtual void setColorResolution(int resolution) = 0;
     /** @brief Restoration options; default RLParams() with automatic damping (damping = NaN: 3σ of
-    the frame's estimated noise). For frame rate with colour frames use PSF_ROWS, 10 iterations,
+    the frame's estimated noise). For frame rate with color frames use PSF_ROWS, 10 iterations,
     colorIterations = 3, DEBLUR_COLOR_HALF_RESOLUTION and RL_BLUR_BFLOAT16 (the quality test
     DeblurQuality.RollingShutterWindowIII* checks that setting). */
     CV_WRAP virtual RLParams getRLParams() const = 0;

@@ -50,11 +50,11 @@ struct CV_EXPORTS_W_SIMPLE RLParams
     CV_PROP_RW int boundary;       //!< RLBoundary
     CV_PROP_RW bool accelerate;    //!< Biggs–Andrews vector extrapolation @cite Biggs1997Acceleration
     CV_PROP_RW double tolerance;   //!< stop a plane early when the relative change of its iteration falls below it, ≥ 0 (0: never)
-    /** Iterations run on every colour plane of a 3- or 4-channel image, ≥ 0; the remaining ones
+    /** Iterations run on every color plane of a 3- or 4-channel image, ≥ 0; the remaining ones
         restore the luminance (the planes' mean) alone and scale every plane by its change, which
         keeps each pixel's chromaticity. Fine detail is mostly luminance, so the result stays close
-        to full colour RL while a luminance iteration costs a third of a colour one. −1 (default) or ≥ iterations: every iteration in
-        colour. Ignored for 1–2 channels. DynamicDeblurrer can run them on the frame halved instead, the
+        to full color RL while a luminance iteration costs a third of a color one. −1 (default) or ≥ iterations: every iteration in
+        color. Ignored for 1–2 channels. DynamicDeblurrer can run them on the frame halved instead, the
         luminance taking every iteration (DEBLUR_COLOR_HALF_RESOLUTION). */
     CV_PROP_RW int colorIterations;
     /** RLBlurPrecision of the blurs in richardsonLucyVariant and DynamicDeblurrer (default

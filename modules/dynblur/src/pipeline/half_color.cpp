@@ -1,7 +1,7 @@
 #include "precomp.hpp"
 
 #include "restore/deconv_rl.hpp"
-#include "pipeline/half_colour.hpp"
+#include "pipeline/half_color.hpp"
 #include "restore/simd_clones.hpp"
 #include "imaging/srgb.hpp"
 
@@ -68,7 +68,7 @@ void upsampleRow(const float* __restrict interleaved, int halfWidth, float* __re
     }
 }
 
-/* Row of the restored frame from the upsampled colour's three plane rows and the luminance
+/* Row of the restored frame from the upsampled color's three plane rows and the luminance
    (luminanceChanged, within [0, 1]): one gain per pixel, the three channels written interleaved. */
 DYNBLUR_SIMD_CLONES
 void scaleToLuminanceRow(const float* __restrict blue, const float* __restrict green, const float* __restrict red,
@@ -87,15 +87,15 @@ void scaleToLuminanceRow(const float* __restrict blue, const float* __restrict g
 
 }  // namespace
 
-void halveAndAverageChannels(const Mat& frame, Mat& halfColour, Mat& luminance)
+void halveAndAverageChannels(const Mat& frame, Mat& halfColor, Mat& luminance)
 {
     CV_Assert((frame.type() == CV_32FC3 || frame.type() == CV_8UC3) && frame.cols % 2 == 0 && frame.rows % 2 == 0);
-    halfColour.create(frame.rows / 2, frame.cols / 2, CV_32FC3);
+    halfColor.create(frame.rows / 2, frame.cols / 2, CV_32FC3);
     luminance.create(frame.size(), CV_32FC1);
     const bool srgb = frame.depth() == CV_8U;
     const float* decode = detail::srgbDecodingTable();
     const int n = 3 * frame.cols;
-    parallel_for_(Range(0, halfColour.rows), [&](const Range& rows) {
+    parallel_for_(Range(0, halfColor.rows), [&](const Range& rows) {
         std::vector<float> decoded(srgb ? size_t(2 * n) : 0);  // an 8-bit frame's two rows, linear
         for (int y = rows.start; y < rows.end; y++)
         {
@@ -118,18 +118,18 @@ void halveAndAverageChannels(const Mat& frame, Mat& halfColour, Mat& luminance)
             }
             channelMeanRow(top, 3, frame.cols, luminance.ptr<float>(2 * y));
             channelMeanRow(bottom, 3, frame.cols, luminance.ptr<float>(2 * y + 1));
-            halveRows(top, bottom, halfColour.cols, halfColour.ptr<float>(y));
+            halveRows(top, bottom, halfColor.cols, halfColor.ptr<float>(y));
         }
     });
 }
 
-void combineLuminanceAndHalfColour(const Mat& luminance, const Mat& halfColour, float black, int depth,
+void combineLuminanceAndHalfColor(const Mat& luminance, const Mat& halfColor, float black, int depth,
                                    const _OutputArray& restored)
 {
-    CV_Assert(luminance.type() == CV_32FC1 && halfColour.type() == CV_32FC3 &&
-              luminance.size() == Size(2 * halfColour.cols, 2 * halfColour.rows) &&
+    CV_Assert(luminance.type() == CV_32FC1 && halfColor.type() == CV_32FC3 &&
+              luminance.size() == Size(2 * halfColor.cols, 2 * halfColor.rows) &&
               (depth == CV_32F || depth == CV_8U));
-    const int width = luminance.cols, halfWidth = halfColour.cols, halfHeight = halfColour.rows;
+    const int width = luminance.cols, halfWidth = halfColor.cols, halfHeight = halfColor.rows;
     restored.create(luminance.size(), CV_MAKETYPE(depth, 3));
     Mat out = restored.getMat();
     parallel_for_(Range(0, luminance.rows), [&](const Range& rows) {
@@ -142,7 +142,7 @@ void combineLuminanceAndHalfColour(const Mat& luminance, const Mat& halfColour, 
         for (int y = rows.start; y < rows.end; y++)
         {
             const int near = y / 2, far = std::min(std::max(y % 2 ? near + 1 : near - 1, 0), halfHeight - 1);
-            blendRows(halfColour.ptr<float>(near), halfColour.ptr<float>(far), 3 * halfWidth, blended);
+            blendRows(halfColor.ptr<float>(near), halfColor.ptr<float>(far), 3 * halfWidth, blended);
             upsampleRow(blended, halfWidth, upsampled);
             scaleToLuminanceRow(upsampled[0], upsampled[1], upsampled[2], luminance.ptr<float>(y), black, width,
                                 depth == CV_8U ? linearRow : out.ptr<float>(y));

@@ -1,10 +1,10 @@
-// DynamicDeblurrer's colour phase at half resolution (DEBLUR_COLOR_HALF_RESOLUTION): the half-size
+// DynamicDeblurrer's color phase at half resolution (DEBLUR_COLOR_HALF_RESOLUTION): the half-size
 // camera and shutter, the fused upsampling, and what the deblurrer makes of them. Its quality
 // figures are in DeblurQuality (test_deblurrer.cpp).
 #include "test_common.hpp"
 
 #include "restore/deconv_rl.hpp"
-#include "pipeline/half_colour.hpp"
+#include "pipeline/half_color.hpp"
 
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgproc.hpp>
@@ -31,7 +31,7 @@ double interiorMeanError(const Mat& a, const Mat& b, int border)
    line delay not doubled, and the focal lengths not halved. (The half-pixel and half-line offsets
    move this motion's image by hundredths of a pixel, below the renderer's resampling error: they
    are checked as values.) */
-TEST(HalfColour, HalvedCameraAndShutterRecordTheHalvedFrame)
+TEST(HalfColor, HalvedCameraAndShutterRecordTheHalvedFrame)
 {
     Ptr<Plant> plant = Plant::create(14.4, 0.12, kDeg);
     Ptr<CameraModel> camera = CameraModel::create(615.0, 600.0, 319.5, 239.5, 640, 480, 0.05, -0.05);
@@ -87,18 +87,18 @@ TEST(HalfColour, HalvedCameraAndShutterRecordTheHalvedFrame)
 /* The one pass that starts the phases gives what OpenCV gives: the frame halved by cv::resize with
    INTER_AREA, to the bit, and each pixel's channel mean; from an 8-bit frame, what its linear values
    give. */
-TEST(HalfColour, HalvingAndChannelMeanAreResizeAndTheMean)
+TEST(HalfColor, HalvingAndChannelMeanAreResizeAndTheMean)
 {
     for (const Size size : {Size(2, 2), Size(14, 6), Size(322, 240)})
     {
         Mat frame(size, CV_32FC3);
         theRNG().state = 5;
         randu(frame, 0.0f, 1.0f);
-        Mat halfColour, luminance, expectedHalf;
-        cv::dynblur::detail::halveAndAverageChannels(frame, halfColour, luminance);
+        Mat halfColor, luminance, expectedHalf;
+        cv::dynblur::detail::halveAndAverageChannels(frame, halfColor, luminance);
         resize(frame, expectedHalf, Size(size.width / 2, size.height / 2), 0, 0, INTER_AREA);
-        ASSERT_EQ(halfColour.type(), CV_32FC3);
-        EXPECT_EQ(norm(halfColour, expectedHalf, NORM_INF), 0.0) << size;
+        ASSERT_EQ(halfColor.type(), CV_32FC3);
+        EXPECT_EQ(norm(halfColor, expectedHalf, NORM_INF), 0.0) << size;
         ASSERT_EQ(luminance.type(), CV_32FC1);
         ASSERT_EQ(luminance.size(), size);
         double worst = 0;
@@ -120,33 +120,33 @@ TEST(HalfColour, HalvingAndChannelMeanAreResizeAndTheMean)
     }
 }
 
-/* The fused pass equals its definition written with OpenCV: the colour upsampled by cv::resize
+/* The fused pass equals its definition written with OpenCV: the color upsampled by cv::resize
    (INTER_LINEAR), each pixel's channels scaled by the luminance over their mean (the change added
    where the mean is black), clamped to [0, 1]. */
-TEST(HalfColour, CombinationUpsamplesAsResizeAndScalesToTheLuminance)
+TEST(HalfColor, CombinationUpsamplesAsResizeAndScalesToTheLuminance)
 {
     for (const Size halfSize : {Size(1, 1), Size(7, 3), Size(160, 120)})
     {
-        Mat halfColour(halfSize, CV_32FC3), luminance(halfSize * 2, CV_32FC1);
+        Mat halfColor(halfSize, CV_32FC3), luminance(halfSize * 2, CV_32FC1);
         theRNG().state = 11;
-        randu(halfColour, 0.0f, 1.0f);
+        randu(halfColor, 0.0f, 1.0f);
         randu(luminance, 0.0f, 1.2f);  // past 1: the clamp acts
-        halfColour.at<Vec3f>(0, 0) = Vec3f(0, 0, 0);  // black: the change is added
+        halfColor.at<Vec3f>(0, 0) = Vec3f(0, 0, 0);  // black: the change is added
         const float black = 1e-3f;
 
         Mat restored;
-        cv::dynblur::detail::combineLuminanceAndHalfColour(luminance, halfColour, black, CV_32F, restored);
+        cv::dynblur::detail::combineLuminanceAndHalfColor(luminance, halfColor, black, CV_32F, restored);
         ASSERT_EQ(restored.type(), CV_32FC3);
         ASSERT_EQ(restored.size(), luminance.size());
         // An 8-bit result is the linear one encoded by linearToSrgb.
         Mat restored8, encoded;
-        cv::dynblur::detail::combineLuminanceAndHalfColour(luminance, halfColour, black, CV_8U, restored8);
+        cv::dynblur::detail::combineLuminanceAndHalfColor(luminance, halfColor, black, CV_8U, restored8);
         linearToSrgb(restored, encoded, CV_8U);
         ASSERT_EQ(restored8.type(), CV_8UC3);
         EXPECT_EQ(norm(restored8, encoded, NORM_INF), 0.0) << halfSize;
 
         Mat upsampled;
-        resize(halfColour, upsampled, luminance.size(), 0, 0, INTER_LINEAR);
+        resize(halfColor, upsampled, luminance.size(), 0, 0, INTER_LINEAR);
         double worst = 0;
         for (int y = 0; y < luminance.rows; y++)
             for (int x = 0; x < luminance.cols; x++)
@@ -166,8 +166,8 @@ TEST(HalfColour, CombinationUpsamplesAsResizeAndScalesToTheLuminance)
 
 /* The luminance is restored with every iteration at full resolution: the result's channel mean is
    the one-channel restoration of the frame's channel mean (where no channel was clamped), so the
-   colour at half resolution costs no luminance detail. */
-TEST(HalfColour, DeblurrerKeepsTheFullResolutionLuminance)
+   color at half resolution costs no luminance detail. */
+TEST(HalfColor, DeblurrerKeepsTheFullResolutionLuminance)
 {
     Ptr<Plant> plant = Plant::create(14.4, 0.12, kDeg);
     Ptr<CameraModel> camera = CameraModel::create(300.0, 300.0, 79.5, 59.5, 160, 120);
@@ -181,7 +181,7 @@ TEST(HalfColour, DeblurrerKeepsTheFullResolutionLuminance)
     Mat luminanceFrame, unused;
     cv::dynblur::detail::halveAndAverageChannels(frame, unused, luminanceFrame);
 
-    // colorIterations 0: the colour is the half-size frame moved back, without an iteration.
+    // colorIterations 0: the color is the half-size frame moved back, without an iteration.
     for (const auto& setting : {std::make_pair(int(PSF_ROWS), 2), std::make_pair(int(PSF_TILES), 2),
                                 std::make_pair(int(PSF_ROWS), 0)})
     {
@@ -206,7 +206,7 @@ TEST(HalfColour, DeblurrerKeepsTheFullResolutionLuminance)
         minMaxLoc(abs(restoredMean - luminance), nullptr, &worst, nullptr, nullptr, unclamped);
         EXPECT_LT(worst, 1e-5) << "model " << model << ", colorIterations " << setting.second;
 
-        // The colour phase ran: the result is not the luminance times the frame's chromaticity.
+        // The color phase ran: the result is not the luminance times the frame's chromaticity.
         deblurrer->setColorResolution(DEBLUR_COLOR_FULL_RESOLUTION);
         Mat full;
         deblurrer->deblur(frame, schedule, shutter, full);
@@ -219,9 +219,9 @@ TEST(HalfColour, DeblurrerKeepsTheFullResolutionLuminance)
     }
 }
 
-/* Grey frames and settings where no colour phase runs take the full-resolution path unchanged;
+/* Grey frames and settings where no color phase runs take the full-resolution path unchanged;
    8-bit frames are restored like their linear values. (Alpha passes through: DeblurChannels.) */
-TEST(HalfColour, OtherFramesAndSettingsAreUnchanged)
+TEST(HalfColor, OtherFramesAndSettingsAreUnchanged)
 {
     Ptr<Plant> plant = Plant::create(14.4, 0.12, kDeg);
     Ptr<CameraModel> camera = CameraModel::create(300.0, 300.0, 79.5, 59.5, 160, 120);
@@ -249,7 +249,7 @@ TEST(HalfColour, OtherFramesAndSettingsAreUnchanged)
     Mat restoredBgr;
     half->deblur(bgr, schedule, shutter, restoredBgr);
     full->deblur(bgr, schedule, shutter, a);
-    EXPECT_GT(norm(a, restoredBgr, NORM_INF), 0.0) << "the half-resolution colour phase did not run";
+    EXPECT_GT(norm(a, restoredBgr, NORM_INF), 0.0) << "the half-resolution color phase did not run";
     Mat linear, restoredLinear, encoded;
     srgbToLinear(bgr, linear);
     half->deblur(linear, schedule, shutter, restoredLinear);
@@ -259,7 +259,7 @@ TEST(HalfColour, OtherFramesAndSettingsAreUnchanged)
     half->deblur(inPlace, schedule, shutter, inPlace);
     EXPECT_EQ(norm(inPlace, restoredBgr, NORM_INF), 0.0) << "8-bit in place";
 
-    // Every iteration in colour: no colour phase of its own, so the resolution does not apply.
+    // Every iteration in color: no color phase of its own, so the resolution does not apply.
     params.colorIterations = -1;
     full->setRLParams(params);
     half->setRLParams(params);
@@ -276,8 +276,8 @@ TEST(HalfColour, OtherFramesAndSettingsAreUnchanged)
 }
 
 /* The half-size camera follows the camera it halves: a mount axis set after the first frame
-   moves the colour's kernels as it moves the luminance's (a fresh deblurrer gives the same). */
-TEST(HalfColour, FollowsTheCamerasMountAxis)
+   moves the color's kernels as it moves the luminance's (a fresh deblurrer gives the same). */
+TEST(HalfColor, FollowsTheCamerasMountAxis)
 {
     Ptr<Plant> plant = Plant::create(14.4, 0.12, kDeg);
     Ptr<CameraModel> camera = CameraModel::create(300.0, 300.0, 79.5, 59.5, 160, 120);
@@ -286,7 +286,7 @@ TEST(HalfColour, FollowsTheCamerasMountAxis)
     Mat frame(120, 160, CV_32FC3);
     theRNG().state = 9;
     randu(frame, 0.1f, 0.9f);
-    const auto halfColourDeblurrer = [&] {
+    const auto halfColorDeblurrer = [&] {
         Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
         deblurrer->setPsfModel(PSF_TILES);
         RLParams params = deblurrer->getRLParams();
@@ -296,17 +296,17 @@ TEST(HalfColour, FollowsTheCamerasMountAxis)
         deblurrer->setColorResolution(DEBLUR_COLOR_HALF_RESOLUTION);
         return deblurrer;
     };
-    Ptr<DynamicDeblurrer> stream = halfColourDeblurrer();
+    Ptr<DynamicDeblurrer> stream = halfColorDeblurrer();
     Mat before, after, fresh;
     stream->deblur(frame, schedule, shutter, before);
     camera->setMountAxis(Vec3d(0.6, 0.8, 0));  // tilt and pan: the blur turns
     stream->deblur(frame, schedule, shutter, after);
-    halfColourDeblurrer()->deblur(frame, schedule, shutter, fresh);
+    halfColorDeblurrer()->deblur(frame, schedule, shutter, fresh);
     EXPECT_GT(norm(before, after, NORM_INF), 1e-2);
     EXPECT_EQ(norm(after, fresh, NORM_INF), 0.0);
 }
 
-TEST(HalfColour, BadSettingsAreRefusedWithTheirRange)
+TEST(HalfColor, BadSettingsAreRefusedWithTheirRange)
 {
     Ptr<Plant> plant = Plant::create();
     Ptr<DynamicDeblurrer> deblurrer =

@@ -70,17 +70,26 @@ struct Outcome
     MotionCorrection correction;
 };
 
+/* The blurred frame's PSNR and that of its restoration told the truth into `o`, over `rows` where
+   that restoration is valid (`judged`, the pixels every other restoration is judged on). */
+void judgeAgainstTheTruth(const SaccadeScene& s, const DriftedFrame& d, const Drift& drift, const Range& rows,
+                          Outcome& o, Mat& judged)
+{
+    Mat truthRestored, valid;
+    Ptr<DynamicDeblurrer> told = DynamicDeblurrer::create(drift.plant(s), s.camera);
+    told->deblur(d.frame, s.schedule, drift.shutter(d.told), truthRestored, kNaN, valid);
+    judged = judgedPixels(valid, rows);
+    o.blurred = maskedPsnr(s.truth, d.frame, judged, 255);
+    o.truth = maskedPsnr(s.truth, truthRestored, judged, 255);
+}
+
 //! PSNR of the blurred frame, and of its restorations told the truth, told the nominal model, and refined.
 Outcome restoreDrifted(const SaccadeScene& s, const DriftedFrame& d, const Drift& drift, int flags,
                        const Range& rows)
 {
     Outcome o;
-    Mat truthRestored, valid, restored;
-    Ptr<DynamicDeblurrer> told = DynamicDeblurrer::create(drift.plant(s), s.camera);
-    told->deblur(d.frame, s.schedule, drift.shutter(d.told), truthRestored, kNaN, valid);
-    const Mat judged = judgedPixels(valid, rows);
-    o.blurred = maskedPsnr(s.truth, d.frame, judged, 255);
-    o.truth = maskedPsnr(s.truth, truthRestored, judged, 255);
+    Mat judged, restored;
+    judgeAgainstTheTruth(s, d, drift, rows, o, judged);
 
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(s.plant, s.camera);
     deblurrer->deblur(d.frame, s.schedule, d.told, restored);
@@ -202,12 +211,8 @@ namespace {
 Outcome restoreBlind(const SaccadeScene& s, const DriftedFrame& d, const Drift& drift, const Range& rows)
 {
     Outcome o;
-    Mat truthRestored, valid, restored;
-    Ptr<DynamicDeblurrer> told = DynamicDeblurrer::create(drift.plant(s), s.camera);
-    told->deblur(d.frame, s.schedule, drift.shutter(d.told), truthRestored, kNaN, valid);
-    const Mat judged = judgedPixels(valid, rows);
-    o.blurred = maskedPsnr(s.truth, d.frame, judged, 255);
-    o.truth = maskedPsnr(s.truth, truthRestored, judged, 255);
+    Mat judged, restored;
+    judgeAgainstTheTruth(s, d, drift, rows, o, judged);
 
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(s.plant, s.camera);
     deblurrer->setBlindRefinement(true);

@@ -5,6 +5,7 @@
 #include "restore/deconv_operator.hpp"
 #include "restore/fill_unobserved.hpp"
 #include "restore/frame_planes.hpp"
+#include "restore/restored_planes.hpp"
 #include "restore/rl_rows.hpp"
 
 #include <vector>

@@ -4,7 +4,7 @@
 #include "restore/bank_geometry.hpp"
 #include "restore/fft_kernel.hpp"
 #include "restore/fill_unobserved.hpp"
-#include "restore/frame_planes.hpp"
+#include "restore/restored_planes.hpp"
 
 namespace cv {
 namespace dynblur {

@@ -89,7 +89,7 @@ inline float luminanceChanged(float value, bool lit, float gain, float after, fl
 
 
 //! Normaliser below which a latent pixel counts as not seen by any frame pixel.
-constexpr float kUnobserved = 1e-3f;
+constexpr float kUnobserved = kernels::kUpdateUnobserved;
 
 }  // namespace detail
 }  // namespace dynblur

@@ -3,6 +3,7 @@
 #include "restore/deconv_rl.hpp"
 #include "restore/row_arithmetic.hpp"
 #include "restore/simd_clones.hpp"
+#include "restore/kernels/gather_kernels.hpp"
 
 #include <algorithm>
 #include <cfloat>
@@ -47,168 +48,13 @@ void ratioRow(const float* __restrict b, const float* __restrict ab, float* __re
     }
 }
 
-
-
-/* x_{k+1} = y ⊙ correction / (norm − λ curvature) over one row, kept within [0, upper]; with
-   `correctionExcess`, `correction` holds correction − norm. With `norm` null the normaliser is
-   `rowNorm` all along the row (kRowNorm): a row-wise bank's Aᵀ1 usually is, and not streaming it
-   leaves the update's loads in the caches. Pixels whose normaliser is
-   ≤ kUnobserved keep y. `tv` may be null (no curvature). `out` may be `y` (each element is read
-   before it is written); with `out` null, only tv->ny is computed (the row just above a band).
-   With `step`, the data term's step g = y ⊙ (correction / norm − 1) meets the last one, stored
-   there as bfloat16 (a float's upper half, truncated: it only feeds the extrapolation's two dot
-   products, whose ratio a 2^-8 relative error per element hardly moves, and half the bytes is half
-   that plane's traffic): Σ g·g_old and Σ g_old² (times scale², which keeps the products from
-   under- or overflowing) go to `sums`, and g replaces g_old. The extrapolation follows the data
-   term's step only: TV's curvature term flips sign from one iteration to the next on noise, which
-   would make successive steps look uncorrelated and switch acceleration off.
-   One pass with every term in registers, sixteen lanes in vector types (GCC would vectorise
-   neither the float sums nor the bfloat16 conversions well; nx[x − 1] is the lanes' nx shifted by
-   one), the last columns through padded copies. kWhole: `tv`, `out` and `step` are all given (the
-   accelerated, regularised case), which lets the loop drop its tests of null rows (GCC leaves
-   them in, one per block). */
-template <bool kWhole, bool kRowNorm>
-__attribute__((always_inline)) inline void updateRowTerms(const float* y, const float* __restrict correction,
-                                                          bool correctionExcess, const float* __restrict norm,
-                                                          float rowNorm, const RowTv* tv, float tvWeight, float upper,
-                                                          int n, float* out, uint16_t* __restrict step, float scale,
-                                                          UpdateSums& sums)
+// The update of one row: the kernel table's (src/restore/kernels/update_terms.hpp says what it computes).
+void updateRow(const float* y, const float* correction, bool correctionExcess, const float* norm, float rowNorm,
+               const RowTv* tv, float tvWeight, float upper, int n, float* out, uint16_t* step, float scale,
+               UpdateSums& sums)
 {
-    constexpr int kLanes = 16;
-    const bool hasTv = kWhole || tv;
-    typedef float v16 __attribute__((vector_size(64), aligned(4)));  // aligned(4): unaligned loads allowed
-    typedef int32_t v16i __attribute__((vector_size(64)));
-    typedef uint32_t v16u __attribute__((vector_size(64), aligned(4)));
-    typedef uint16_t v16h __attribute__((vector_size(32), aligned(2)));
-    const v16 zero = {}, ceiling = zero + upper, constantNorm = zero + rowNorm;
-    v16 stepDot = {}, stepBeforeSq = {}, nxLeft = {};
-    /* Lanes x … x + 15 of every row, from the row or (the last ones) from padded copies; yRight is
-       y one column on. Ifs, not ?: between vectors on a scalar condition, which GCC takes lane by
-       lane (it made the update twice as slow). */
-    const auto lanes = [&](const float* yAt, const float* yRightAt, const float* belowAt, const float* nyAboveAt,
-                           float* nyAt, const float* correctionAt, const float* normAt, float* outAt,
-                           uint16_t* stepAt) {
-        const v16 yv = *(const v16*)yAt;
-        v16 curvature = zero;
-        if (hasTv)
-        {
-            // Null yRightAt: the row's last sixteen columns, the last one with no gradient across the edge.
-            const v16 yRight = yRightAt ? *(const v16*)yRightAt
-                                        : __builtin_shufflevector(yv, yv, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13,
-                                                                  14, 15, 15);
-            const v16 gx = (yRight - yv) * tv->scale;
-            v16 gy = zero;
-            if (belowAt)
-                gy = (*(const v16*)belowAt - yv) * tv->scale;
-            /* 1 / |∇y| to 5e-6 relative (TV needs no more): the exponent-halving first guess and
-               two Newton steps, a few multiplies where a square root and a division each take
-               longer than the whole. */
-            const v16 q = gx * gx + gy * gy + tv->eps2, half = 0.5f * q;
-            v16 inv = (v16)(0x5f375a86 - ((v16i)q >> 1));
-            inv *= 1.5f - half * inv * inv;
-            inv *= 1.5f - half * inv * inv;
-            const v16 nx = gx * inv, ny = gy * inv;
-            *(v16*)nyAt = ny;
-            if (!kWhole && !outAt)
-                return;  // the row above a band: its ny is all the walk needs
-            curvature = nx - __builtin_shufflevector(nxLeft, nx, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27,
-                                                     28, 29, 30) +
-                        ny - *(const v16*)nyAboveAt;
-            nxLeft = nx;
-        }
-        const v16 nv = kRowNorm ? constantNorm : *(const v16*)normAt;
-        v16 cv = *(const v16*)correctionAt;
-        if (correctionExcess)
-            cv += nv;
-        v16 den = nv;
-        if (hasTv)
-            den -= tvWeight * curvature;
-        const v16 floor = 0.1f * nv;  // keeps a large λ from flipping the sign
-        den = den > floor ? den : floor;
-        const v16i seen = nv > kUnobserved;
-        v16 x = yv * cv / den;
-        x = x > zero ? x : zero;
-        x = x < ceiling ? x : ceiling;
-        *(v16*)outAt = seen ? x : yv;
-        if (kWhole || stepAt)
-        {
-            const v16 g = seen ? yv * (cv / nv - 1.f) : zero;
-            const v16 before = (v16)(__builtin_convertvector(*(const v16h*)stepAt, v16u) << 16) * scale;
-            const v16 now = g * scale;
-            stepDot += now * before;
-            stepBeforeSq += before * before;
-            *(v16h*)stepAt = __builtin_convertvector((v16u)g >> 16, v16h);
-        }
-    };
-    const auto at = [](auto* row, int x) { return row ? row + x : nullptr; };
-    const auto given = [&](auto* row, int x) { return kWhole ? row + x : at(row, x); };  // non-null when kWhole
-    int x = 0;
-    for (; x + kLanes <= n; x += kLanes)
-        lanes(y + x, x + kLanes < n ? y + x + 1 : nullptr, hasTv ? at(tv->below, x) : nullptr,
-              hasTv ? given(tv->nyAbove, x) : nullptr, hasTv ? tv->ny + x : nullptr, at(correction, x), at(norm, x),
-              given(out, x), given(step, x));
-
-    if (x < n)
-    {
-        /* The last 1 to 15 columns. Padding: y = 0 and a last step of 0 leave the sums alone, a
-           normaliser of 1 the division finite; the last column's yRight is its y (no gradient
-           across the edge). */
-        const int rest = n - x;
-        enum { Y, YRight, Below, NyAbove, Ny, Correction, Norm, Out, Rows };
-        float padded[Rows][kLanes] = {};
-        uint16_t stepTail[kLanes] = {};
-        const auto copy = [&](const float* from, int row) {
-            if (from)
-                std::copy(from + x, from + n, padded[row]);
-        };
-        std::fill(padded[Norm], padded[Norm] + kLanes, 1.f);
-        copy(y, Y);
-        std::copy(y + x + 1, y + n, padded[YRight]);
-        padded[YRight][rest - 1] = y[n - 1];
-        copy(correction, Correction);
-        copy(norm, Norm);
-        if (tv)
-        {
-            copy(tv->below, Below);
-            copy(tv->nyAbove, NyAbove);
-        }
-        if (step)
-            std::copy(step + x, step + n, stepTail);
-        lanes(padded[Y], padded[YRight], tv && tv->below ? padded[Below] : nullptr, padded[NyAbove], padded[Ny],
-              padded[Correction], padded[Norm], out ? padded[Out] : nullptr, step ? stepTail : nullptr);
-        if (tv)
-            std::copy(padded[Ny], padded[Ny] + rest, tv->ny + x);
-        if (out)
-            std::copy(padded[Out], padded[Out] + rest, out + x);
-        if (step)
-            std::copy(stepTail, stepTail + rest, step + x);
-    }
-    for (int k = 0; k < kLanes; k++)
-    {
-        sums.stepDot += stepDot[k];
-        sums.stepBeforeSq += stepBeforeSq[k];
-    }
-}
-
-//! updateRowTerms, its loop built for the whole case when every term is given, and for each kind of normaliser.
-DYNBLUR_SIMD_CLONES
-void updateRow(const float* y, const float* __restrict correction, bool correctionExcess, const float* __restrict norm,
-               float rowNorm, const RowTv* tv, float tvWeight, float upper, int n, float* out,
-               uint16_t* __restrict step, float scale, UpdateSums& sums)
-{
-    const bool whole = tv && out && step;
-    if (whole && !norm)
-        updateRowTerms<true, true>(y, correction, correctionExcess, norm, rowNorm, tv, tvWeight, upper, n, out, step,
-                                   scale, sums);
-    else if (whole)
-        updateRowTerms<true, false>(y, correction, correctionExcess, norm, rowNorm, tv, tvWeight, upper, n, out, step,
-                                    scale, sums);
-    else if (!norm)
-        updateRowTerms<false, true>(y, correction, correctionExcess, norm, rowNorm, tv, tvWeight, upper, n, out, step,
-                                    scale, sums);
-    else
-        updateRowTerms<false, false>(y, correction, correctionExcess, norm, rowNorm, tv, tvWeight, upper, n, out, step,
-                                     scale, sums);
+    kernels::gatherKernels().updateRow(
+        kernels::UpdateRow{y, correction, correctionExcess, norm, rowNorm, tv, tvWeight, upper, n, out, step, scale}, sums);
 }
 
 /* The value of a row whose elements are all equal, NaN otherwise. Blocks of 64 columns compared

@@ -3,6 +3,8 @@
 #ifndef OPENCV_DYNBLUR_RESTORE_RL_ROWS_HPP
 #define OPENCV_DYNBLUR_RESTORE_RL_ROWS_HPP
 
+#include "restore/kernels/update_terms.hpp"
+
 #include <opencv2/core.hpp>
 
 #include <cstdint>
@@ -15,30 +17,14 @@ namespace detail {
 // scikit-image adds this to the reblurred image before dividing; kept so ZERO-boundary results match.
 constexpr float kRatioEpsilon = 1e-12f;
 
-//! Sums an update accumulates over a band of rows, added up afterwards in band order.
-struct UpdateSums
-{
-    double stepDot = 0, stepBeforeSq = 0, changeSq = 0, sizeSq = 0;
-};
-
-/* TV's terms for the update of one row of y. The curvature div(∇y/|∇y|) is nx[x] − nx[x−1] +
-   ny[x] − nyAbove[x], with the unit gradient n = ∇y/|∇y| by forward differences (zero across the
-   last column and below the last row) and the divergence by backward ones (the pair that makes
-   −div the adjoint of ∇; nx[−1] and the first row's nyAbove are 0: zero flux across the edges).
-   |∇y| is taken on y · scale, so the squares neither under- nor overflow, and regularised by eps2. */
-struct RowTv
-{
-    const float* below;    //!< the next row of y; null on the last row
-    const float* nyAbove;  //!< the row above's ny; null when only ny is computed (see updateRow)
-    float* ny;             //!< where the row's own ny goes, for the row below
-    float scale, eps2;
-};
+using kernels::RowTv;
+using kernels::UpdateSums;
 
 //! ratio = b / (A x) over one row of n, damped as MATLAB's deconvlucy does (see rl_rows.cpp).
 void ratioRow(const float* b, const float* ab, float* r, int n, float scale, float invThreshold);
 
-/** x_{k+1} = y ⊙ correction / (norm − λ curvature) over one row, with the accelerated step's sums
-(see updateRowTerms in rl_rows.cpp for every argument). */
+/** x_{k+1} = y ⊙ correction / (norm − λ curvature) over one row, with the accelerated step's sums,
+by the kernels of this CPU (src/restore/kernels/update_terms.hpp says what every argument is). */
 void updateRow(const float* y, const float* correction, bool correctionExcess, const float* norm, float rowNorm,
                const RowTv* tv, float tvWeight, float upper, int n, float* out, uint16_t* step, float scale,
                UpdateSums& sums);

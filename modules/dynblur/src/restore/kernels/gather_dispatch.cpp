@@ -21,7 +21,8 @@ const GatherKernels* referenceGatherKernels()
         reference::gatherRow, reference::gatherPair, reference::gatherPackedPair,
         [](const float* sums, const GatherFold& fold, int begin, int end, float* out) {
             foldColumns(sums, fold, begin, end, out);
-        }};
+        },
+        reference::updateRow};
     return &kernels;
 }
 

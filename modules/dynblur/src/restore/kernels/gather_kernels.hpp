@@ -4,6 +4,7 @@
 #define OPENCV_DYNBLUR_RESTORE_KERNELS_GATHER_KERNELS_HPP
 
 #include "restore/kernels/gather_taps.hpp"
+#include "restore/kernels/update_terms.hpp"
 
 #include <opencv2/core/cvdef.h>
 
@@ -27,6 +28,8 @@ struct GatherKernels
                        int tapCount, int begin, int end, const GatherFold& fold);
     //! out[x] from sums[x] for x in [begin, end), as `fold` says.
     void (*fold)(const float* sums, const GatherFold& fold, int begin, int end, float* out);
+    //! Richardson–Lucy's update of one row (update_terms.hpp), its step's sums added to `sums`.
+    void (*updateRow)(const UpdateRow& row, UpdateSums& sums);
 };
 
 //! The instruction sets the kernels are built for, slowest first.

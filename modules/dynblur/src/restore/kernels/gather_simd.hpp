@@ -14,6 +14,7 @@
 
 #include "restore/kernels/gather_kernels.hpp"
 #include "restore/kernels/gather_reference.hpp"
+#include "restore/kernels/update_simd.hpp"
 
 #include <opencv2/core/hal/intrin.hpp>
 
@@ -239,7 +240,7 @@ inline void foldRow(const float* sums, const GatherFold& fold, int begin, int en
 //! This build's table.
 inline GatherKernels table()
 {
-    return GatherKernels{gatherRow, gatherPair, gatherPackedPair, foldRow};
+    return GatherKernels{gatherRow, gatherPair, gatherPackedPair, foldRow, updateRow};
 }
 
 }  // namespace DYNBLUR_KERNELS_ISA

@@ -2,7 +2,7 @@
    taps and sources: each column width from 1 to 3 blocks of the widest vectors (every block size
    and tail), each way of folding (written, added, weighted, split mid-vector). Float kernels agree to
    1e-6 of a bound of what a column sums; so do the packed ones, whose products of bfloat16s are exact in
-   float. Shared by tests/test_gather_kernels.cpp (every instruction set this CPU runs, through the
+   float; the update of a row (update_terms.hpp) likewise. Shared by tests/test_gather_kernels.cpp (every instruction set this CPU runs, through the
    library's dispatch) and gather_kernels_check.cpp (the header-only build scripts/arm_check.sh makes
    for AArch64 and for each x86 instruction set). */
 #ifndef OPENCV_DYNBLUR_RESTORE_KERNELS_TEST_GATHER_CHECK_HPP
@@ -34,6 +34,63 @@ inline double worstError(const std::vector<float>& got, const std::vector<float>
     double worst = 0;
     for (int x = begin; x < end; x++)
         worst = std::max(worst, std::fabs(double(got[size_t(x)]) - double(want[size_t(x)])) / scale);
+    return worst;
+}
+
+/* The update of rows of every kind (TV or not, the row above a band's ny only, a step or not, a
+   normaliser plane or one value, widths across every block and tail) against the reference: the
+   largest relative difference of the row, its ny, its step (as floats) and its sums. */
+inline double worstUpdateError(const GatherKernels& k, std::mt19937& random)
+{
+    std::uniform_real_distribution<float> unit(0.f, 1.f);
+    double worst = 0;
+    const auto relative = [](double got, double want) { return std::fabs(got - want) / std::max(std::fabs(want), 1e-3); };
+    for (int trial = 0; trial < 300; trial++)
+    {
+        const int n = 1 + int(random() % 90);
+        const bool tv = random() % 2, step = random() % 2, plane = random() % 2, below = random() % 2;
+        const bool nyOnly = tv && random() % 5 == 0, excess = random() % 2;
+        const size_t count = static_cast<size_t>(n);
+        std::vector<float> y(count), correction(count), norm(count), belowRow(count), nyAbove(count);
+        std::vector<uint16_t> lastStep(count);
+        for (int x = 0; x < n; x++)
+        {
+            y[size_t(x)] = unit(random);
+            correction[size_t(x)] = unit(random);
+            norm[size_t(x)] = unit(random) < 0.05f ? 1e-4f : unit(random) + 0.1f;  // some unobserved
+            belowRow[size_t(x)] = unit(random);
+            nyAbove[size_t(x)] = unit(random) - 0.5f;
+            lastStep[size_t(x)] = uint16_t(roundToBfloat16(unit(random) - 0.5f));
+        }
+        std::vector<float> out[2], ny[2];
+        std::vector<uint16_t> steps[2];
+        UpdateSums sums[2];
+        for (int side = 0; side < 2; side++)
+        {
+            out[side].assign(size_t(n), 0.f);
+            ny[side].assign(size_t(n), 0.f);
+            steps[side] = lastStep;
+            const RowTv rowTv{below ? belowRow.data() : nullptr, nyOnly ? nullptr : nyAbove.data(), ny[side].data(),
+                              3.f, 1e-6f};
+            const UpdateRow row{y.data(), correction.data(), excess, plane ? norm.data() : nullptr,
+                                0.7f, tv ? &rowTv : nullptr, 0.02f, 5.f, n, nyOnly ? nullptr : out[side].data(),
+                                step && !nyOnly ? steps[side].data() : nullptr, 1.3f};
+            if (side == 0)
+                k.updateRow(row, sums[0]);
+            else
+                reference::updateRow(row, sums[1]);
+        }
+        for (int x = 0; x < n; x++)
+        {
+            worst = std::max({worst, relative(out[0][size_t(x)], out[1][size_t(x)]),
+                              relative(ny[0][size_t(x)], ny[1][size_t(x)]),
+                              relative(lowBfloat16(steps[0][size_t(x)]), lowBfloat16(steps[1][size_t(x)]))});
+        }
+        // Σ g·g_old is a sum of terms of either sign: its error is taken relative to Σ g_old², its size's bound.
+        const double size = std::max(sums[1].stepBeforeSq, 1e-3);
+        worst = std::max({worst, std::fabs(sums[0].stepDot - sums[1].stepDot) / size,
+                          std::fabs(sums[0].stepBeforeSq - sums[1].stepBeforeSq) / size});
+    }
     return worst;
 }
 
@@ -109,6 +166,7 @@ inline bool checkGatherKernels(const GatherKernels& k, const char* label, double
             foldColumns(source.data(), fold, kBegin, end, b0.data());
             worstFold = std::max(worstFold, worstError(a0, b0, scale, kBegin, end));
         }
+    const double worstUpdate = worstUpdateError(k, random);
     bool ok = true;
     const auto report = [&](const char* kernel, double error) {
         const bool within = error <= tolerance;
@@ -120,6 +178,7 @@ inline bool checkGatherKernels(const GatherKernels& k, const char* label, double
     report("pair", worstPair);
     report("packed pair", worstPacked);
     report("fold", worstFold);
+    report("update row", worstUpdate);
     return ok;
 }
 

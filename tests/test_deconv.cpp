@@ -5,7 +5,7 @@
 
 #include "restore/deconv_operator.hpp"
 #include "restore/deconv_rl.hpp"
-#include "restore/kernels/gather_kernels.hpp"
+#include "restore/kernels/kernel_table.hpp"
 
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgcodecs.hpp>

@@ -4,7 +4,7 @@
 // tile-wise restorations, the filter2D reference and the float-blur row-wise one back to back.
 #include "paired_rounds.hpp"
 #include "perf_baseline.hpp"
-#include "restore/kernels/gather_kernels.hpp"
+#include "restore/kernels/kernel_table.hpp"
 
 #include <benchmark/benchmark.h>
 #include <opencv2/dynblur.hpp>

@@ -1,6 +1,6 @@
 #include "restore/gather.hpp"
 
-#include "restore/kernels/gather_kernels.hpp"
+#include "restore/kernels/kernel_table.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -30,7 +30,7 @@ inline int chunkEnd(int x, int end)
    [begin, end) of two rows (the second may be unused) into a per-thread buffer, then both are
    folded into out0 and out1 (out1 may be null). */
 template <typename GatherSums>
-void gatherThenFold(const kernels::GatherKernels& k, const GatherFold& fold, int begin, int end, float* out0,
+void gatherThenFold(const kernels::KernelTable& k, const GatherFold& fold, int begin, int end, float* out0,
                     float* out1, const GatherSums& gather)
 {
     thread_local std::vector<float> sums;
@@ -60,7 +60,7 @@ void gatherBorder(const Mat& source, const Tap* taps, int count, int begin, int 
 }
 
 //! Columns [begin, end) of one gathered row: where every tap reads inside, the kernel; elsewhere checked.
-void gatherRowRange(const kernels::GatherKernels& k, const Mat& source, const Tap* taps, int count,
+void gatherRowRange(const kernels::KernelTable& k, const Mat& source, const Tap* taps, int count,
                     const GatherRow& row, int begin, int end, float* out, const GatherFold& fold)
 {
     if (begin >= end)
@@ -110,7 +110,7 @@ void gatherPackedBorder(const Mat& packed, const PackedTap* taps, int count, int
 void gatherBlock(const Mat& source, const Gather& gather, const Range& rows, const Range& cols, float* out,
                  size_t outStep, const GatherFold& fold)
 {
-    const kernels::GatherKernels& k = kernels::gatherKernels();
+    const kernels::KernelTable& k = kernels::kernelTable();
     int commonBegin = cols.start, commonEnd = cols.end;
     for (int r = rows.start; r < rows.end; r++)
     {
@@ -151,7 +151,7 @@ void gatherBlock(const Mat& source, const Gather& gather, const Range& rows, con
 void gatherPackedBlock(const Mat& packed, const PackedGather& gather, const Range& rows, const Range& cols, float* out,
                        size_t outStep, const GatherFold& fold)
 {
-    const kernels::GatherKernels& k = kernels::gatherKernels();
+    const kernels::KernelTable& k = kernels::kernelTable();
     CV_DbgAssert(rows.start % 2 == 0);
     const int pairBegin = rows.start / 2, pairEnd = (rows.end + 1) / 2;
     std::vector<float> scratch(rows.size() % 2 ? size_t(cols.end) : 0);

@@ -3,7 +3,7 @@
 #include "restore/deconv_rl.hpp"
 #include "restore/row_arithmetic.hpp"
 #include "restore/simd_clones.hpp"
-#include "restore/kernels/gather_kernels.hpp"
+#include "restore/kernels/kernel_table.hpp"
 
 #include <algorithm>
 #include <cfloat>
@@ -53,7 +53,7 @@ void updateRow(const float* y, const float* correction, bool correctionExcess, c
                const RowTv* tv, float tvWeight, float upper, int n, float* out, uint16_t* step, float scale,
                UpdateSums& sums)
 {
-    kernels::gatherKernels().updateRow(
+    kernels::kernelTable().updateRow(
         kernels::UpdateRow{y, correction, correctionExcess, norm, rowNorm, tv, tvWeight, upper, n, out, step, scale}, sums);
 }
 

@@ -1,5 +1,5 @@
 /* Included before any OpenCV header by the library's per-instruction-set kernel files
-   (gather_avx2.cpp, gather_avx512.cpp) and force-included (-include) by scripts/arm_check.sh into
+   (kernels_avx2.cpp, kernels_avx512.cpp) and force-included (-include) by scripts/arm_check.sh into
    every kernel test it builds. Outside OpenCV's own build (__OPENCV_BUILD undefined), opencv2/core/cv_cpu_dispatch.h
    sets only CV_SSE2 (from __SSE2__), CV_NEON (from __ARM_NEON on AArch64) and CV_FP16 (from
    __F16C__); every other CV_<ISA> macro defaults to 0 whatever -m flags the compiler got. So -mavx2

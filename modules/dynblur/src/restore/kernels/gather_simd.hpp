@@ -12,7 +12,7 @@
 #error "define DYNBLUR_KERNELS_ISA, the namespace of this build of the kernels, before including gather_simd.hpp"
 #endif
 
-#include "restore/kernels/gather_kernels.hpp"
+#include "restore/kernels/kernel_table.hpp"
 #include "restore/kernels/gather_reference.hpp"
 #include "restore/kernels/update_simd.hpp"
 
@@ -238,9 +238,9 @@ inline void foldRow(const float* sums, const GatherFold& fold, int begin, int en
 #endif
 
 //! This build's table.
-inline GatherKernels table()
+inline KernelTable table()
 {
-    return GatherKernels{gatherRow, gatherPair, gatherPackedPair, foldRow, updateRow};
+    return KernelTable{gatherRow, gatherPair, gatherPackedPair, foldRow, updateRow};
 }
 
 }  // namespace DYNBLUR_KERNELS_ISA

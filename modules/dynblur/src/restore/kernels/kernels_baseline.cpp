@@ -6,9 +6,9 @@ namespace cv {
 namespace dynblur {
 namespace kernels {
 
-const GatherKernels* baselineGatherKernels()
+const KernelTable* baselineKernels()
 {
-    static const GatherKernels kernels = baseline::table();
+    static const KernelTable kernels = baseline::table();
     return &kernels;
 }
 

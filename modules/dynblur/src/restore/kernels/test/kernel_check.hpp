@@ -2,13 +2,13 @@
    taps and sources: each column width from 1 to 3 blocks of the widest vectors (every block size
    and tail), each way of folding (written, added, weighted, split mid-vector). Float kernels agree to
    1e-6 of a bound of what a column sums; so do the packed ones, whose products of bfloat16s are exact in
-   float; the update of a row (update_terms.hpp) likewise. Shared by tests/test_gather_kernels.cpp (every instruction set this CPU runs, through the
-   library's dispatch) and gather_kernels_check.cpp (the header-only build scripts/arm_check.sh makes
+   float; the update of a row (update_terms.hpp) likewise. Shared by tests/test_kernels.cpp (every instruction set this CPU runs, through the
+   library's dispatch) and kernels_check.cpp (the header-only build scripts/arm_check.sh makes
    for AArch64 and for each x86 instruction set). */
-#ifndef OPENCV_DYNBLUR_RESTORE_KERNELS_TEST_GATHER_CHECK_HPP
-#define OPENCV_DYNBLUR_RESTORE_KERNELS_TEST_GATHER_CHECK_HPP
+#ifndef OPENCV_DYNBLUR_RESTORE_KERNELS_TEST_KERNEL_CHECK_HPP
+#define OPENCV_DYNBLUR_RESTORE_KERNELS_TEST_KERNEL_CHECK_HPP
 
-#include "restore/kernels/gather_kernels.hpp"
+#include "restore/kernels/kernel_table.hpp"
 #include "restore/kernels/gather_reference.hpp"
 
 #include <algorithm>
@@ -40,7 +40,7 @@ inline double worstError(const std::vector<float>& got, const std::vector<float>
 /* The update of rows of every kind (TV or not, the row above a band's ny only, a step or not, a
    normaliser plane or one value, widths across every block and tail) against the reference: the
    largest relative difference of the row, its ny, its step (as floats) and its sums. */
-inline double worstUpdateError(const GatherKernels& k, std::mt19937& random)
+inline double worstUpdateError(const KernelTable& k, std::mt19937& random)
 {
     std::uniform_real_distribution<float> unit(0.f, 1.f);
     double worst = 0;
@@ -96,7 +96,7 @@ inline double worstUpdateError(const GatherKernels& k, std::mt19937& random)
 
 /* Runs `k` against the reference over many cases; prints each kernel's worst relative error and
    returns whether all are within `tolerance`. */
-inline bool checkGatherKernels(const GatherKernels& k, const char* label, double tolerance = 1e-6)
+inline bool checkKernels(const KernelTable& k, const char* label, double tolerance = 1e-6)
 {
     std::mt19937 random(20261202u);
     std::uniform_real_distribution<float> unit(0.f, 1.f);

@@ -1,5 +1,5 @@
 /* The kernels in AVX-512 (F, CD, VL, BW, DQ: OpenCV's "SKX" level) and FMA, built with those -m
-   flags on x86-64 (CMakeLists.txt), for the reason gather_avx2.cpp gives. */
+   flags on x86-64 (CMakeLists.txt), for the reason kernels_avx2.cpp gives. */
 #if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__) && defined(__AVX512DQ__) && \
     defined(__AVX512CD__) && defined(__FMA__)
 #include "restore/kernels/cv_isa_from_compiler.hpp"
@@ -11,17 +11,17 @@
 #endif
 #include "restore/kernels/gather_simd.hpp"
 #else
-#include "restore/kernels/gather_kernels.hpp"
+#include "restore/kernels/kernel_table.hpp"
 #endif
 
 namespace cv {
 namespace dynblur {
 namespace kernels {
 
-const GatherKernels* avx512GatherKernels()
+const KernelTable* avx512Kernels()
 {
 #ifdef DYNBLUR_KERNELS_ISA
-    static const GatherKernels kernels = avx512::table();
+    static const KernelTable kernels = avx512::table();
     return &kernels;
 #else
     return nullptr;

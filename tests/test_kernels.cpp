@@ -2,8 +2,8 @@
 // the dispatch that picks them (cv::setUseOptimized(false) selects the reference).
 #include "test_common.hpp"
 
-#include "restore/kernels/gather_kernels.hpp"
-#include "restore/kernels/test/gather_check.hpp"
+#include "restore/kernels/kernel_table.hpp"
+#include "restore/kernels/test/kernel_check.hpp"
 
 #include <opencv2/core/utility.hpp>
 
@@ -11,7 +11,7 @@ namespace {
 
 using namespace cv::dynblur::kernels;
 
-TEST(GatherKernels, EveryInstructionSetAgreesWithTheReference)
+TEST(KernelTable, EveryInstructionSetAgreesWithTheReference)
 {
     const std::vector<KernelIsa> isas = availableKernelIsas();
     ASSERT_GE(isas.size(), 2u) << "at least the reference and the baseline build";
@@ -19,32 +19,32 @@ TEST(GatherKernels, EveryInstructionSetAgreesWithTheReference)
     for (KernelIsa isa : isas)
     {
         SCOPED_TRACE(kernelIsaName(isa));
-        const GatherKernels* kernels = gatherKernelsFor(isa);
+        const KernelTable* kernels = kernelTableFor(isa);
         ASSERT_NE(kernels, nullptr);
-        EXPECT_TRUE(check::checkGatherKernels(*kernels, kernelIsaName(isa)));
+        EXPECT_TRUE(check::checkKernels(*kernels, kernelIsaName(isa)));
     }
 }
 
-TEST(GatherKernels, DispatchFollowsUseOptimizedAndTheOverride)
+TEST(KernelTable, DispatchFollowsUseOptimizedAndTheOverride)
 {
     const std::vector<KernelIsa> isas = availableKernelIsas();
-    const GatherKernels& best = gatherKernels();
-    EXPECT_EQ(&best, gatherKernelsFor(isas.back())) << "the CPU's best: " << kernelIsaName(isas.back());
+    const KernelTable& best = kernelTable();
+    EXPECT_EQ(&best, kernelTableFor(isas.back())) << "the CPU's best: " << kernelIsaName(isas.back());
     const bool optimized = cv::useOptimized();
     cv::setUseOptimized(false);
-    EXPECT_EQ(&gatherKernels(), gatherKernelsFor(KERNELS_REFERENCE));
+    EXPECT_EQ(&kernelTable(), kernelTableFor(KERNELS_REFERENCE));
     cv::setUseOptimized(optimized);
     for (KernelIsa isa : isas)
     {
         forceKernelIsa(isa);
-        EXPECT_EQ(&gatherKernels(), gatherKernelsFor(isa)) << kernelIsaName(isa);
+        EXPECT_EQ(&kernelTable(), kernelTableFor(isa)) << kernelIsaName(isa);
     }
     forceKernelIsa(KERNELS_ISA_COUNT);
-    EXPECT_EQ(&gatherKernels(), &best);
+    EXPECT_EQ(&kernelTable(), &best);
     // An instruction set this build or CPU lacks is refused, not run.
     for (int isa = KERNELS_REFERENCE; isa < KERNELS_ISA_COUNT; isa++)
     {
-        if (!gatherKernelsFor(KernelIsa(isa)))
+        if (!kernelTableFor(KernelIsa(isa)))
         {
             EXPECT_THROW(forceKernelIsa(KernelIsa(isa)), cv::Exception) << kernelIsaName(KernelIsa(isa));
         }

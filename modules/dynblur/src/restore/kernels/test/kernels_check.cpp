@@ -2,10 +2,10 @@
 // under qemu, and each x86 flag set) against their reference; exits non-zero on a mismatch.
 #define DYNBLUR_KERNELS_ISA checked
 #include "restore/kernels/gather_simd.hpp"
-#include "restore/kernels/test/gather_check.hpp"
+#include "restore/kernels/test/kernel_check.hpp"
 
 int main()
 {
-    const cv::dynblur::kernels::GatherKernels kernels = cv::dynblur::kernels::checked::table();
-    return cv::dynblur::kernels::check::checkGatherKernels(kernels, "this build") ? 0 : 1;
+    const cv::dynblur::kernels::KernelTable kernels = cv::dynblur::kernels::checked::table();
+    return cv::dynblur::kernels::check::checkKernels(kernels, "this build") ? 0 : 1;
 }

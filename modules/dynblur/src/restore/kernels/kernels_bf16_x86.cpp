@@ -2,9 +2,9 @@
    vdpbf16ps, which takes both bfloat16 halves of a packed pair in one instruction (twice the
    multiply-adds of a float FMA per instruction, from half the bytes). Raw intrinsics, behind
    function target attributes, so the file builds for any x86-64 and runs only where the CPU has
-   the instructions (avx512Bf16GatherKernels). Its sums equal the universal packed gather's to the
+   the instructions (avx512Bf16Kernels). Its sums equal the universal packed gather's to the
    bit: vdpbf16ps adds the high halves' exact product, then the low halves'. */
-#include "restore/kernels/gather_kernels.hpp"
+#include "restore/kernels/kernel_table.hpp"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <cpuid.h>
@@ -100,7 +100,7 @@ packedBlock(float* __restrict out0, float* __restrict out1, const uint32_t* sour
     foldBlock<Vectors>(out0, out1, x, last, a, b, fold);
 }
 
-/* GatherKernels::packedPair: blocks of 128 columns, the last up to 160 in one block (the caller's
+/* KernelTable::packedPair: blocks of 128 columns, the last up to 160 in one block (the caller's
    column chunks are at most that wide). */
 DYNBLUR_BF16_TARGET void gatherPackedPairBf16(float* out0, float* out1, const uint32_t* source, size_t sourceStep,
                                               const PackedTap* taps, int tapCount, int begin, int end,
@@ -134,11 +134,11 @@ bool cpuHasAvx512Bf16()
 
 }  // namespace
 
-const GatherKernels* avx512Bf16GatherKernels()
+const KernelTable* avx512Bf16Kernels()
 {
-    static const GatherKernels* kernels = []() -> const GatherKernels* {
-        static GatherKernels table;
-        const GatherKernels* wide = avx512GatherKernels();
+    static const KernelTable* kernels = []() -> const KernelTable* {
+        static KernelTable table;
+        const KernelTable* wide = avx512Kernels();
         if (!wide || !cpuHasAvx512Bf16())
             return nullptr;
         table = *wide;
@@ -158,7 +158,7 @@ namespace cv {
 namespace dynblur {
 namespace kernels {
 
-const GatherKernels* avx512Bf16GatherKernels()
+const KernelTable* avx512Bf16Kernels()
 {
     return nullptr;
 }

@@ -1,7 +1,7 @@
-// The gather kernels a bank operator runs, chosen once per call from the CPU, cv::useOptimized()
-// and the tests' override: one table per instruction set.
-#ifndef OPENCV_DYNBLUR_RESTORE_KERNELS_GATHER_KERNELS_HPP
-#define OPENCV_DYNBLUR_RESTORE_KERNELS_GATHER_KERNELS_HPP
+// The restoration kernels (the gathers of the bank operators and the RL update of a row), one table
+// per instruction set, chosen per call from the CPU, cv::useOptimized() and the tests' override.
+#ifndef OPENCV_DYNBLUR_RESTORE_KERNELS_KERNEL_TABLE_HPP
+#define OPENCV_DYNBLUR_RESTORE_KERNELS_KERNEL_TABLE_HPP
 
 #include "restore/kernels/gather_taps.hpp"
 #include "restore/kernels/update_terms.hpp"
@@ -14,8 +14,8 @@ namespace cv {
 namespace dynblur {
 namespace kernels {
 
-//! One instruction set's kernels (gather_reference.hpp says what each computes).
-struct GatherKernels
+//! One instruction set's kernels (gather_reference.hpp and update_terms.hpp say what each computes).
+struct KernelTable
 {
     //! out[x] = Σ_t w_t · source(row_t, x + col_t) for x in [begin, end); every read inside.
     void (*row)(float* out, const float* source, size_t sourceStep, const Tap* taps, int tapCount, int begin,
@@ -46,25 +46,25 @@ enum KernelIsa
 /** The kernels to run now: the reference ones when !cv::useOptimized(), else forceKernelIsa's, else
 those the environment variable DYNBLUR_KERNELS names (reference, baseline, avx2, avx512 or
 avx512bf16; one this build and CPU run, or an error that lists them), else the CPU's best. */
-const GatherKernels& gatherKernels();
+const KernelTable& kernelTable();
 
 //! The kernels built for `isa`, or null when this build or this CPU has none.
-const GatherKernels* gatherKernelsFor(KernelIsa isa);
+const KernelTable* kernelTableFor(KernelIsa isa);
 
 //! Every instruction set this build and this CPU can run, slowest first.
 CV_EXPORTS std::vector<KernelIsa> availableKernelIsas();
 
-//! For tests: gatherKernels() returns `isa`'s kernels (one of availableKernelIsas()); KERNELS_ISA_COUNT: the CPU's best again.
+//! For tests: kernelTable() returns `isa`'s kernels (one of availableKernelIsas()); KERNELS_ISA_COUNT: the CPU's best again.
 CV_EXPORTS void forceKernelIsa(KernelIsa isa);
 
 //! The name of an instruction set's kernels, e.g. "avx2".
 CV_EXPORTS const char* kernelIsaName(KernelIsa isa);
 
 // Each instruction set's table, defined in its own file (null where the build has none).
-const GatherKernels* baselineGatherKernels();
-const GatherKernels* avx2GatherKernels();
-const GatherKernels* avx512GatherKernels();
-const GatherKernels* avx512Bf16GatherKernels();
+const KernelTable* baselineKernels();
+const KernelTable* avx2Kernels();
+const KernelTable* avx512Kernels();
+const KernelTable* avx512Bf16Kernels();
 
 }  // namespace kernels
 }  // namespace dynblur

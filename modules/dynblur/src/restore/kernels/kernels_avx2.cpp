@@ -8,17 +8,17 @@
 #define DYNBLUR_KERNELS_ISA avx2
 #include "restore/kernels/gather_simd.hpp"
 #else
-#include "restore/kernels/gather_kernels.hpp"
+#include "restore/kernels/kernel_table.hpp"
 #endif
 
 namespace cv {
 namespace dynblur {
 namespace kernels {
 
-const GatherKernels* avx2GatherKernels()
+const KernelTable* avx2Kernels()
 {
 #ifdef DYNBLUR_KERNELS_ISA
-    static const GatherKernels kernels = avx2::table();
+    static const KernelTable kernels = avx2::table();
     return &kernels;
 #else
     return nullptr;

@@ -1,5 +1,5 @@
 // The one place that chooses the gather kernels.
-#include "restore/kernels/gather_kernels.hpp"
+#include "restore/kernels/kernel_table.hpp"
 #include "restore/kernels/gather_reference.hpp"
 
 #include <opencv2/core/utility.hpp>
@@ -15,9 +15,9 @@ namespace kernels {
 
 namespace {
 
-const GatherKernels* referenceGatherKernels()
+const KernelTable* referenceKernels()
 {
-    static const GatherKernels kernels{
+    static const KernelTable kernels{
         reference::gatherRow, reference::gatherPair, reference::gatherPackedPair,
         [](const float* sums, const GatherFold& fold, int begin, int end, float* out) {
             foldColumns(sums, fold, begin, end, out);
@@ -44,17 +44,17 @@ bool cpuRuns(KernelIsa isa)
 
 }  // namespace
 
-const GatherKernels* gatherKernelsFor(KernelIsa isa)
+const KernelTable* kernelTableFor(KernelIsa isa)
 {
     if (!cpuRuns(isa))
         return nullptr;
     switch (isa)
     {
-    case KERNELS_REFERENCE: return referenceGatherKernels();
-    case KERNELS_BASELINE: return baselineGatherKernels();
-    case KERNELS_AVX2: return avx2GatherKernels();
-    case KERNELS_AVX512: return avx512GatherKernels();
-    case KERNELS_AVX512_BF16: return avx512Bf16GatherKernels();
+    case KERNELS_REFERENCE: return referenceKernels();
+    case KERNELS_BASELINE: return baselineKernels();
+    case KERNELS_AVX2: return avx2Kernels();
+    case KERNELS_AVX512: return avx512Kernels();
+    case KERNELS_AVX512_BF16: return avx512Bf16Kernels();
     default: return nullptr;
     }
 }
@@ -63,14 +63,14 @@ std::vector<KernelIsa> availableKernelIsas()
 {
     std::vector<KernelIsa> isas;
     for (int isa = KERNELS_REFERENCE; isa < KERNELS_ISA_COUNT; isa++)
-        if (gatherKernelsFor(KernelIsa(isa)))
+        if (kernelTableFor(KernelIsa(isa)))
             isas.push_back(KernelIsa(isa));
     return isas;
 }
 
 void forceKernelIsa(KernelIsa isa)
 {
-    CV_Assert(isa == KERNELS_ISA_COUNT || gatherKernelsFor(isa));
+    CV_Assert(isa == KERNELS_ISA_COUNT || kernelTableFor(isa));
     forcedIsa = isa;
 }
 
@@ -84,17 +84,17 @@ namespace {
 
 /* The CPU's best kernels, or those the environment variable DYNBLUR_KERNELS names (one of
    kernelIsaName's names): how a whole program, a test run among them, runs on other kernels. */
-const GatherKernels* defaultGatherKernels()
+const KernelTable* defaultKernels()
 {
     const std::vector<KernelIsa> isas = availableKernelIsas();
     const char* chosen = std::getenv("DYNBLUR_KERNELS");
     if (!chosen || !*chosen)
-        return gatherKernelsFor(isas.back());
+        return kernelTableFor(isas.back());
     std::string allowed;
     for (KernelIsa isa : isas)
     {
         if (std::strcmp(chosen, kernelIsaName(isa)) == 0)
-            return gatherKernelsFor(isa);
+            return kernelTableFor(isa);
         allowed += std::string(allowed.empty() ? "" : ", ") + kernelIsaName(isa);
     }
     CV_Error(Error::StsBadArg, format("DYNBLUR_KERNELS='%s': this build and CPU run %s", chosen, allowed.c_str()));
@@ -102,13 +102,13 @@ const GatherKernels* defaultGatherKernels()
 
 }  // namespace
 
-const GatherKernels& gatherKernels()
+const KernelTable& kernelTable()
 {
-    static const GatherKernels* const best = defaultGatherKernels();
+    static const KernelTable* const best = defaultKernels();
     if (!useOptimized())
-        return *referenceGatherKernels();
+        return *referenceKernels();
     const int forced = forcedIsa.load(std::memory_order_relaxed);
-    return forced < KERNELS_ISA_COUNT ? *gatherKernelsFor(KernelIsa(forced)) : *best;
+    return forced < KERNELS_ISA_COUNT ? *kernelTableFor(KernelIsa(forced)) : *best;
 }
 
 }  // namespace kernels

@@ -437,17 +437,29 @@ Mat withMovingObject(const Mat& frame)
 
 }  // namespace
 
+/* The schedules the rejection tests tell a drifted frame instead of its own: the same one shifted
+   by 10 ms, and another move's (6°). */
+struct WrongSchedules
+{
+    explicit WrongSchedules(const SaccadeScene& s)
+        : shifted(s.schedule), another(SwitchPlanner::create(s.plant, 16)->plan(0.0, 6 * kDeg, 0.0))
+    {
+        for (double& t : shifted.times)
+            t += 0.010;
+    }
+    const Drift drift{"combined A", 1.2e-3, 0.93, 1.035, 1.15};
+    SwitchSchedule shifted, another;
+};
+
 /* A frame its model cannot explain (another move's schedule, one shifted by 10 ms, something moving
    in the scene) is never returned worse than the blurred input by more than 0.1 dB. */
 TEST(RefinementRejection, AnInconsistentFrameIsNeverMadeWorse)
 {
     DYNBLUR_REQUIRE_DATA(path, "building.jpg");
     SaccadeScene s(path);
-    const Drift drift{"combined A", 1.2e-3, 0.93, 1.035, 1.15};
-    SwitchSchedule shifted = s.schedule;
-    for (double& t : shifted.times)
-        t += 0.010;
-    const SwitchSchedule another = SwitchPlanner::create(s.plant, 16)->plan(0.0, 6 * kDeg, 0.0);
+    const WrongSchedules wrong(s);
+    const Drift& drift = wrong.drift;
+    const SwitchSchedule &shifted = wrong.shifted, &another = wrong.another;
     int rejected = 0, cases = 0;
     for (const WindowCase& w : kWindows)
     {
@@ -489,11 +501,9 @@ TEST(RefinementBlindRejection, InconsistentFramesAreFlaggedWhereRowsStayStill)
 {
     DYNBLUR_REQUIRE_DATA(path, "building.jpg");
     SaccadeScene s(path);
-    const Drift drift{"combined A", 1.2e-3, 0.93, 1.035, 1.15};
-    SwitchSchedule shifted = s.schedule;
-    for (double& t : shifted.times)
-        t += 0.010;
-    const SwitchSchedule another = SwitchPlanner::create(s.plant, 16)->plan(0.0, 6 * kDeg, 0.0);
+    const WrongSchedules wrong(s);
+    const Drift& drift = wrong.drift;
+    const SwitchSchedule &shifted = wrong.shifted, &another = wrong.another;
     const double limit = 0.9;
     int hits = 0, inconsistent = 0, falseAlarms = 0;
     for (const WindowCase& w : kWindows)

@@ -28,38 +28,21 @@ void wienerDeconvolve(InputArray blurred, const PsfBank& bank, OutputArray laten
         n = Mat::zeros(size, CV_32F);
     Mat denominator = Mat::zeros(size, CV_32F);
 
-    // Node `node`'s share of each coordinate along one axis: the blending weights of the forward
-    // operator (detail::nodeRowWeights, nodeColumnWeights).
-    auto nodeWeights = [](const std::vector<detail::AxisWeight>& axis, int node) {
-        std::vector<float> w(axis.size(), 0.f);
-        for (size_t t = 0; t < axis.size(); t++)
-            for (int k = 0; k < 2; k++)
-                if (axis[t].node[k] == node)
-                    w[t] += axis[t].weight[k];
-        return w;
-    };
-    auto support = [](const std::vector<float>& w) {
-        int begin = int(w.size()), end = 0;
-        for (int t = 0; t < int(w.size()); t++)
-            if (w[size_t(t)] > 0)
-            {
-                begin = std::min(begin, t);
-                end = t + 1;
-            }
-        return Range(std::min(begin, end), end);
-    };
-
+    // Each node's share of the frame's rows and columns where it has one: the forward operator's blend.
     const int nx = int(bank.nodeCols.size()), ny = int(bank.nodeRows.size());
-    const auto rowAxis = detail::nodeRowWeights(bank, size.height);
-    const auto colAxis = detail::nodeColumnWeights(bank, size.width);
+    const std::vector<detail::AxisWeight> rowAxis = detail::nodeRowWeights(bank, size.height);
+    const std::vector<detail::AxisWeight> colAxis = detail::nodeColumnWeights(bank, size.width);
+    const std::vector<Range> rowSupport = detail::supports(rowAxis, ny), colSupport = detail::supports(colAxis, nx);
+    const std::vector<std::vector<float>> rowWeight = detail::supportWeights(rowAxis, rowSupport);
+    const std::vector<std::vector<float>> colWeight = detail::supportWeights(colAxis, colSupport);
     for (int j = 0; j < ny; j++)
     {
-        const std::vector<float> wy = nodeWeights(rowAxis, j);
-        const Range rows = support(wy);
+        const Range rows = rowSupport[size_t(j)];
+        const std::vector<float>& wy = rowWeight[size_t(j)];  // over rows
         for (int i = 0; i < nx; i++)
         {
-            const std::vector<float> wx = nodeWeights(colAxis, i);
-            const Range cols = support(wx);
+            const Range cols = colSupport[size_t(i)];
+            const std::vector<float>& wx = colWeight[size_t(i)];  // over cols
             if (rows.empty() || cols.empty())
                 continue;
             const size_t n = size_t(j * nx + i);
@@ -112,7 +95,7 @@ void wienerDeconvolve(InputArray blurred, const PsfBank& bank, OutputArray laten
                         const int qx = x - shift.x;
                         if (qx < 0 || qx >= size.width)
                             continue;
-                        const float w = wy[size_t(y)] * wx[size_t(x)];
+                        const float w = wy[size_t(y - rows.start)] * wx[size_t(x - cols.start)];
                         num[qx] += w * src[x - gridOrigin.x];
                         if (c == 0)
                             den[qx] += w;

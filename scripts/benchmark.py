@@ -11,7 +11,7 @@ ratios, each the median of rounds that run the compared restorations back to bac
 minutes than within a round. Run it through scripts/benchmark.sh, which builds what it needs first.
 
 Targets are of three kinds (docs/performance.md): held (the filter2D ratio, tile-wise over
-row-wise, the PSF bank, the classification; the memory target is held by the test DeconvMemory):
+row-wise, the PSF bank, the classification, the bus start's uncertainty over a round trip; the memory target is held by the test DeconvMemory):
 PASS or FAIL, and the exit status is 1 when one fails; out of reach (50x scikit-image, see
 docs/performance.md): measured and reported, never failing the run; reported (the absolute frame
 time, which drifts by +-20 % with the machine): measured and shown against its target.
@@ -70,6 +70,14 @@ def run_cpp(perf, repetitions):
                 entry[key] = value
         results[name] = entry
     return results
+
+
+def run_bus(program):
+    """Runs dynblur_bus_perf: {benchmark name: its counters} (start uncertainty and round trip, us)."""
+    progress(f"running {program} (actuator bus over loopback TCP and a pty, against the simulator)")
+    out = subprocess.run([str(program), "--benchmark_format=json"], check=True, stdout=subprocess.PIPE,
+                         text=True).stdout
+    return {b["name"].split("/")[0]: b for b in json.loads(out)["benchmarks"]}
 
 
 def paired_rounds(functions, rounds):
@@ -243,6 +251,7 @@ def main():
 
     cpp = run_cpp(perf, args.repetitions)
     peers = run_peers(args.repetitions)
+    bus = run_bus(args.build / "tests" / "dynblur_bus_perf")
 
     def entry(prefix):
         """The benchmark named `prefix`, with or without Google Benchmark's /argument suffixes."""
@@ -275,6 +284,12 @@ def main():
         ("held", "PSF bank, row-wise, window III frame", f"{psf_rows:.2f} ms", "<= 1 ms", psf_rows <= 1.0),
         ("held", "classifying a frame (slowest window)", f"{classify * 1e3:.1f} us", "<= 100 us", classify <= 0.1),
     ]
+    for name, link in (("BM_BusStartTcp", "TCP"), ("BM_BusStartRtuPty", "RTU on a pty")):
+        b = bus[name]
+        ratio = b["start_over_round_trip"]
+        targets.append(("held", f"actuator start's time uncertainty over {link} / a bare request's round trip "
+                        f"(medians: {b['start_uncertainty_us']:.1f} vs {b['round_trip_us']:.1f} us)",
+                        f"{ratio:.2f}x", "<= 1.5x", ratio <= 1.5))
 
     def verdict(kind, met):
         if kind == "held":

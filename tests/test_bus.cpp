@@ -122,23 +122,26 @@ double uploadStartAndCheck(Rig& rig, const char* transport)
     return r.uncertainty;
 }
 
-/* The start's uncertainty is one request's round trip, which the machine's load stretches several
-   times over now and then: the median of `starts` upload-start cycles is held to `documented`
-   (docs/reliability.md) plus a tenth. */
-void expectStartUncertainty(Rig& rig, const char* transport, int starts, double documented)
+/* What holds on any machine, however loaded: every start happens once, in order, and its
+   uncertainty stays below the actuators' minimum dwell (1 ms), the finest step a schedule can
+   take; a start known less well could not place a switch. The uncertainty's typical value is a
+   speed figure: dynblur_bus_perf measures it against a bare request's round trip
+   (docs/reliability.md). */
+void expectStartsInOrder(Rig& rig, const char* transport, int starts)
 {
-    std::vector<double> u;
+    const double minDwell = rig.driver->getInfo().minDwell;
+    double previousStart = -1;
     for (int i = 0; i < starts; ++i)
     {
-        u.push_back(uploadStartAndCheck(rig, transport));
+        const double issued = now();
+        const double u = uploadStartAndCheck(rig, transport);
+        EXPECT_LT(u, minDwell) << transport << ", start " << i;
+        const double hostStart = rig.sim.lastStartHostTime();
+        EXPECT_GT(hostStart, issued) << transport << ": the start happened before it was asked for";
+        EXPECT_GT(hostStart, previousStart) << transport << ": starts out of order";
+        previousStart = hostStart;
         rig.driver->stop();  // back to level 0, where move10 starts
     }
-    std::sort(u.begin(), u.end());
-    const double median = u[u.size() / 2], bound = 1.1 * documented;
-    std::printf("[ measured ] %s: start uncertainty, median of %d starts %.1f us (range %.1f-%.1f us); documented "
-                "%.0f us, bound %.1f us\n",
-                transport, starts, median * 1e6, u.front() * 1e6, u.back() * 1e6, documented * 1e6, bound * 1e6);
-    EXPECT_LE(median, bound) << transport;
 }
 
 }  // namespace
@@ -151,7 +154,7 @@ TEST(BusDriver, UploadStartOverTcp)
     EXPECT_EQ(info.maxLevel, 16);
     EXPECT_EQ(info.capacity, 256);
     EXPECT_NEAR(info.minDwell, 1e-3, 1e-9);
-    expectStartUncertainty(rig, "tcp", 9, 22e-6);
+    expectStartsInOrder(rig, "tcp", 5);
     EXPECT_EQ(rig.sim.currentLevel(), 0);
     EXPECT_EQ(rig.driver->status().state, ACTUATOR_IDLE);
 }
@@ -163,7 +166,7 @@ TEST(BusDriver, UploadStartOverRtuPty)
     cfg.rtu = true;
     Rig rig(cfg);
     ASSERT_FALSE(rig.sim.ptyPath().empty());
-    expectStartUncertainty(rig, "rtu (pty)", 9, 140e-6);
+    expectStartsInOrder(rig, "rtu (pty)", 5);
 }
 
 TEST(BusDriver, LongScheduleNeedsSeveralRequestsAndVerifies)

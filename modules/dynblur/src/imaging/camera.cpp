@@ -109,6 +109,28 @@ public:
     {
         if (!std::isfinite(angle))
             CV_Error(Error::StsBadArg, "CameraModel::viewToReference: angle must be finite (radians)");
+        mapPoints(points, pin_.rotation(angle), refPoints);
+    }
+
+    void viewToReference(InputArray points, const Matx33d& rotation, OutputArray refPoints) const CV_OVERRIDE
+    {
+        const double det = determinant(rotation);
+        if (!(std::abs(det - 1) <= 1e-6) || !(norm(rotation * rotation.t() - Matx33d::eye(), NORM_INF) <= 1e-6))
+            CV_Error_(Error::StsBadArg, ("CameraModel::viewToReference: rotation must be a rotation matrix (orthonormal "
+                                         "to 1e-6, det = +1; its det is %g)",
+                                         det));
+        mapPoints(points, rotation, refPoints);
+    }
+
+    Point2d viewToReference(const Point2d& pixel, const Matx33d& rotation) const CV_OVERRIDE
+    {
+        return pin_.map(pixel, rotation);
+    }
+
+private:
+    //! Every point of `points` mapped by pin_.map with the rotation M.
+    void mapPoints(InputArray points, const Matx33d& M, OutputArray refPoints) const
+    {
         Mat src = points.getMat();
         if (src.empty())
         {
@@ -153,7 +175,6 @@ public:
         refPoints.create(outRows, outCols, outType);
         Mat dst = refPoints.getMat();
         CV_Assert(dst.isContinuous());
-        const Matx33d M = pin_.rotation(angle);
         const Point2d* in = pts.ptr<Point2d>();
         Point2d* out = reinterpret_cast<Point2d*>(dst.data);
         const int n = (int)pts.total();
@@ -165,6 +186,7 @@ public:
                       n / 16384.0);
     }
 
+public:
     Point2d pixelToNormalized(const Point2d& p) const CV_OVERRIDE { return pin_.undistort(p); }
 
     Point2d normalizedToPixel(const Point2d& m) const CV_OVERRIDE { return pin_.distort(m.x, m.y); }

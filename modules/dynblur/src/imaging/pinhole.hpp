@@ -89,6 +89,24 @@ struct Pinhole
         dd = Point2d(-fx * (dx * f + x * df), -fy * (dy * f + y * df));
         return true;
     }
+    /** d as above and its time derivative for a view turning at the spatial rate `spin` (rad/s, in
+    the reference camera's frame: R·ω for body rates ω): the ray turns as dP/dt = spin × P. Returns
+    false when the ray turns behind the reference camera. */
+    bool displacementAndRate(const Point2d& m, const Point2d& dm, const Matx33d& R, const Vec3d& spin, Point2d& d,
+                             Point2d& dd) const
+    {
+        const Vec3d P = turn(m, R);
+        const double X = P[0], Y = P[1], Z = P[2];
+        if (!(Z > 1e-12))
+            return false;
+        const double dX = spin[1] * Z - spin[2] * Y, dY = spin[2] * X - spin[0] * Z, dZ = spin[0] * Y - spin[1] * X;
+        const double iz = 1.0 / Z, x = X * iz, y = Y * iz;
+        const double dx = (dX - x * dZ) * iz, dy = (dY - y * dZ) * iz;
+        const double f = 1.0 + kud * (x * x + y * y), df = 2 * kud * (x * dx + y * dy);
+        d = dm - distort(x, y);
+        dd = Point2d(-fx * (dx * f + x * df), -fy * (dy * f + y * df));
+        return true;
+    }
     //! Rotation of `angle` radians about the mount axis.
     Matx33d rotation(double angle) const;
 

@@ -6,6 +6,7 @@
 #include "imaging/pinhole.hpp"
 #include "imaging/psf_kernel.hpp"
 #include "imaging/trajectory.hpp"
+#include "motion/camera_motion.hpp"
 #include "motion/shutter_check.hpp"
 
 namespace cv {
@@ -17,6 +18,7 @@ using detail::KernelNode;
 using detail::KernelScratch;
 using detail::Pinhole;
 using detail::Trajectory;
+using detail::ViewMotion;
 
 class PsfGeneratorImpl CV_FINAL : public PsfGenerator
 {
@@ -28,6 +30,8 @@ public:
 
     PsfBank generate(int model, const SwitchSchedule& schedule, const RollingShutter& shutter,
                      double thetaRef) const CV_OVERRIDE;
+    PsfBank generate(int model, const Ptr<CameraMotion>& motion, const RollingShutter& shutter,
+                     double tRef) const CV_OVERRIDE;
 
     int getMaxKernelSize() const CV_OVERRIDE { return maxKernel_; }
     void setMaxKernelSize(int pixels) CV_OVERRIDE
@@ -57,6 +61,10 @@ public:
     String getDefaultName() const CV_OVERRIDE { return "dynblur.PsfGenerator"; }
 
 private:
+    //! The bank of `model` for the views of `motion` (arguments checked).
+    PsfBank bankOf(int model, const ViewMotion& motion, const RollingShutter& shutter) const;
+    //! Throws unless `model` is a PsfModel and `shutter` reads the camera's rows.
+    void checkModelAndShutter(int model, const RollingShutter& shutter) const;
     int autoColumns(const Trajectory& tr, const Pinhole& pr, const RollingShutter& shutter) const;
     std::vector<double> autoBands(const Trajectory& tr, const Pinhole& pr, const RollingShutter& shutter,
                                   const std::vector<double>& columns) const;
@@ -74,9 +82,9 @@ void exposureRotations(const Trajectory& tr, const RollingShutter& shutter, doub
 {
     const Vec2d interval = shutter.intervalAt(row);
     const double a = interval[0], b = interval[1];
-    R[0] = tr.rotation(tr.angleAt(a));
-    R[1] = tr.rotation(tr.angleAt(0.5 * (a + b)));
-    R[2] = tr.rotation(tr.angleAt(b));
+    R[0] = tr.rotationAt(a);
+    R[1] = tr.rotationAt(0.5 * (a + b));
+    R[2] = tr.rotationAt(b);
 }
 
 /* Largest change of a kernel's path (start, middle, end) across one automatic row band, pixels.
@@ -161,25 +169,52 @@ std::vector<double> PsfGeneratorImpl::autoBands(const Trajectory& tr, const Pinh
     return centres;
 }
 
-PsfBank PsfGeneratorImpl::generate(int model, const SwitchSchedule& schedule, const RollingShutter& shutter,
-                                   double thetaRef) const
+void PsfGeneratorImpl::checkModelAndShutter(int model, const RollingShutter& shutter) const
 {
     if (model != PSF_UNIFORM && model != PSF_ROWS && model != PSF_TILES)
         CV_Error_(Error::StsBadArg,
                   ("PsfGenerator::generate: model=%d must be PSF_UNIFORM (0), PSF_ROWS (1) or PSF_TILES (2)", model));
-    const Size size = camera_->getImageSize();
-    detail::checkShutter(shutter, "PsfGenerator::generate", "shutter.", size.height);
+    detail::checkShutter(shutter, "PsfGenerator::generate", "shutter.", camera_->getImageSize().height);
+}
+
+PsfBank PsfGeneratorImpl::generate(int model, const SwitchSchedule& schedule, const RollingShutter& shutter,
+                                   double thetaRef) const
+{
+    if (plant_.empty())
+        CV_Error(Error::StsBadArg, "PsfGenerator::generate: this generator was created without a plant; give it the "
+                                   "motion: generate(model, motion, shutter, tRef)");
+    checkModelAndShutter(model, shutter);
     if (std::isinf(thetaRef))
         CV_Error(Error::StsBadArg,
                  "PsfGenerator::generate: thetaRef must be finite (radians) or NaN (the final resting angle)");
     if (!(schedule.times.empty() && schedule.levels.empty()))
         schedule.validate();
-    if (std::isnan(thetaRef))
-        thetaRef = plant_->restingAngle(schedule.finalLevel());
+    ViewMotion view;
+    view.plant = plant_;
+    view.schedule = schedule;
+    view.axis = camera_->getMountAxis();
+    view.thetaRef = std::isnan(thetaRef) ? plant_->restingAngle(schedule.finalLevel()) : thetaRef;
+    return bankOf(model, view, shutter);
+}
 
-    const Pinhole pr = detail::pinholeOf(*camera_);
-    const Trajectory tr =
-        detail::sampleTrajectory(*plant_, schedule, shutter.readoutInterval(), thetaRef, pr.axis);
+PsfBank PsfGeneratorImpl::generate(int model, const Ptr<CameraMotion>& motion, const RollingShutter& shutter,
+                                   double tRef) const
+{
+    checkModelAndShutter(model, shutter);
+    detail::checkMotionCovers(motion, shutter.readoutInterval(), "PsfGenerator::generate", "motion");
+    if (std::isinf(tRef))
+        CV_Error(Error::StsBadArg, "PsfGenerator::generate: tRef must be finite (seconds) or NaN (the motion's default "
+                                   "reference: a plant's final rest, a sampled motion's mid-exposure)");
+    return bankOf(model, ViewMotion::of(motion, tRef, shutter), shutter);
+}
+
+PsfBank PsfGeneratorImpl::bankOf(int model, const ViewMotion& motion, const RollingShutter& shutter) const
+{
+    const Size size = camera_->getImageSize();
+    Pinhole pr = detail::pinholeOf(*camera_);
+    if (motion.oneAxis())
+        pr.axis = motion.axis;
+    const Trajectory tr = detail::sampleTrajectory(motion, shutter.readoutInterval());
     const int W = size.width, H = size.height;
 
     PsfBank bank;
@@ -260,6 +295,13 @@ Ptr<PsfGenerator> PsfGenerator::create(const Ptr<Plant>& plant, const Ptr<Camera
     if (!camera)
         CV_Error(Error::StsNullPtr, "PsfGenerator::create: camera must not be null");
     return makePtr<PsfGeneratorImpl>(plant, camera);
+}
+
+Ptr<PsfGenerator> PsfGenerator::create(const Ptr<CameraModel>& camera)
+{
+    if (!camera)
+        CV_Error(Error::StsNullPtr, "PsfGenerator::create: camera must not be null");
+    return makePtr<PsfGeneratorImpl>(Ptr<Plant>(), camera);
 }
 
 }  // namespace dynblur

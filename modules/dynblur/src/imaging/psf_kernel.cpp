@@ -175,9 +175,17 @@ void rasterizeKernel(const Trajectory& tr, const Pinhole& pr, const KernelNode& 
     sc.d.resize(kEnd - ka + 1);
     sc.dd.resize(kEnd - ka + 1);
     for (int i = ka; i <= kEnd; i++)
-        if (!pr.displacementAndRate(m, dm, tr.rot[i], tr.rate[i], sc.d[i - ka], sc.dd[i - ka]))
-            CV_Error(Error::StsOutOfRange,
-                     "PsfGenerator::generate: a pixel's ray turns behind the reference camera (angle too large)");
+    {
+        const bool inFront = tr.spin.empty()
+                                 ? pr.displacementAndRate(m, dm, tr.rot[i], tr.rate[i], sc.d[i - ka], sc.dd[i - ka])
+                                 : pr.displacementAndRate(m, dm, tr.rot[i], tr.spin[i], sc.d[i - ka], sc.dd[i - ka]);
+        if (!inFront)
+            CV_Error_(Error::StsOutOfRange,
+                      ("PsfGenerator::generate: the ray of pixel (%.1f, %.1f) turns behind the reference camera at "
+                       "t = %.6f s: the view turns by more than the field of view from the reference (thetaRef or "
+                       "tRef too far from the frame's motion?)",
+                       node.pixel.x, node.pixel.y, tr.t[i]));
+    }
 
     // The path: one Hermite cubic per knot interval, clipped to [a, b].
     sc.pieces.clear();

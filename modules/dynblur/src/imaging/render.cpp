@@ -3,6 +3,9 @@
 // with the PSF generator (it warps images; the generator splats paths).
 #include "precomp.hpp"
 
+#include "imaging/axis_rotation.hpp"
+#include "imaging/trajectory.hpp"
+#include "motion/camera_motion.hpp"
 #include "motion/shutter_check.hpp"
 
 namespace cv {
@@ -94,15 +97,15 @@ void warpAccumulateCn(const Mat& sharp, const Mat& coarse, const std::vector<int
 
 /** One frame of renderBlurred, as the stages of the forward model: the motion's extent over the
 readout, the time samples that resolve it to maxStepPx, and each sample's view added to the rows
-whose exposure overlaps the sample's time cell, in linear light; then each row's time average. */
+whose exposure overlaps the sample's time cell, in linear light; then each row's time average.
+Each sample's view is the rotation R(t) relative to the reference (DESIGN §2, Rotation). */
 class FrameRenderer
 {
 public:
-    FrameRenderer(const Mat& sharpLinear, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
-                  const Ptr<CameraModel>& camera, const RollingShutter& shutter, double thetaRef, int borderMode)
-        : sharp_(sharpLinear), plant_(plant), schedule_(schedule), camera_(camera), shutter_(shutter),
-          thetaRef_(thetaRef), borderMode_(borderMode), W_(camera->getImageSize().width),
-          H_(camera->getImageSize().height),
+    FrameRenderer(const Mat& sharpLinear, const detail::ViewMotion& motion, const Ptr<CameraModel>& camera,
+                  const RollingShutter& shutter, int borderMode)
+        : sharp_(sharpLinear), motion_(motion), camera_(camera), shutter_(shutter), borderMode_(borderMode),
+          W_(camera->getImageSize().width), H_(camera->getImageSize().height),
           offset_((sharpLinear.cols - W_) / 2, (sharpLinear.rows - H_) / 2)
     {
         const Vec2d readout = shutter.readoutInterval();
@@ -110,34 +113,26 @@ public:
         T1_ = readout[1];
     }
 
-    /** Angle range (relative to θ_ref) and largest angle step on a uniform grid over the readout,
-    and the fastest image motion per radian over that range. */
+    /** How far the view strays from the reference and the largest image motion between two samples
+    of a uniform grid over the readout, pixels. */
     void surveyMotion()
     {
         tGrid_ = uniformGrid(T1_ > T0_ ? 2001 : 1);
-        thetaGrid_ = angles(tGrid_);
-        aMin_ = thetaGrid_[0] - thetaRef_;
-        aMax_ = aMin_;
-        dMax_ = 0;
-        for (size_t i = 0; i < thetaGrid_.size(); i++)
-        {
-            aMin_ = std::min(aMin_, thetaGrid_[i] - thetaRef_);
-            aMax_ = std::max(aMax_, thetaGrid_[i] - thetaRef_);
-            if (i > 0)
-                dMax_ = std::max(dMax_, std::abs(thetaGrid_[i] - thetaGrid_[i - 1]));
-        }
-        pxPerRad_ = pixelsPerRadian();
+        if (motion_.oneAxis())
+            surveyAngles();
+        else
+            surveyRotations();
     }
 
-    //! True when the camera stays at the reference angle to within 1e-6 px: the frame is the view.
-    bool stillAtReference() const { return std::max(std::abs(aMin_), std::abs(aMax_)) * pxPerRad_ < 1e-6; }
+    //! True when the camera stays at the reference view to within 1e-6 px: the frame is the view.
+    bool stillAtReference() const { return strayPx_ < 1e-6; }
     //! The sharp view's centre, the camera's frame size.
     Rect view() const { return Rect((int)offset_.x, (int)offset_.y, W_, H_); }
 
     //! Allocates the accumulator and the map's sampling grid.
     void prepare()
     {
-        // The map q(p) = camera.viewToReference(p, angle) is evaluated at every kMapStep-th column
+        // The map q(p) = camera.viewToReference(p, R) is evaluated at every kMapStep-th column
         // (and the last) of each warped row and is linear in between: a rotation's map is smooth,
         // the interpolation error is far below 0.01 px, and it saves most of the mapping cost.
         const int kMapStep = 8;
@@ -163,38 +158,37 @@ public:
         std::vector<double> starts(H_);
         for (int r = 0; r < H_; r++)
             starts[r] = shutter_.intervalAt(r)[0];
-        const std::vector<double> theta = angles(starts);
+        const std::vector<Matx33d> R = views(starts);
         for (int r = 0; r < H_; r++)
         {
             rowWeight_[r] = 1.0;
-            accumulate(theta[r] - thetaRef_, r, r + 1);
+            accumulate(R[r], r, r + 1);
             rowWeight_[r] = 0.0;
         }
     }
 
-    /** Time samples (and their angles) between which the image moves by less than maxStepPx: a
+    /** Time samples (and their views) between which the image moves by less than maxStepPx: a
     fine uniform grid with steps of at most maxStepPx/4 of motion, then greedy merging. */
-    void adaptiveSamples(double maxStepPx, std::vector<double>& t, std::vector<double>& theta) const
+    void adaptiveSamples(double maxStepPx, std::vector<double>& t, std::vector<Matx33d>& R) const
     {
-        const double peakStepPx = dMax_ * pxPerRad_;  // motion per coarse step
         const int nFine = (int)std::min(
-            4.0e6, std::max(2001.0, std::ceil((tGrid_.size() - 1) * peakStepPx * 4.0 / maxStepPx) + 1));
+            4.0e6, std::max(2001.0, std::ceil((tGrid_.size() - 1) * peakStepPx_ * 4.0 / maxStepPx) + 1));
         const bool coarseSuffices = nFine == (int)tGrid_.size();
         const std::vector<double> tf = coarseSuffices ? tGrid_ : uniformGrid(nFine);
-        const std::vector<double> thf = coarseSuffices ? thetaGrid_ : angles(tf);
+        const std::vector<Matx33d> Rf = coarseSuffices ? viewGrid_ : views(tf);
         // Motion of each fine step, measured at the probe pixels (+10% for pixels between them).
         std::vector<Point2d> probes = probePixels();
         Mat probeMat(1, (int)probes.size(), CV_64FC2, probes.data()), qPrev, qCur;
-        camera_->viewToReference(probeMat, thf[0] - thetaRef_, qPrev);
+        camera_->viewToReference(probeMat, Rf[0], qPrev);
         std::vector<int> sampleIdx;
         sampleIdx.push_back(0);
         double moved = 0;
         for (int k = 1; k < nFine; k++)
         {
             double step = 0;
-            if (thf[k] != thf[k - 1])
+            if (Rf[k] != Rf[k - 1])
             {
-                camera_->viewToReference(probeMat, thf[k] - thetaRef_, qCur);
+                camera_->viewToReference(probeMat, Rf[k], qCur);
                 for (int i = 0; i < (int)probes.size(); i++)
                 {
                     const double d = norm(qCur.at<Point2d>(i) - qPrev.at<Point2d>(i));
@@ -214,17 +208,17 @@ public:
         if (sampleIdx.back() != nFine - 1)
             sampleIdx.push_back(nFine - 1);
         t.resize(sampleIdx.size());
-        theta.resize(sampleIdx.size());
+        R.resize(sampleIdx.size());
         for (size_t j = 0; j < sampleIdx.size(); j++)
         {
             t[j] = tf[sampleIdx[j]];
-            theta[j] = thf[sampleIdx[j]];
+            R[j] = Rf[sampleIdx[j]];
         }
     }
 
     /** Each time sample stands for the time cell between the midpoints to its neighbours; it adds
     its view to each row with the exact overlap of that cell and the row's interval. */
-    void exposeSamples(const std::vector<double>& t, const std::vector<double>& theta)
+    void exposeSamples(const std::vector<double>& t, const std::vector<Matx33d>& R)
     {
         const int ns = (int)t.size();
         for (int j = 0; j < ns; j++)
@@ -249,7 +243,7 @@ public:
                 }
             }
             if (first >= 0)
-                accumulate(theta[j] - thetaRef_, first, last + 1);
+                accumulate(R[j], first, last + 1);
             for (int r = rows.start; r < rows.end; r++)
                 rowWeight_[r] = 0.0;
         }
@@ -275,12 +269,73 @@ private:
         return t;
     }
 
-    //! θ at the times `t`, radians.
+    //! One axis: θ at the times `t`, radians.
     std::vector<double> angles(const std::vector<double>& t) const
     {
         Mat out;
-        plant_->response(schedule_, Mat(t), out);
+        motion_.plant->response(motion_.schedule, Mat(t), out);
         return std::vector<double>(out.ptr<double>(), out.ptr<double>() + t.size());
+    }
+
+    //! The view's rotation R(t) relative to the reference at the times `t`.
+    std::vector<Matx33d> views(const std::vector<double>& t) const
+    {
+        std::vector<Matx33d> R(t.size());
+        if (motion_.oneAxis())
+        {
+            const std::vector<double> theta = angles(t);
+            for (size_t i = 0; i < t.size(); i++)
+                R[i] = axisRotation(motion_.axis, theta[i] - motion_.thetaRef);
+        }
+        else
+            for (size_t i = 0; i < t.size(); i++)
+                R[i] = motion_.reference.t() * motion_.motion->orientation(t[i]);
+        return R;
+    }
+
+    /** One axis: the angle range relative to θ_ref and its largest step on the survey grid, scaled
+    by the fastest image motion per radian over that range. */
+    void surveyAngles()
+    {
+        const std::vector<double> theta = angles(tGrid_);
+        viewGrid_ = views(tGrid_);
+        double aMin = theta[0] - motion_.thetaRef, aMax = aMin, dMax = 0;
+        for (size_t i = 0; i < theta.size(); i++)
+        {
+            aMin = std::min(aMin, theta[i] - motion_.thetaRef);
+            aMax = std::max(aMax, theta[i] - motion_.thetaRef);
+            if (i > 0)
+                dMax = std::max(dMax, std::abs(theta[i] - theta[i - 1]));
+        }
+        const double pxPerRad = pixelsPerRadian(aMin, aMax);
+        strayPx_ = std::max(std::abs(aMin), std::abs(aMax)) * pxPerRad;
+        peakStepPx_ = dMax * pxPerRad;
+    }
+
+    /** Any rotation: the probe pixels' largest distance from where the reference sees them, and
+    their largest motion between two survey samples (+25 % for pixels between the probes). */
+    void surveyRotations()
+    {
+        viewGrid_ = views(tGrid_);
+        std::vector<Point2d> probes = probePixels();
+        const Mat probeMat(1, (int)probes.size(), CV_64FC2, probes.data());
+        Mat qPrev, qCur;
+        strayPx_ = peakStepPx_ = 0;
+        for (size_t k = 0; k < viewGrid_.size(); k++)
+        {
+            camera_->viewToReference(probeMat, viewGrid_[k], qCur);
+            for (int i = 0; i < (int)probes.size(); i++)
+            {
+                const double stray = norm(qCur.at<Point2d>(i) - probes[size_t(i)]);
+                strayPx_ = std::max(strayPx_, std::isfinite(stray) ? stray : 1.0);
+                if (k > 0)
+                {
+                    const double d = norm(qCur.at<Point2d>(i) - qPrev.at<Point2d>(i));
+                    peakStepPx_ = std::max(peakStepPx_, std::isfinite(d) ? 1.25 * d : 1.0);
+                }
+            }
+            std::swap(qPrev, qCur);
+        }
     }
 
     //! The image's corners, edge midpoints and centre, where a rotation moves pixels fastest.
@@ -294,19 +349,19 @@ private:
         return probes;
     }
 
-    /** Pixels per radian: numeric derivative of the mapping at the probe pixels and at angles over
-    the range, with a margin for pixels between the probes; sizes the fine time grid. */
-    double pixelsPerRadian() const
+    /** One axis: pixels per radian, the numeric derivative of the mapping at the probe pixels and at
+    angles over [aMin, aMax], with a margin for pixels between the probes; sizes the fine time grid. */
+    double pixelsPerRadian(double aMin, double aMax) const
     {
         const double eps = 1e-4;
-        const double as[3] = {aMin_, 0.5 * (aMin_ + aMax_), aMax_};
+        const double as[3] = {aMin, 0.5 * (aMin + aMax), aMax};
         const std::vector<Point2d> probes = probePixels();
         double pxPerRad = 0;
         for (double a : as)
             for (const Point2d& p : probes)
             {
-                const Point2d p1 = camera_->viewToReference(p, a + eps);
-                const Point2d p0 = camera_->viewToReference(p, a - eps);
+                const Point2d p1 = camera_->viewToReference(p, axisRotation(motion_.axis, a + eps));
+                const Point2d p0 = camera_->viewToReference(p, axisRotation(motion_.axis, a - eps));
                 const double s = norm(p1 - p0) / (2 * eps);
                 if (std::isfinite(s))
                     pxPerRad = std::max(pxPerRad, s);
@@ -314,10 +369,10 @@ private:
         return pxPerRad * 1.25;
     }
 
-    //! Rows [r0, r1) += rowWeight · the view at `angle`; rowSum gathers the weights.
-    void accumulate(double angle, int r0, int r1)
+    //! Rows [r0, r1) += rowWeight · the view turned by R; rowSum gathers the weights.
+    void accumulate(const Matx33d& R, int r0, int r1)
     {
-        camera_->viewToReference(grid_.rowRange(r0, r1).reshape(2, 1), angle, coarse_);
+        camera_->viewToReference(grid_.rowRange(r0, r1).reshape(2, 1), R, coarse_);
         coarse_ = coarse_.reshape(2, r1 - r0);
         if (sharp_.depth() == CV_32F)
             warpAccumulateCn<float>(sharp_, coarse_, cols_, r0, r1, rowWeight_, offset_, borderMode_, acc_);
@@ -328,32 +383,28 @@ private:
     }
 
     const Mat sharp_;
-    const Ptr<Plant> plant_;
-    const SwitchSchedule& schedule_;
+    const detail::ViewMotion& motion_;
     const Ptr<CameraModel> camera_;
     const RollingShutter& shutter_;
-    const double thetaRef_;
     const int borderMode_;
     const int W_, H_;
     const Point2d offset_;  // the camera's frame inside the sharp view, pixels
     double T0_, T1_;        // the readout, seconds
-    std::vector<double> tGrid_, thetaGrid_;  // uniform survey of the readout: times, angles
-    double aMin_ = 0, aMax_ = 0, dMax_ = 0;  // angle range relative to θ_ref, largest survey step, radians
-    double pxPerRad_ = 0;
+    std::vector<double> tGrid_;        // uniform survey of the readout, seconds
+    std::vector<Matx33d> viewGrid_;    // the view's rotation at each survey time
+    double strayPx_ = 0;     // the largest distance of a probe pixel from its reference position, pixels
+    double peakStepPx_ = 0;  // the largest image motion between two survey samples, pixels
     std::vector<int> cols_;  // the columns where the map is evaluated
     Mat grid_;               // those pixels of every row, CV_64FC2
-    Mat coarse_;             // their map at one angle
+    Mat coarse_;             // their map at one view
     Mat acc_;
     std::vector<double> rowWeight_, rowSum_;
 };
 
-/** Throws when an argument of renderBlurred is out of range; returns thetaRef resolved (NaN: the
-schedule's final resting angle). */
-double checkRenderArguments(const Mat& sharp, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
-                            const Ptr<CameraModel>& camera, const RollingShutter& shutter, double thetaRef,
-                            double maxStepPx, int borderMode)
+//! Throws when an argument of renderBlurred other than the motion is out of range.
+void checkRenderFrame(const Mat& sharp, const Ptr<CameraModel>& camera, const RollingShutter& shutter,
+                      double maxStepPx, int borderMode)
 {
-    CV_Assert(plant && "renderBlurred: plant must not be null");
     CV_Assert(camera && "renderBlurred: camera must not be null");
     if (sharp.empty())
         CV_Error(Error::StsBadArg, "renderBlurred: sharp is empty");
@@ -371,8 +422,6 @@ double checkRenderArguments(const Mat& sharp, const Ptr<Plant>& plant, const Swi
                    "each side (even difference)",
                    sharp.cols, sharp.rows, W, H));
     detail::checkShutter(shutter, "renderBlurred", "shutter.", H);
-    if (std::isinf(thetaRef))
-        CV_Error(Error::StsBadArg, "renderBlurred: thetaRef must be finite (radians) or NaN (final resting angle)");
     if (!(maxStepPx > 0 && maxStepPx <= 1))
         CV_Error_(Error::StsBadArg, ("renderBlurred: maxStepPx=%g must be in (0, 1] (pixels)", maxStepPx));
     if (!(borderMode == BORDER_CONSTANT || borderMode == BORDER_REPLICATE || borderMode == BORDER_REFLECT ||
@@ -380,27 +429,19 @@ double checkRenderArguments(const Mat& sharp, const Ptr<Plant>& plant, const Swi
         CV_Error_(Error::StsBadArg,
                   ("renderBlurred: borderMode=%d must be BORDER_CONSTANT, _REPLICATE, _REFLECT, _WRAP or _REFLECT_101",
                    borderMode));
-    if (!(schedule.times.empty() && schedule.levels.empty()))
-        schedule.validate();
-    return std::isnan(thetaRef) ? plant->restingAngle(schedule.finalLevel()) : thetaRef;
 }
 
-
-}  // namespace
-
-void renderBlurred(InputArray _sharp, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
-                   const Ptr<CameraModel>& camera, const RollingShutter& shutter, OutputArray _blurred,
-                   double thetaRef, double maxStepPx, int borderMode)
+//! The forward model of one frame (arguments checked).
+void renderFrame(const Mat& sharp, const detail::ViewMotion& motion, const Ptr<CameraModel>& camera,
+                 const RollingShutter& shutter, OutputArray _blurred, double maxStepPx, int borderMode)
 {
-    const Mat sharp = _sharp.getMat();
-    thetaRef = checkRenderArguments(sharp, plant, schedule, camera, shutter, thetaRef, maxStepPx, borderMode);
     Mat linear;  // light adds up in linear intensity, not in sRGB codes
     if (sharp.depth() == CV_8U)
         srgbToLinear(sharp, linear);
     else
         linear = sharp;
 
-    FrameRenderer frame(linear, plant, schedule, camera, shutter, thetaRef, borderMode);
+    FrameRenderer frame(linear, motion, camera, shutter, borderMode);
     frame.surveyMotion();
     if (frame.stillAtReference())
     {
@@ -412,15 +453,50 @@ void renderBlurred(InputArray _sharp, const Ptr<Plant>& plant, const SwitchSched
         frame.exposeInstantRows();
     else
     {
-        std::vector<double> t, theta;
-        frame.adaptiveSamples(maxStepPx, t, theta);
-        frame.exposeSamples(t, theta);
+        std::vector<double> t;
+        std::vector<Matx33d> R;
+        frame.adaptiveSamples(maxStepPx, t, R);
+        frame.exposeSamples(t, R);
     }
     const Mat average = frame.averageRows();
     if (sharp.depth() == CV_8U)
         linearToSrgb(average, _blurred, CV_8U);
     else
         average.copyTo(_blurred);
+}
+
+}  // namespace
+
+void renderBlurred(InputArray _sharp, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
+                   const Ptr<CameraModel>& camera, const RollingShutter& shutter, OutputArray blurred,
+                   double thetaRef, double maxStepPx, int borderMode)
+{
+    const Mat sharp = _sharp.getMat();
+    CV_Assert(plant && "renderBlurred: plant must not be null");
+    checkRenderFrame(sharp, camera, shutter, maxStepPx, borderMode);
+    if (std::isinf(thetaRef))
+        CV_Error(Error::StsBadArg, "renderBlurred: thetaRef must be finite (radians) or NaN (final resting angle)");
+    if (!(schedule.times.empty() && schedule.levels.empty()))
+        schedule.validate();
+    detail::ViewMotion motion;
+    motion.plant = plant;
+    motion.schedule = schedule;
+    motion.axis = camera->getMountAxis();
+    motion.thetaRef = std::isnan(thetaRef) ? plant->restingAngle(schedule.finalLevel()) : thetaRef;
+    renderFrame(sharp, motion, camera, shutter, blurred, maxStepPx, borderMode);
+}
+
+void renderBlurred(InputArray _sharp, const Ptr<CameraMotion>& motion, const Ptr<CameraModel>& camera,
+                   const RollingShutter& shutter, OutputArray blurred, double tRef, double maxStepPx, int borderMode)
+{
+    const Mat sharp = _sharp.getMat();
+    checkRenderFrame(sharp, camera, shutter, maxStepPx, borderMode);
+    detail::checkMotionCovers(motion, shutter.readoutInterval(), "renderBlurred", "motion");
+    if (std::isinf(tRef))
+        CV_Error(Error::StsBadArg, "renderBlurred: tRef must be finite (seconds) or NaN (the motion's default "
+                                   "reference: a plant's final rest, a sampled motion's mid-exposure)");
+    renderFrame(sharp, detail::ViewMotion::of(motion, tRef, shutter), camera, shutter, blurred, maxStepPx,
+                borderMode);
 }
 
 }  // namespace dynblur

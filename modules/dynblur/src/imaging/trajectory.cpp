@@ -3,6 +3,7 @@
 
 #include "imaging/trajectory.hpp"
 #include "imaging/axis_rotation.hpp"
+#include "motion/camera_motion.hpp"
 
 namespace cv {
 namespace dynblur {
@@ -19,8 +20,36 @@ const double kKnotsPerPeriod = 100;
 //! Largest angle step between two knots, radians (a plant moving faster than its nominal
 //! frequency suggests gets denser knots).
 const double kMaxKnotAngleStep = 0.02;
+/* Any rotation: knots at most this far apart, seconds. A gyroscope's rates are linear between its
+   samples, so a pixel's path bends at each sample; a knot interval that holds such a bend is still
+   a cubic to h²·Δd''/16: for a 20 Hz, 30 °/s shake at f = 1230 px, under 1e-3 px. */
+const double kMaxKnotStepSec = 2.5e-4;
+//! ... and turned by at most this much from one knot to the next, radians (2.5 px at f = 1230 px).
+const double kMaxKnotRotation = 0.002;
+
+//! The angle of a rotation matrix, radians, in [0, π].
+double rotationAngle(const Matx33d& R)
+{
+    return std::acos(std::min(1.0, std::max(-1.0, 0.5 * (R(0, 0) + R(1, 1) + R(2, 2) - 1.0))));
+}
 
 }  // namespace
+
+ViewMotion ViewMotion::of(const Ptr<CameraMotion>& motion, double tRef, const RollingShutter& shutter)
+{
+    ViewMotion view;
+    if (const PlantMotion* plantMotion = asPlantMotion(*motion))
+    {
+        view.plant = plantMotion->plant();
+        view.schedule = plantMotion->schedule();
+        view.axis = plantMotion->axis();
+        view.thetaRef = plantMotion->referenceAngle(tRef);
+        return view;
+    }
+    view.motion = motion;
+    view.reference = motion->referenceOrientation(tRef, shutter);
+    return view;
+}
 
 Matx33d Trajectory::rotation(double a) const
 {
@@ -89,6 +118,39 @@ Trajectory sampleTrajectory(const Plant& plant, const SwitchSchedule& schedule, 
         tr.rot[i] = tr.rotation(tr.angle[i]);
         tr.invStep[i] = i + 1 < tr.t.size() ? 1 / (tr.t[i + 1] - tr.t[i]) : 0.0;
     }
+    return tr;
+}
+
+Trajectory sampleTrajectory(const ViewMotion& motion, const Vec2d& readout)
+{
+    if (motion.oneAxis())
+        return sampleTrajectory(*motion.plant, motion.schedule, readout, motion.thetaRef, motion.axis);
+    const double T0 = readout[0], T1 = readout[1];
+    Trajectory tr;
+    tr.motion = motion.motion;
+    tr.reference = motion.reference;
+    int n = T1 > T0 ? (int)std::max(4.0, std::ceil((T1 - T0) / kMaxKnotStepSec)) : 0;
+    for (int refinement = 0;; refinement++)
+    {
+        tr.t.resize(size_t(n) + 1);
+        tr.rot.resize(tr.t.size());
+        tr.spin.resize(tr.t.size());
+        double largestTurn = 0;
+        for (int i = 0; i <= n; i++)
+        {
+            tr.t[size_t(i)] = i == n ? T1 : T0 + (T1 - T0) * i / n;
+            tr.rot[size_t(i)] = tr.reference.t() * tr.motion->orientation(tr.t[size_t(i)]);
+            tr.spin[size_t(i)] = tr.rot[size_t(i)] * tr.motion->angularVelocity(tr.t[size_t(i)]);
+            if (i > 0)
+                largestTurn = std::max(largestTurn, rotationAngle(tr.rot[size_t(i) - 1].t() * tr.rot[size_t(i)]));
+        }
+        if (largestTurn <= kMaxKnotRotation || refinement >= 8 || n > 500000)
+            break;
+        n = (int)std::min(1.0e6, std::ceil(n * 1.5 * largestTurn / kMaxKnotRotation));
+    }
+    tr.invStep.resize(tr.t.size());
+    for (size_t i = 0; i < tr.t.size(); i++)
+        tr.invStep[i] = i + 1 < tr.t.size() ? 1 / (tr.t[i + 1] - tr.t[i]) : 0.0;
     return tr;
 }
 

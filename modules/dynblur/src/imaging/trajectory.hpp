@@ -2,6 +2,7 @@
 #ifndef OPENCV_DYNBLUR_IMAGING_TRAJECTORY_HPP
 #define OPENCV_DYNBLUR_IMAGING_TRAJECTORY_HPP
 
+#include "opencv2/dynblur/camera_motion.hpp"
 #include "opencv2/dynblur/plant.hpp"
 
 #include "imaging/cubic.hpp"
@@ -12,17 +13,45 @@ namespace cv {
 namespace dynblur {
 namespace detail {
 
-//! The trajectory θ(t) − θ_ref over the frame readout, shared by all nodes of a bank: exact plant
-//! samples (angle and rate) at knots, a cubic Hermite curve between them. The knots include every
-//! switch inside the readout, where θ'' jumps, so each piece interpolates an analytic function.
+/** The motion a frame's views follow, relative to the reference view, in one of two forms: a
+one-axis plant (the form the one-axis API always used, kept so its results stay the same to the
+bit), or any CameraMotion with its reference orientation. */
+struct ViewMotion
+{
+    // One axis: θ(t) of `plant` under `schedule`, about the unit `axis`, relative to thetaRef (radians).
+    Ptr<Plant> plant;
+    SwitchSchedule schedule;
+    Vec3d axis;
+    double thetaRef = 0;
+    // Any rotation: R(t) = referenceᵀ·Q(t) of `motion`.
+    Ptr<CameraMotion> motion;
+    Matx33d reference;
+
+    bool oneAxis() const { return !plant.empty(); }
+
+    /** The view motion of `motion` for a frame read by `shutter`, relative to its orientation at
+        tRef (seconds; NaN: CameraMotion::referenceOrientation's default): the one-axis form for a
+        plant's motion, the general one otherwise. */
+    static ViewMotion of(const Ptr<CameraMotion>& motion, double tRef, const RollingShutter& shutter);
+};
+
+//! The view's rotation relative to the reference over the frame readout, shared by all nodes of a
+//! bank, sampled at knots (rotation and rate) and interpolated in between. One axis: exact plant
+//! samples of θ − θ_ref, a cubic Hermite curve between them; the knots include every switch inside
+//! the readout, where θ'' jumps, so each piece interpolates an analytic function. Any rotation: the
+//! motion's own R(t) and spatial rates at knots dense enough that a pixel's path between two is a
+//! cubic to far below a hundredth of a pixel.
 struct Trajectory
 {
     std::vector<double> t;      // knot times, seconds, strictly increasing
-    std::vector<double> angle;  // θ − θ_ref at each knot, radians
-    std::vector<double> rate;   // dθ/dt at each knot, rad/s
-    std::vector<Matx33d> rot;   // R_axis(angle) at each knot
+    std::vector<double> angle;  // one axis: θ − θ_ref at each knot, radians
+    std::vector<double> rate;   // one axis: dθ/dt at each knot, rad/s
+    std::vector<Matx33d> rot;   // R(t) at each knot (one axis: R_axis(angle))
+    std::vector<Vec3d> spin;    // any rotation: the spatial rate R(t)·ω(t) at each knot, rad/s (empty for one axis)
     std::vector<double> invStep;  // 1 / (t[k+1] − t[k]), 1/seconds
-    Vec3d axis;
+    Vec3d axis;                 // one axis: the unit rotation axis
+    Ptr<CameraMotion> motion;   // any rotation: the motion, and
+    Matx33d reference;          // its reference orientation
 
     //! R_axis(a): the view turned by `a` radians about the mount axis.
     Matx33d rotation(double a) const;
@@ -35,7 +64,12 @@ struct Trajectory
         const int k = (int)(std::upper_bound(t.begin(), t.end(), time) - t.begin()) - 1;
         return std::min(n - 2, std::max(0, k));
     }
-    //! θ − θ_ref at any time of the readout (Hermite interpolation between knots).
+    //! The view's rotation R(t) at any time of the readout.
+    Matx33d rotationAt(double time) const
+    {
+        return motion ? Matx33d(reference.t() * motion->orientation(time)) : rotation(angleAt(time));
+    }
+    //! One axis: θ − θ_ref at any time of the readout (Hermite interpolation between knots).
     double angleAt(double time) const
     {
         if (t.size() < 2)
@@ -52,6 +86,11 @@ readout, seconds), relative to thetaRef (radians, finite), for a camera turning 
 until no two knots are more than kMaxKnotAngleStep apart. */
 Trajectory sampleTrajectory(const Plant& plant, const SwitchSchedule& schedule, const Vec2d& readout,
                             double thetaRef, const Vec3d& axis);
+
+/** @brief The trajectory of `motion` over `readout` (start, end, seconds): the one-axis form above
+for a plant, else knots at most kMaxKnotStepSec apart and refined until no two are more than
+kMaxKnotRotation apart. */
+Trajectory sampleTrajectory(const ViewMotion& motion, const Vec2d& readout);
 
 }  // namespace detail
 }  // namespace dynblur

@@ -64,6 +64,35 @@ void checkMotionCovers(const Ptr<CameraMotion>& motion, const Vec2d& span, const
 
 }  // namespace detail
 
+int classifyExposure(const Ptr<CameraMotion>& motion, const RollingShutter& shutter, double angleTol,
+                     double velocityTol)
+{
+    shutter.validate();
+    const Vec2d readout = shutter.readoutInterval();
+    detail::checkMotionCovers(motion, readout, "classifyExposure", "motion");
+    if (const detail::PlantMotion* plantMotion = detail::asPlantMotion(*motion))
+        return classifyExposure(plantMotion->plant(), plantMotion->schedule(), shutter, angleTol, velocityTol);
+    if (!(velocityTol > 0 && std::isfinite(velocityTol)))
+        CV_Error(Error::StsOutOfRange,
+                 format("classifyExposure: velocityTol = %g must be finite and > 0 (rad/s)", velocityTol));
+    // Rates sampled this often: a 20 Hz shake turns through a tenth of its period between samples.
+    const double step = 2.5e-4;
+    const int samples = std::max(2, int(std::ceil((readout[1] - readout[0]) / step)) + 1);
+    std::vector<bool> moving(size_t(samples), false);
+    bool movingAnywhere = false;
+    for (int i = 0; i < samples; ++i)
+    {
+        const double t = readout[0] + (readout[1] - readout[0]) * i / (samples - 1);
+        moving[size_t(i)] = cv::norm(motion->angularVelocity(t)) > velocityTol;
+        movingAnywhere = movingAnywhere || moving[size_t(i)];
+    }
+    if (!movingAnywhere)
+        return EXPOSURE_IV;
+    if (moving.front())
+        return moving.back() ? EXPOSURE_II : EXPOSURE_III;
+    return EXPOSURE_I;
+}
+
 Ptr<CameraMotion> CameraMotion::fromPlant(const Ptr<Plant>& plant, const SwitchSchedule& schedule, const Vec3d& axis)
 {
     if (plant.empty())

@@ -80,6 +80,15 @@ public:
     CV_WRAP virtual void viewToReference(InputArray points, double angle, OutputArray refPoints) const = 0;
     /** @brief Scalar form of viewToReference for one pixel. */
     virtual Point2d viewToReference(const Point2d& pixel, double angle) const = 0;
+    /** @brief Where a pixel of the view turned by any rotation R relative to the reference sees the
+    reference view: q = distort(K·R·K⁻¹·undistort(p)), computed as the angle form is (DESIGN §2,
+    Rotation: R = Q_refᵀ·Q(t), CameraMotion::relativeRotation).
+    @param points Nx2 or 1xN 2-channel pixel coordinates in the rotated view, pixels.
+    @param rotation R, a rotation matrix (orthonormal to 1e-6, det = +1).
+    @param refPoints output, same layout, pixel coordinates in the reference view (CV_64F). */
+    CV_WRAP virtual void viewToReference(InputArray points, const Matx33d& rotation, OutputArray refPoints) const = 0;
+    /** @brief Scalar form of the rotation form of viewToReference for one pixel. */
+    virtual Point2d viewToReference(const Point2d& pixel, const Matx33d& rotation) const = 0;
 };
 
 //! @}

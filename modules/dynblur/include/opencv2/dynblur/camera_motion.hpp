@@ -102,6 +102,19 @@ public:
     CV_WRAP static Ptr<CameraMotion> fromOrientations(InputArray times, InputArray rotations);
 };
 
+/** @brief Which exposure window (ExposureWindow) a frame falls in for any camera motion.
+
+A plant's motion (CameraMotion::fromPlant) is classified exactly as
+classifyExposure(plant, schedule, shutter, angleTol, velocityTol). Any other motion has no rest
+angle to settle to: it is "moving" at t when its rate |ω(t)| exceeds `velocityTol`, sampled every
+0.25 ms over the readout (a hand-held camera is usually in window II).
+@param motion the camera's motion; its time span must cover the frame's readout.
+@param shutter the frame's timing (the motion's clock).
+@param angleTol angle tolerance for a plant's motion, radians, > 0 (see the plant overload).
+@param velocityTol rate tolerance, rad/s, > 0 (default 0.02 rad/s ≈ 0.2 px over 8 ms at f = 1230 px). */
+CV_EXPORTS_W int classifyExposure(const Ptr<CameraMotion>& motion, const RollingShutter& shutter,
+                                  double angleTol = 2e-4, double velocityTol = 0.02);
+
 //! @}
 
 }  // namespace dynblur

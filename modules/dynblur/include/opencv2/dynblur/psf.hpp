@@ -2,6 +2,7 @@
 #define OPENCV_DYNBLUR_PSF_HPP
 
 #include <opencv2/dynblur/camera.hpp>
+#include <opencv2/dynblur/camera_motion.hpp>
 #include <opencv2/dynblur/plant.hpp>
 #include <opencv2/dynblur/shutter.hpp>
 
@@ -76,6 +77,26 @@ public:
     @param thetaRef reference angle, radians; NaN: the schedule's final resting angle. */
     CV_WRAP virtual PsfBank generate(int model, const SwitchSchedule& schedule, const RollingShutter& shutter,
                                      double thetaRef = std::numeric_limits<double>::quiet_NaN()) const = 0;
+
+    /** @brief A generator for a camera alone: it takes the motion with each frame
+    (generate(model, motion, shutter, tRef)).
+    @param camera the camera (image size, intrinsics). */
+    CV_WRAP static Ptr<PsfGenerator> create(const Ptr<CameraModel>& camera);
+
+    /** @brief Kernels for one frame of any camera motion (DESIGN §2, Rotation): the path of pixel p is
+    that of q(t) = K·R(t)·K⁻¹·p with R(t) = Q_refᵀ·Q(t). A rotation about the optical axis, or a
+    pan with a tilt, blurs along curves that change across each row: PSF_TILES follows them,
+    PSF_ROWS only where the blur is the same along a row. A motion made by CameraMotion::fromPlant
+    gives the same bank, to the bit, as generate(model, schedule, shutter, thetaRef) with that
+    plant and the motion's axis as the camera's mount axis.
+    @param model PSF_UNIFORM, PSF_ROWS or PSF_TILES.
+    @param motion the camera's motion; its time span must cover the frame's readout.
+    @param shutter frame timing (the motion's clock); rows must equal the camera's image height.
+    @param tRef reference time, seconds: the view at the orientation Q(tRef) is the latent image;
+           NaN: CameraMotion::referenceOrientation's default (a plant's final rest, a sampled motion's
+           mid-exposure). */
+    CV_WRAP virtual PsfBank generate(int model, const Ptr<CameraMotion>& motion, const RollingShutter& shutter,
+                                     double tRef = std::numeric_limits<double>::quiet_NaN()) const = 0;
 
     /** @brief Largest kernel extent allowed, pixels (default 401). A longer path is refused with
     an error that says so; raise the limit for longer exposures or faster moves. */

@@ -2,6 +2,7 @@
 #define OPENCV_DYNBLUR_RENDER_HPP
 
 #include <opencv2/dynblur/camera.hpp>
+#include <opencv2/dynblur/camera_motion.hpp>
 #include <opencv2/dynblur/plant.hpp>
 #include <opencv2/dynblur/shutter.hpp>
 
@@ -40,6 +41,25 @@ CV_EXPORTS_W void renderBlurred(InputArray sharp, const Ptr<Plant>& plant, const
                                 const Ptr<CameraModel>& camera, const RollingShutter& shutter,
                                 OutputArray blurred, double thetaRef = std::numeric_limits<double>::quiet_NaN(),
                                 double maxStepPx = 0.25, int borderMode = BORDER_REFLECT_101);
+
+/** @brief The physical forward model for any camera motion (DESIGN §2, Rotation): each time
+sample's view is the sharp view turned by R(t) = Q_refᵀ·Q(t), I_t(p) = I_ref(K·R(t)·K⁻¹·p), added to
+the rows whose exposure covers it, as the plant overload does. A motion made by
+CameraMotion::fromPlant renders the same frame, to the bit, as the plant overload with that plant
+and the motion's axis as the camera's mount axis.
+@param sharp the motion-free view at Q_ref (see the plant overload for sizes and types).
+@param motion the camera's motion; its time span must cover the frame's readout.
+@param camera the camera (intrinsics, distortion).
+@param shutter frame timing (the motion's clock); shutter.rows must equal the camera's image height.
+@param blurred output, the camera's image size, same type as sharp.
+@param tRef reference time, seconds: `sharp` is the view at Q(tRef); NaN: the motion's default
+       (CameraMotion::referenceOrientation: a plant's final rest, a sampled motion's mid-exposure).
+@param maxStepPx largest image motion between two time samples, pixels, in (0, 1].
+@param borderMode cv::BorderTypes used beyond `sharp`. */
+CV_EXPORTS_W void renderBlurred(InputArray sharp, const Ptr<CameraMotion>& motion, const Ptr<CameraModel>& camera,
+                                const RollingShutter& shutter, OutputArray blurred,
+                                double tRef = std::numeric_limits<double>::quiet_NaN(), double maxStepPx = 0.25,
+                                int borderMode = BORDER_REFLECT_101);
 
 /** @brief Adds webcam sensor noise to a linear-intensity image: Poisson shot noise (photons and
 dark current) and Gaussian read noise, then clips to [0, 1].

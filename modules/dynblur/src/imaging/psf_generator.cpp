@@ -4,6 +4,7 @@
 #include "precomp.hpp"
 
 #include "imaging/pinhole.hpp"
+#include "imaging/psf_generator.hpp"
 #include "imaging/psf_kernel.hpp"
 #include "imaging/trajectory.hpp"
 #include "motion/camera_motion.hpp"
@@ -60,11 +61,12 @@ public:
     }
     String getDefaultName() const CV_OVERRIDE { return "dynblur.PsfGenerator"; }
 
-private:
     //! The bank of `model` for the views of `motion` (arguments checked).
     PsfBank bankOf(int model, const ViewMotion& motion, const RollingShutter& shutter) const;
     //! Throws unless `model` is a PsfModel and `shutter` reads the camera's rows.
     void checkModelAndShutter(int model, const RollingShutter& shutter) const;
+
+private:
     int autoColumns(const Trajectory& tr, const Pinhole& pr, const RollingShutter& shutter) const;
     std::vector<double> autoBands(const Trajectory& tr, const Pinhole& pr, const RollingShutter& shutter,
                                   const std::vector<double>& columns) const;
@@ -287,6 +289,14 @@ PsfBank PsfGeneratorImpl::bankOf(int model, const ViewMotion& motion, const Roll
 }
 
 }  // namespace
+
+PsfBank detail::generatePsfBank(const PsfGenerator& generator, int model, const ViewMotion& motion,
+                                const RollingShutter& shutter)
+{
+    const PsfGeneratorImpl& impl = dynamic_cast<const PsfGeneratorImpl&>(generator);
+    impl.checkModelAndShutter(model, shutter);
+    return impl.bankOf(model, motion, shutter);
+}
 
 Ptr<PsfGenerator> PsfGenerator::create(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera)
 {

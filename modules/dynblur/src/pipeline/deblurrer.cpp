@@ -1,5 +1,7 @@
 #include "precomp.hpp"
 
+#include "imaging/psf_generator.hpp"
+#include "motion/camera_motion.hpp"
 #include "pipeline/blind_fit.hpp"
 #include "pipeline/half_color.hpp"
 #include "pipeline/motion_fit.hpp"
@@ -14,7 +16,8 @@ class DynamicDeblurrerImpl CV_FINAL : public DynamicDeblurrer
 {
 public:
     DynamicDeblurrerImpl(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera)
-        : plant_(plant), camera_(camera), generator_(PsfGenerator::create(plant, camera))
+        : plant_(plant), camera_(camera),
+          generator_(plant ? PsfGenerator::create(plant, camera) : PsfGenerator::create(camera))
     {
         // Webcam frames carry shot and read noise: damp at the frame's own noise level.
         params_.damping = std::numeric_limits<double>::quiet_NaN();
@@ -27,35 +30,53 @@ public:
     void deblur(InputArray frame, const SwitchSchedule& schedule, const RollingShutter& shutter, OutputArray restored,
                 double thetaRef, OutputArray validMask) CV_OVERRIDE
     {
+        if (plant_.empty())
+            CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: this deblurrer was created without a plant "
+                                       "(DynamicDeblurrer::create(camera)); give it the frame's motion: "
+                                       "deblur(frame, motion, shutter, restored, tRef)");
         const Mat input = frame.getMat();
         checkFrame(input, shutter);
+        if (std::isinf(thetaRef))
+            CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: thetaRef must be finite (radians) or NaN (the "
+                                       "schedule's final resting angle)");
 
         lastCorrection_ = correctMotion(input, schedule, shutter);
         const Ptr<Plant> plant = lastCorrection_.correctPlant(plant_);
         const RollingShutter corrected = lastCorrection_.correctShutter(shutter);
         lastWindow_ = classifyExposure(plant, schedule, corrected);
-        lastBank_ = PsfBank();
-        if (lastWindow_ == EXPOSURE_IV || !lastCorrection_.applied)
-            return passThrough(input, restored, validMask);  // still throughout, or no model explains it
+        detail::ViewMotion view;
+        view.plant = plant;
+        view.schedule = schedule;
+        view.axis = camera_->getMountAxis();
+        view.thetaRef = std::isnan(thetaRef) ? plant->restingAngle(schedule.finalLevel()) : thetaRef;
+        restoreFrame(input, view, corrected, restored, validMask);
+    }
 
-        Mat alpha;
-        const Mat color = withoutAlpha(input, alpha);
-        // The color at half resolution decodes an 8-bit frame as it reads it.
-        const bool halfColor = method_ == DEBLUR_RICHARDSON_LUCY && colorAtHalfResolution(color.channels());
-        const Mat linear = color.depth() == CV_8U && !halfColor ? linearized(color) : color;
-
-        lastBank_ = generatorFor(plant)->generate(psfModel_, schedule, corrected, thetaRef);
-
-        /* A frame without alpha is restored straight into the output (written last, after every
-           read of the frame, so restoring in place works) when it is linear, or 8-bit with the
-           color at half resolution (encoded as it is written); others go through latent_. */
-        const bool direct = alpha.empty() && (input.depth() == CV_32F || halfColor);
-        const Mat latent = restore(linear, plant, schedule, corrected, thetaRef, halfColor, direct, input.depth(),
-                                   restored);
-        if (!direct)
-            encode(latent, input.depth(), alpha, restored);
-        if (validMask.needed())
-            mask_.copyTo(validMask);
+    void deblur(InputArray frame, const Ptr<CameraMotion>& motion, const RollingShutter& shutter,
+                OutputArray restored, double tRef, OutputArray validMask) CV_OVERRIDE
+    {
+        const Mat input = frame.getMat();
+        checkFrame(input, shutter);
+        detail::checkMotionCovers(motion, shutter.readoutInterval(), "DynamicDeblurrer::deblur", "motion");
+        if (std::isinf(tRef))
+            CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: tRef must be finite (seconds) or NaN (the motion's "
+                                       "default reference: a plant's final rest, a sampled motion's mid-exposure)");
+        if (const detail::PlantMotion* plantMotion = detail::asPlantMotion(*motion))
+        {
+            if (!samePlant(plantMotion->plant()) || norm(plantMotion->axis() - camera_->getMountAxis()) > 1e-12)
+                CV_Error(Error::StsBadArg,
+                         "DynamicDeblurrer::deblur: a plant's motion (CameraMotion::fromPlant) must use the "
+                         "deblurrer's plant (the same object, or a linear plant of the same natural frequency, "
+                         "damping ratio and gain) and the camera's mount axis: refinement corrects that plant; "
+                         "create the deblurrer with the motion's plant, or set the camera's mount axis");
+            return deblur(frame, plantMotion->schedule(), shutter, restored, plantMotion->referenceAngle(tRef),
+                          validMask);
+        }
+        lastCorrection_ = MotionCorrection();
+        lastCorrection_.reason = "a measured motion: restored as given (its clock and line delay are not refined "
+                                 "per frame)";
+        lastWindow_ = classifyExposure(motion, shutter);
+        restoreFrame(input, detail::ViewMotion::of(motion, tRef, shutter), shutter, restored, validMask);
     }
 
     int getRefinement() const CV_OVERRIDE { return refinement_; }
@@ -165,6 +186,47 @@ public:
     String getDefaultName() const CV_OVERRIDE { return "dynblur.DynamicDeblurrer"; }
 
 private:
+    //! True when `plant` is the deblurrer's, or a linear plant of the same ωn, ζ and gain.
+    bool samePlant(const Ptr<Plant>& plant) const
+    {
+        if (plant == plant_)
+            return true;
+        if (plant_.empty())
+            return false;
+        const bool linear = plant.dynamicCast<OdePlant>().empty() && plant_.dynamicCast<OdePlant>().empty();
+        return linear && plant->getNaturalFreqHz() == plant_->getNaturalFreqHz() &&
+               plant->getDampingRatio() == plant_->getDampingRatio() && plant->getGain() == plant_->getGain();
+    }
+
+    /* The frame restored for the views of `view` read by `shutter` (corrected), after the motion
+       stage has set lastCorrection_ and lastWindow_: the frame as light, its PSF bank, the
+       restoration, and the restored frame in the input's encoding. */
+    void restoreFrame(const Mat& input, const detail::ViewMotion& view, const RollingShutter& shutter,
+                      OutputArray restored, OutputArray validMask)
+    {
+        lastBank_ = PsfBank();
+        if (lastWindow_ == EXPOSURE_IV || !lastCorrection_.applied)
+            return passThrough(input, restored, validMask);  // still throughout, or no model explains it
+
+        Mat alpha;
+        const Mat color = withoutAlpha(input, alpha);
+        // The color at half resolution decodes an 8-bit frame as it reads it.
+        const bool halfColor = method_ == DEBLUR_RICHARDSON_LUCY && colorAtHalfResolution(color.channels());
+        const Mat linear = color.depth() == CV_8U && !halfColor ? linearized(color) : color;
+
+        lastBank_ = detail::generatePsfBank(*generator_, psfModel_, view, shutter);
+
+        /* A frame without alpha is restored straight into the output (written last, after every
+           read of the frame, so restoring in place works) when it is linear, or 8-bit with the
+           color at half resolution (encoded as it is written); others go through latent_. */
+        const bool direct = alpha.empty() && (input.depth() == CV_32F || halfColor);
+        const Mat latent = restore(linear, view, shutter, halfColor, direct, input.depth(), restored);
+        if (!direct)
+            encode(latent, input.depth(), alpha, restored);
+        if (validMask.needed())
+            mask_.copyTo(validMask);
+    }
+
     bool colorAtHalfResolution(int channels) const
     {
         return colorResolution_ == DEBLUR_COLOR_HALF_RESOLUTION && channels == 3 && params_.colorIterations >= 0 &&
@@ -205,9 +267,8 @@ private:
 
     /* The restoration of `linear` by the method set, in [0, 1]: straight into `restored` when
        `direct` (8-bit there when the input is, with the color at half resolution), else into latent_. */
-    Mat restore(const Mat& linear, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
-                const RollingShutter& shutter, double thetaRef, bool halfColor, bool direct, int inputDepth,
-                OutputArray restored)
+    Mat restore(const Mat& linear, const detail::ViewMotion& view, const RollingShutter& shutter, bool halfColor,
+                bool direct, int inputDepth, OutputArray restored)
     {
         Mat latent = direct ? Mat() : latent_;
         _OutputArray target = direct ? restored : _OutputArray(latent);
@@ -218,7 +279,7 @@ private:
             mask_.setTo(Scalar::all(255));
         }
         else if (halfColor)
-            restoreWithHalfColor(linear, plant, schedule, shutter, thetaRef, target, direct ? inputDepth : CV_32F);
+            restoreWithHalfColor(linear, view, shutter, target, direct ? inputDepth : CV_32F);
         else
             detail::restoreVariant(linear, lastBank_, params_, workspace_, target, mask_, true);
         if (direct)
@@ -377,27 +438,15 @@ private:
         return note + " (its moving rows see little the reference frame saw)";
     }
 
-    //! A generator for `plant` with getPsfGenerator()'s settings (that generator itself for the nominal plant).
-    Ptr<PsfGenerator> generatorFor(const Ptr<Plant>& plant) const
-    {
-        if (plant == plant_)
-            return generator_;
-        Ptr<PsfGenerator> generator = PsfGenerator::create(plant, camera_);
-        generator->setMaxKernelSize(generator_->getMaxKernelSize());
-        generator->setBandRows(generator_->getBandRows());
-        generator->setTileGrid(generator_->getTileGrid());
-        return generator;
-    }
-
     /* DEBLUR_COLOR_HALF_RESOLUTION: the color phase on the halved frame, with a half-size
        camera's kernels; the luminance with every iteration at full resolution; then one pass that
        upsamples the color, scales it to the luminance and writes it in `depth` (CV_8U: sRGB).
        `frame` is CV_32FC3 (linear) or CV_8UC3 (sRGB). */
-    void restoreWithHalfColor(const Mat& frame, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
-                               const RollingShutter& shutter, double thetaRef, const _OutputArray& target, int depth)
+    void restoreWithHalfColor(const Mat& frame, const detail::ViewMotion& view, const RollingShutter& shutter,
+                              const _OutputArray& target, int depth)
     {
         const PsfBank halfBank =
-            halfGenerator(plant)->generate(psfModel_, schedule, detail::halfResolutionShutter(shutter), thetaRef);
+            detail::generatePsfBank(*halfGenerator(), psfModel_, view, detail::halfResolutionShutter(shutter));
         // Both restorations run in place (restoreVariant writes its output after its last read of the frame).
         detail::halveAndAverageChannels(frame, halfColor_, luminance_);
         RLParams colorParams = params_;
@@ -413,19 +462,17 @@ private:
         detail::combineLuminanceAndHalfColor(luminance_, halfColor_, 1e-6f, depth, target);
     }
 
-    /* The generator of the half-size camera for `plant`, with the settings of getPsfGenerator()'s,
+    /* The generator of the half-size camera, with the settings of getPsfGenerator()'s,
        halved where they count pixels. A tile grid takes half lastBank_'s columns, the same node
        spacing in its own pixels, which is what the automatic rule gives at half the width below
        its cap of 16: neighbouring kernels then differ by as many (half-size) pixels as at full
        resolution. DeblurQuality measured 8 columns within 0.08 dB of 16 in window I, 4 columns 0.6 dB below. */
-    const Ptr<PsfGenerator>& halfGenerator(const Ptr<Plant>& plant)
+    const Ptr<PsfGenerator>& halfGenerator()
     {
         if (!halfCamera_)
-            halfCamera_ = detail::halfResolutionCamera(*camera_);
-        if (!halfGenerator_ || halfPlant_ != plant)
         {
-            halfGenerator_ = PsfGenerator::create(plant, halfCamera_);
-            halfPlant_ = plant;
+            halfCamera_ = detail::halfResolutionCamera(*camera_);
+            halfGenerator_ = PsfGenerator::create(halfCamera_);
         }
         halfCamera_->setMountAxis(camera_->getMountAxis());  // the one setting a camera has after create()
         halfGenerator_->setMaxKernelSize(generator_->getMaxKernelSize());
@@ -452,7 +499,6 @@ private:
     int colorResolution_ = DEBLUR_COLOR_FULL_RESOLUTION;
     Ptr<CameraModel> halfCamera_;  // created when first needed
     Ptr<PsfGenerator> halfGenerator_;
-    Ptr<Plant> halfPlant_;         // the plant halfGenerator_ was made for
     /* Blind refinement scans the time offset this far around the model as told, seconds (the
        offsets RefinementBlind measures, ±2 ms, with margin) ... */
     static constexpr double kBlindMaxTimeOffset = 3e-3;
@@ -485,6 +531,12 @@ Ptr<DynamicDeblurrer> DynamicDeblurrer::create(const Ptr<Plant>& plant, const Pt
     CV_Assert(!plant.empty() && "DynamicDeblurrer::create: 'plant' is null");
     CV_Assert(!camera.empty() && "DynamicDeblurrer::create: 'camera' is null");
     return makePtr<DynamicDeblurrerImpl>(plant, camera);
+}
+
+Ptr<DynamicDeblurrer> DynamicDeblurrer::create(const Ptr<CameraModel>& camera)
+{
+    CV_Assert(!camera.empty() && "DynamicDeblurrer::create: 'camera' is null");
+    return makePtr<DynamicDeblurrerImpl>(Ptr<Plant>(), camera);
 }
 
 }  // namespace dynblur

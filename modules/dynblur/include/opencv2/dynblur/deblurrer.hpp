@@ -74,6 +74,31 @@ public:
                                 OutputArray restored, double thetaRef = std::numeric_limits<double>::quiet_NaN(),
                                 OutputArray validMask = noArray()) = 0;
 
+    /** @brief A deblurrer for measured motion (a gyroscope, encoders): it needs no plant, and
+    restores frames with deblur(frame, motion, shutter, ...).
+    @param camera the camera. */
+    CV_WRAP static Ptr<DynamicDeblurrer> create(const Ptr<CameraModel>& camera);
+
+    /** @brief Restores one frame of any camera motion (DESIGN §2, Rotation): the view at the
+    orientation Q(tRef).
+
+    A plant's motion (CameraMotion::fromPlant, with the deblurrer's plant and the camera's mount
+    axis) is restored exactly as deblur(frame, schedule, shutter, restored, θ(tRef)), refinement
+    included. A measured motion is restored as given: its clock offset and the line delay are taken
+    as told (MotionCorrection::reason says so), and the exposure window comes from its rates
+    (classifyExposure).
+    @param frame as for the schedule overload.
+    @param motion the camera's motion; its time span must cover the frame's readout (same clock as
+           shutter.frameStart).
+    @param shutter the frame's timing (rows = frame height).
+    @param restored output, same size, type and channels as frame.
+    @param tRef reference time, seconds; NaN: a plant's final rest, a sampled motion's orientation at
+           the middle of the frame's exposure (middle row, mid-exposure).
+    @param validMask optional output, CV_8U, 255 where the frame observed the restored pixel. */
+    CV_WRAP virtual void deblur(InputArray frame, const Ptr<CameraMotion>& motion, const RollingShutter& shutter,
+                                OutputArray restored, double tRef = std::numeric_limits<double>::quiet_NaN(),
+                                OutputArray validMask = noArray()) = 0;
+
     /** @brief MotionRefinement flags: what each frame's correction may change (default REFINE_ALL).
     It runs only while a reference frame is set; REFINE_NONE keeps the consistency check. */
     CV_WRAP virtual int getRefinement() const = 0;

@@ -39,12 +39,12 @@ source "$here/scripts/sanitizer_env.sh"
 # under ASan on this 2-core machine, about three quarters of the suite's time, whose code paths the
 # lighter tests below already cover (PSF generation, rendering, RL and the deblurring pipeline on
 # small frames): the DeblurQuality PSNR figures on 640x480 frames, the renderer-vs-PSF point-source
-# sweep over a rolling-shutter frame, the refinement figures on drifted 640x480 frames, the
+# sweeps over a rolling-shutter frame (one axis and 3-axis), the 3-axis shake restorations, the refinement figures on drifted 640x480 frames, the
 # tile-grid column-variation sweep, the full-frame render
 # speed test, and the closed-loop servoing runs (whole 640x480 restorations every cycle). Every
 # parser, bus/driver, planner, plant and deconv test stays.
 # DYNBLUR_ASAN_CTEST_EXCLUDE replaces the list ("" runs everything).
-default_exclude='DeblurQuality\.|RefinementQuality\.|RefinementRejection\.|RefinementBlind\.|RefinementBlindRejection\.|CalibrateTiming\.TenFrames|PsfGenerator\.PointSourceMatchesRendererRollingShutter|PsfGenerator\.TilesCaptureColumnVariation|RenderBlurred\.FullFrameSaccadeSpeed|ServoTrack\.|ServoLoop\.|ServoDrift\.'
+default_exclude='DeblurQuality\.|RefinementQuality\.|RefinementRejection\.|RefinementBlind\.|RefinementBlindRejection\.|CalibrateTiming\.TenFrames|PsfGenerator\.PointSourceMatchesRendererRollingShutter|PsfGenerator\.TilesCaptureColumnVariation|RenderBlurred\.FullFrameSaccadeSpeed|ServoTrack\.|ServoLoop\.|ServoDrift\.|RotationQuality\.|RotationBlur\.ThreeAxisPointSources'
 exclude="${DYNBLUR_ASAN_CTEST_EXCLUDE-$default_exclude}"
 echo "[sanitize] C++ tests under ASan + UBSan (CTest${exclude:+, without the heavy quality tests})"
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)" ${exclude:+-E "$exclude"}

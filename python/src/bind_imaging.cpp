@@ -2,6 +2,7 @@
 #include "bindings.hpp"
 
 #include <opencv2/dynblur/camera.hpp>
+#include <opencv2/dynblur/camera_motion.hpp>
 #include <opencv2/dynblur/deblurrer.hpp>
 #include <opencv2/dynblur/deconv.hpp>
 #include <opencv2/dynblur/psf.hpp>
@@ -20,7 +21,8 @@ namespace {
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 //! Points of shape (..., 2) → N×2 CV_64F, call, and back to the input's shape.
-py::array viewToReference(const CameraModel& cam, py::handle points, double angle)
+template <typename View>
+py::array viewToReference(const CameraModel& cam, py::handle points, const View& view)
 {
     auto a = toDoubleArray(points, "points");
     if (a.ndim() < 1 || a.shape(a.ndim() - 1) != 2)
@@ -29,7 +31,7 @@ py::array viewToReference(const CameraModel& cam, py::handle points, double angl
     cv::Mat in(int(a.size() / 2), 2, CV_64F, const_cast<double*>(a.data())), out;
     {
         py::gil_scoped_release release;
-        cam.viewToReference(in, angle, out);
+        cam.viewToReference(in, view, out);
     }
     out = out.reshape(1, int(a.size() / 2));
     py::array_t<double> result(shape);
@@ -90,12 +92,36 @@ camera; width, height: image size to select (0: any).)doc")
              "Undistorted normalised coordinates (x, y) of a (distorted) pixel (u, v).")
         .def("normalizedToPixel", &CameraModel::normalizedToPixel, py::arg("normalized"),
              "(Distorted) pixel (u, v) of undistorted normalised coordinates (x, y).")
-        .def("viewToReference", &viewToReference, py::arg("points"), py::arg("angle"),
+        .def("viewToReference", &viewToReference<double>, py::arg("points"), py::arg("angle"),
              R"doc(Where pixels of the view at θ = θ_ref + angle see the reference view:
 q = distort(K·R_axis(angle)·K⁻¹·undistort(p)). points: array of shape (..., 2), pixels;
-angle: radians. Returns float64 pixel coordinates of the same shape (NaN for a ray behind the camera).)doc");
+angle: radians. Returns float64 pixel coordinates of the same shape (NaN for a ray behind the camera).)doc")
+        .def("viewToReference", &viewToReference<cv::Matx33d>, py::arg("points"), py::arg("rotation"),
+             R"doc(Where pixels of the view turned by any rotation R relative to the reference see the reference
+view: q = distort(K·R·K⁻¹·undistort(p)) (R = Q_refᵀ·Q(t), CameraMotion.relativeRotation).
+points: array of shape (..., 2), pixels; rotation: 3×3 rotation matrix. Returns float64 pixel
+coordinates of the same shape.)doc");
 
     // ---------------------------------------------------------------- render.hpp
+    m.def("renderBlurred",
+        [](py::handle sharp, const std::shared_ptr<CameraMotion>& motion, const std::shared_ptr<CameraModel>& camera,
+           const RollingShutter& shutter, double tRef, double maxStepPx, int borderMode) {
+            MatIn in = toMat(sharp, "sharp");
+            auto m = required(motion, "motion");
+            auto c = required(camera, "camera");
+            cv::Mat out;
+            {
+                py::gil_scoped_release release;
+                renderBlurred(in.mat, m, c, shutter, out, tRef, maxStepPx, borderMode);
+            }
+            return fromMat(out);
+        },
+        py::arg("sharp"), py::arg("motion"), py::arg("camera"), py::arg("shutter"), py::arg("tRef") = kNaN,
+        py::arg("maxStepPx") = 0.25, py::arg("borderMode") = int(cv::BORDER_REFLECT_101),
+        R"doc(The physical forward model for any camera motion (CameraMotion): each row is the time average of
+the sharp view turned by R(t) = Q_refᵀ·Q(t) over its own exposure. sharp: the view at Q(tRef) (as
+for the plant form); tRef: seconds, NaN = the motion's default (a plant's final rest, a sampled
+motion's mid-exposure). Returns the blurred frame.)doc");
     m.def("renderBlurred",
         [](py::handle sharp, const std::shared_ptr<Plant>& plant, const SwitchSchedule& schedule,
            const std::shared_ptr<CameraModel>& camera, const RollingShutter& shutter, double thetaRef,
@@ -202,6 +228,21 @@ sees at θ(t), splatted bilinearly with weights ∝ dwell time and normalised to
                 return std::shared_ptr<PsfGenerator>(PsfGenerator::create(required(plant, "plant"), required(camera, "camera")));
             },
             py::arg("plant"), py::arg("camera"))
+        .def_static("create",
+            [](const std::shared_ptr<CameraModel>& camera) {
+                return std::shared_ptr<PsfGenerator>(PsfGenerator::create(required(camera, "camera")));
+            },
+            py::arg("camera"), "A generator for a camera alone: it takes the motion with each frame.")
+        .def("generate",
+            [](const PsfGenerator& g, int model, const std::shared_ptr<CameraMotion>& motion,
+               const RollingShutter& shutter, double tRef) {
+                auto m = required(motion, "motion");
+                py::gil_scoped_release release;
+                return g.generate(model, m, shutter, tRef);
+            },
+            py::arg("model"), py::arg("motion"), py::arg("shutter"), py::arg("tRef") = kNaN,
+            R"doc(Kernels for one frame of any camera motion (CameraMotion; its time span must cover the readout).
+tRef: seconds, NaN = the motion's default reference. Returns a PsfBank.)doc")
         .def("generate",
             [](const PsfGenerator& g, int model, const SwitchSchedule& schedule, const RollingShutter& shutter,
                double thetaRef) {
@@ -347,6 +388,34 @@ One instance is not meant to be shared by threads running deblur() at the same t
                 return std::shared_ptr<DynamicDeblurrer>(DynamicDeblurrer::create(required(plant, "plant"), required(camera, "camera")));
             },
             py::arg("plant"), py::arg("camera"))
+        .def_static("create",
+            [](const std::shared_ptr<CameraModel>& camera) {
+                return std::shared_ptr<DynamicDeblurrer>(DynamicDeblurrer::create(required(camera, "camera")));
+            },
+            py::arg("camera"), "A deblurrer for measured motion: no plant; deblur(frame, motion, shutter).")
+        .def("deblur",
+            [](DynamicDeblurrer& db, py::handle frame, const std::shared_ptr<CameraMotion>& motion,
+               const RollingShutter& shutter, double tRef, bool returnMask) -> py::object {
+                MatIn f = toMat(frame, "frame");
+                auto m = required(motion, "motion");
+                cv::Mat out, mask;
+                {
+                    py::gil_scoped_release release;
+                    if (returnMask)
+                        db.deblur(f.mat, m, shutter, out, tRef, mask);
+                    else
+                        db.deblur(f.mat, m, shutter, out, tRef);
+                }
+                if (returnMask)
+                    return py::make_tuple(fromMat(out), fromMat(mask));
+                return fromMat(out);
+            },
+            py::arg("frame"), py::arg("motion"), py::arg("shutter"), py::arg("tRef") = kNaN,
+            py::arg("returnMask") = false,
+            R"doc(Restores one frame of any camera motion (CameraMotion): the view at the orientation Q(tRef).
+tRef: seconds, NaN = a plant's final rest or a sampled motion's mid-exposure. A plant's motion
+(CameraMotion.fromPlant, the deblurrer's plant) is restored as deblur(frame, schedule, ...).
+Returns restored, or (restored, validMask) with returnMask=True.)doc")
         .def("deblur",
             [](DynamicDeblurrer& db, py::handle frame, const SwitchSchedule& schedule, const RollingShutter& shutter,
                double thetaRef, bool returnMask) -> py::object {

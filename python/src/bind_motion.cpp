@@ -1,6 +1,8 @@
 // Bindings of plant.hpp, planner.hpp and shutter.hpp.
 #include "bindings.hpp"
 
+#include <opencv2/dynblur/camera_motion.hpp>
+
 #include <opencv2/dynblur/planner.hpp>
 #include <opencv2/dynblur/plant.hpp>
 #include <opencv2/dynblur/shutter.hpp>
@@ -288,6 +290,15 @@ between the starts of consecutive rows, s, ≥ 0; rows: number of sensor rows, >
 or after the first switch and |θ(t) − θ_final| > angleTol (rad) or |dθ/dt| > velocityTol (rad/s).
 I: still at the start, moving later; II: moving throughout; III: moving at the start, still before
 the end; IV: still throughout. A move that starts and ends inside one readout is window I.)doc");
+    m.def("classifyExposure",
+          [](const std::shared_ptr<CameraMotion>& motion, const RollingShutter& sh, double a, double v) {
+              if (!motion)
+                  throw py::value_error("argument 'motion' is None");
+              return classifyExposure(cv::Ptr<CameraMotion>(motion), sh, a, v);
+          },
+          py::arg("motion"), py::arg("shutter"), py::arg("angleTol") = 2e-4, py::arg("velocityTol") = 0.02,
+          R"doc(The exposure window of a frame for any camera motion: a plant's motion as the plant form; any
+other is "moving" where its rate |ω| exceeds velocityTol (rad/s), sampled every 0.25 ms.)doc");
 }
 
 }  // namespace dynblur_py

@@ -1,6 +1,7 @@
 // Accuracy of deconv.hpp: the FFT RL against a direct reference, the bank operator's adjoint,
 // the forward model against filter2D, spatially variant RL (rows with large shifts, tiles),
 // boundary handling, Wiener, regularisation, and argument checks.
+#include "rotation_motion.hpp"
 #include "test_common.hpp"
 
 #include "restore/deconv_operator.hpp"
@@ -1744,6 +1745,36 @@ TEST(DeconvMemory, RowWiseRestorationStaysWithinFourFramePlanesPerChannel)
               << mats + taps << " frame planes per channel (Mats " << mats << ", operator's taps " << taps << ")"
               << std::endl;
     EXPECT_LE(mats + taps, 4.0);
+}
+
+/* The default (tiles, 20 iterations, full color) on the same camera and shutter, its frame blurred by
+   3-axis shakes of up to 30, 60 and 90 deg/s over a 20 ms exposure (blur paths up to ~40 px), holds at
+   most twice the one-axis default's peak extra memory (the saccade frame above). */
+TEST(DeconvMemory, ThreeAxisDefaultWithinTwiceTheOneAxis)
+{
+    Ptr<Plant> plant = Plant::create(14.4, 0.12, CV_PI / 180);
+    Ptr<CameraModel> camera = CameraModel::create(1230, 1230, 639.5, 479.5, 1280, 960);
+    const SwitchSchedule schedule = SwitchPlanner::create(plant, 16, PLAN_ROBUST)->plan(0.0, 10 * CV_PI / 180, 0.0);
+    Mat frame(960, 1280, CV_32FC3);
+    randu(frame, 0.05f, 0.95f);
+    const RLParams params = DynamicDeblurrer::create(plant, camera)->getRLParams();
+    double taps = 0;
+    const double oneAxis = extraPlanesPerChannel(
+        frame, PsfGenerator::create(plant, camera)->generate(PSF_TILES, schedule, RollingShutter(0.012, 0.008, 1.0 / 30 / 960, 960)),
+        params, taps);
+    std::cout << "[ measured ] one-axis default (tiles), 1280x960 RGB, window III: peak extra memory " << oneAxis
+              << " frame planes per channel" << std::endl;
+    for (double peakRate : {30.0, 60.0, 90.0})
+    {
+        const PsfBank bank = PsfGenerator::create(camera)->generate(PSF_TILES, dynblur_test::handShake(peakRate),
+                                                                    RollingShutter(0.1, 0.020, 1.0 / 30 / 960, 960));
+        const double threeAxis = extraPlanesPerChannel(frame, bank, params, taps);
+        std::cout << "[ measured ] 3-axis shake " << peakRate << " deg/s, default (tiles), longest kernel "
+                  << std::max(bank.maxKernelSize().width, bank.maxKernelSize().height) << " px: peak extra memory "
+                  << threeAxis << " frame planes per channel (operator's taps " << taps << "), "
+                  << threeAxis / oneAxis << "x the one-axis default's" << std::endl;
+        EXPECT_LE(threeAxis, 2 * oneAxis) << peakRate << " deg/s";
+    }
 }
 
 }  // namespace

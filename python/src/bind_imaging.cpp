@@ -40,6 +40,26 @@ py::array viewToReference(const CameraModel& cam, py::handle points, const View&
     return result;
 }
 
+/* DynamicDeblurrer::deblur of `frame` with `motion` (a schedule or a CameraMotion) without the GIL:
+   restored, or (restored, validMask) when `returnMask`. */
+template <typename Motion>
+py::object deblurFrame(DynamicDeblurrer& db, py::handle frame, const Motion& motion, const RollingShutter& shutter,
+                       double reference, bool returnMask)
+{
+    MatIn f = toMat(frame, "frame");
+    cv::Mat out, mask;
+    {
+        py::gil_scoped_release release;
+        if (returnMask)
+            db.deblur(f.mat, motion, shutter, out, reference, mask);
+        else
+            db.deblur(f.mat, motion, shutter, out, reference);
+    }
+    if (returnMask)
+        return py::make_tuple(fromMat(out), fromMat(mask));
+    return fromMat(out);
+}
+
 std::string repr(const RLParams& p)
 {
     std::ostringstream o;
@@ -395,20 +415,8 @@ One instance is not meant to be shared by threads running deblur() at the same t
             py::arg("camera"), "A deblurrer for measured motion: no plant; deblur(frame, motion, shutter).")
         .def("deblur",
             [](DynamicDeblurrer& db, py::handle frame, const std::shared_ptr<CameraMotion>& motion,
-               const RollingShutter& shutter, double tRef, bool returnMask) -> py::object {
-                MatIn f = toMat(frame, "frame");
-                auto m = required(motion, "motion");
-                cv::Mat out, mask;
-                {
-                    py::gil_scoped_release release;
-                    if (returnMask)
-                        db.deblur(f.mat, m, shutter, out, tRef, mask);
-                    else
-                        db.deblur(f.mat, m, shutter, out, tRef);
-                }
-                if (returnMask)
-                    return py::make_tuple(fromMat(out), fromMat(mask));
-                return fromMat(out);
+               const RollingShutter& shutter, double tRef, bool returnMask) {
+                return deblurFrame(db, frame, required(motion, "motion"), shutter, tRef, returnMask);
             },
             py::arg("frame"), py::arg("motion"), py::arg("shutter"), py::arg("tRef") = kNaN,
             py::arg("returnMask") = false,
@@ -418,20 +426,8 @@ tRef: seconds, NaN = a plant's final rest or a sampled motion's mid-exposure. A 
 Returns restored, or (restored, validMask) with returnMask=True.)doc")
         .def("deblur",
             [](DynamicDeblurrer& db, py::handle frame, const SwitchSchedule& schedule, const RollingShutter& shutter,
-               double thetaRef, bool returnMask) -> py::object {
-                MatIn f = toMat(frame, "frame");
-                const SwitchSchedule s = schedule;
-                cv::Mat out, mask;
-                {
-                    py::gil_scoped_release release;
-                    if (returnMask)
-                        db.deblur(f.mat, s, shutter, out, thetaRef, mask);
-                    else
-                        db.deblur(f.mat, s, shutter, out, thetaRef);
-                }
-                if (returnMask)
-                    return py::make_tuple(fromMat(out), fromMat(mask));
-                return fromMat(out);
+               double thetaRef, bool returnMask) {
+                return deblurFrame(db, frame, SwitchSchedule(schedule), shutter, thetaRef, returnMask);
             },
             py::arg("frame"), py::arg("schedule"), py::arg("shutter"), py::arg("thetaRef") = kNaN,
             py::arg("returnMask") = false,

@@ -78,15 +78,8 @@ struct Pinhole
         const double X = P[0], Y = P[1], Z = P[2];
         if (!(Z > 1e-12))
             return false;
-        // projected with one reciprocal of Z, which the rate needs again
-        const double dX = rate * (axis[1] * Z - axis[2] * Y);
-        const double dY = rate * (axis[2] * X - axis[0] * Z);
-        const double dZ = rate * (axis[0] * Y - axis[1] * X);
-        const double iz = 1.0 / Z, x = X * iz, y = Y * iz;
-        const double dx = (dX - x * dZ) * iz, dy = (dY - y * dZ) * iz;
-        const double f = 1.0 + kud * (x * x + y * y), df = 2 * kud * (x * dx + y * dy);
-        d = dm - distort(x, y);
-        dd = Point2d(-fx * (dx * f + x * df), -fy * (dy * f + y * df));
+        projectWithRate(dm, P, rate * (axis[1] * Z - axis[2] * Y), rate * (axis[2] * X - axis[0] * Z),
+                        rate * (axis[0] * Y - axis[1] * X), d, dd);
         return true;
     }
     /** d as above and its time derivative for a view turning at the spatial rate `spin` (rad/s, in
@@ -99,13 +92,20 @@ struct Pinhole
         const double X = P[0], Y = P[1], Z = P[2];
         if (!(Z > 1e-12))
             return false;
-        const double dX = spin[1] * Z - spin[2] * Y, dY = spin[2] * X - spin[0] * Z, dZ = spin[0] * Y - spin[1] * X;
-        const double iz = 1.0 / Z, x = X * iz, y = Y * iz;
+        projectWithRate(dm, P, spin[1] * Z - spin[2] * Y, spin[2] * X - spin[0] * Z, spin[0] * Y - spin[1] * X, d,
+                        dd);
+        return true;
+    }
+    /** d = dm − distort(P) and its derivative for the ray P (in front of the camera) moving at
+    (dX, dY, dZ); projected with one reciprocal of Z, which the rate needs again. */
+    void projectWithRate(const Point2d& dm, const Vec3d& P, double dX, double dY, double dZ, Point2d& d,
+                         Point2d& dd) const
+    {
+        const double iz = 1.0 / P[2], x = P[0] * iz, y = P[1] * iz;
         const double dx = (dX - x * dZ) * iz, dy = (dY - y * dZ) * iz;
         const double f = 1.0 + kud * (x * x + y * y), df = 2 * kud * (x * dx + y * dy);
         d = dm - distort(x, y);
         dd = Point2d(-fx * (dx * f + x * df), -fy * (dy * f + y * df));
-        return true;
     }
     //! Rotation of `angle` radians about the mount axis.
     Matx33d rotation(double angle) const;

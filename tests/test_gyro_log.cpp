@@ -70,6 +70,15 @@ TEST(GyroLog, ReadsGcsvWithMagnetometerAndCameraImuLogHeader)
     EXPECT_NEAR(log.rates.at<double>(1, 2), 0.3, 1e-15);
 }
 
+TEST(GyroLog, SkipsAByteOrderMark)
+{
+    const GyroLog log = GyroLog::load(writeLog("bom.gcsv", "\xEF\xBB\xBFGYROFLOW IMU LOG\r\nversion,1.3\r\n"
+                                                           "orientation,XYZ\r\ntscale,1\r\ngscale,1\r\n"
+                                                           "t,gx,gy,gz\r\n0,1,2,3\r\n1,1,2,3\r\n"));
+    EXPECT_EQ(log.times.size(), 2u);
+    EXPECT_EQ(log.rates.at<double>(1, 2), 3.0);
+}
+
 TEST(GyroLog, ReadsPlainCsvInDegreesWithAMountingRotation)
 {
     const std::string path = writeLog("plain.csv", "# a phone's gyro, deg/s\nt,gx,gy,gz,temperature\n"

@@ -8,7 +8,6 @@
 #include <cerrno>
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
 
 namespace cv {
 namespace dynblur {
@@ -68,6 +67,8 @@ public:
         std::string line;
         while (std::getline(in, line))
             lines_.push_back(trimmed(line));
+        if (!lines_.empty() && lines_[0].compare(0, 3, "\xEF\xBB\xBF") == 0)
+            lines_[0] = trimmed(lines_[0].substr(3));  // a UTF-8 byte order mark, as some editors write
         while (!lines_.empty() && lines_.back().empty())
             lines_.pop_back();
         if (lines_.empty())
@@ -210,8 +211,8 @@ GyroLog GyroLog::load(const String& filename, const GyroLogOptions& options)
     String axes = "XYZ";
     double timeScale = options.timeScale, rateScale = options.rateScale;
     size_t columnRow = 0;
-    const std::string first = text[0];
-    if (first == "GYROFLOW IMU LOG" || first == "CAMERA IMU LOG")
+    std::vector<std::string> columns;
+    if (text[0] == "GYROFLOW IMU LOG" || text[0] == "CAMERA IMU LOG")
     {
         if (options.timeScale != 1.0 || options.rateScale != 1.0)
             CV_Error_(Error::StsBadArg, ("%s: '%s' is a gcsv file, which states its own tscale and gscale; "
@@ -271,7 +272,7 @@ GyroLog GyroLog::load(const String& filename, const GyroLogOptions& options)
                           "options.orientation");
         timeScale = tscale;
         rateScale = gscale;
-        const std::vector<std::string> columns = splitCommas(text[columnRow]);
+        columns = splitCommas(text[columnRow]);
         const bool accel = columns.size() >= 7 && columnsAre(columns, {"ax", "ay", "az"}, 4);
         const bool magnet = accel && columns.size() == 10 && columnsAre(columns, {"mx", "my", "mz"}, 7);
         if (!columnsAre(columns, {"t", "gx", "gy", "gz"}, 0) ||
@@ -282,16 +283,17 @@ GyroLog GyroLog::load(const String& filename, const GyroLogOptions& options)
     {
         while (columnRow < text.size() && (text[columnRow].empty() || text[columnRow][0] == '#'))
             ++columnRow;
-        if (columnRow == text.size() || !columnsAre(splitCommas(text[columnRow]), {"t", "gx", "gy", "gz"}, 0))
+        if (columnRow < text.size())
+            columns = splitCommas(text[columnRow]);
+        if (!columnsAre(columns, {"t", "gx", "gy", "gz"}, 0))
             text.fail(std::min(columnRow, text.size() - 1),
-                      format("missing header: a gcsv file starts with 'GYROFLOW IMU LOG' or 'CAMERA IMU LOG', a plain "
-                             "CSV with the column row 't,gx,gy,gz' (extra columns after these are ignored)"));
+                      "missing header: a gcsv file starts with 'GYROFLOW IMU LOG' or 'CAMERA IMU LOG', a plain CSV "
+                      "with the column row 't,gx,gy,gz' (extra columns after these are ignored)");
     }
     if (!options.orientation.empty())
         axes = options.orientation;
     log.orientation = axes;
     log.cameraFromGyro = options.cameraFromGyro * orientationMatrix(axes);
-    std::vector<std::string> columns = splitCommas(text[columnRow]);
     readRows(text, columnRow + 1, columns, timeScale, rateScale, log.cameraFromGyro, log);
     if (options.estimateBias)
         log.estimateBias(options.stillThreshold, options.stillMinDuration);

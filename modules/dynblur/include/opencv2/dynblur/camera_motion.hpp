@@ -93,9 +93,13 @@ public:
                                                          const Matx33d& initialOrientation = Matx33d::eye());
 
     /** @brief A motion measured as orientations (encoders, motion capture, a visual-inertial pose
-    stream), interpolated between samples by a C¹ cubic on SO(3): in the tangent space at each
-    sample, a cubic Hermite curve of the rotation vector whose end rates are the samples' rates
-    (central differences of neighbouring orientations) @cite Kim1995General.
+    stream), interpolated between samples by a C¹ cubic on SO(3): on [t_k, t_{k+1}],
+    Q(t) = Q_k·exp([v(t)]×) with v a cubic Hermite curve in the tangent space at Q_k from 0 to
+    log(Q_kᵀQ_{k+1}) (consecutive orientations are joined by the shorter rotation, so they must be
+    sampled less than half a turn apart) whose end slopes make the body rate equal the sample rates
+    there @cite Kim1995General. The sample rates are the three-point (second-order) derivative of the
+    neighbouring orientations; angularVelocity(t) is the interpolant's own derivative, in the body
+    frame.
     @param times sample times, seconds, strictly increasing, ≥ 2 samples, no gap longer than three
            times the median sample interval.
     @param rotations one orientation Q per sample (camera frame in the base frame): N×3 rotation

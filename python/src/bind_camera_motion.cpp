@@ -138,14 +138,14 @@ unit quaternions (w, x, y, z), (N, 9) row-major or (N, 3, 3) rotation matrices.)
                 const cv::Mat t = timesArg(a, keep);
                 g.times.assign(t.ptr<double>(), t.ptr<double>() + t.rows);
             },
-            "sample times, seconds, (N,)")
+            "sample times, seconds, (N,) (a copy: assign a new array to change them)")
         .def_property(
             "rates", [](const GyroLog& g) { return fromMat(g.rates.clone()); },
             [](GyroLog& g, py::handle a) {
                 Doubles keep;
                 g.rates = rowsArg(a, keep, "rates", {3}, "(N, 3): rad/s, camera axes").clone();
             },
-            "body rates, rad/s, camera axes, (N, 3), bias not removed")
+            "body rates, rad/s, camera axes, (N, 3), bias not removed (a copy: assign a new array to change them)")
         .def_readwrite("bias", &GyroLog::bias, "gyro bias, rad/s, camera axes (subtracted by toMotion)")
         .def_readwrite("biasStillSeconds", &GyroLog::biasStillSeconds,
                        "duration of the still intervals the bias came from, seconds (0: not estimated)")

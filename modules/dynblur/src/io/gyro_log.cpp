@@ -5,6 +5,7 @@
 #include "motion/sampled_motion.hpp"
 #include "motion/so3.hpp"
 
+#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <fstream>

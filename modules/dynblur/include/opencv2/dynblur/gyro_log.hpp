@@ -42,7 +42,7 @@ struct CV_EXPORTS_W_SIMPLE GyroLogOptions
 /** @brief A gyroscope log in camera axes: what CameraMotion::fromAngularVelocity integrates.
 
 Read from two text forms (GyroLog::load):
-- Gyroflow's `gcsv` (version 1.x, 1.3 included): a first line `GYROFLOW IMU LOG` or `CAMERA IMU LOG`, then
+- Gyroflow's `gcsv` @cite GyroflowGcsv (version 1.x, 1.3 included): a first line `GYROFLOW IMU LOG` or `CAMERA IMU LOG`, then
   `key,value` lines (`version`, `id`, `orientation`, `tscale` seconds per time unit, `gscale` rad/s per
   gyro unit, `ascale`, `mscale` and any other metadata, which is ignored), then the column row
   `t,gx,gy,gz`, optionally followed by `ax,ay,az` and `mx,my,mz`, then one sample per line. Time is

@@ -13,7 +13,7 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${DYNBLUR_FUZZ_BUILD_DIR:-$here/build-fuzz}"
 seconds="${DYNBLUR_FUZZ_SECONDS:-20}"
-targets=(camera_xml plant_file schedule_file response_log recording_logs modbus_reply)
+targets=(camera_xml plant_file schedule_file response_log recording_logs gyro_log modbus_reply)
 
 echo "[fuzz] configuring and building in $build (clang, libFuzzer, ASan + UBSan)"
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_COMPILER=clang \

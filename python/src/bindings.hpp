@@ -19,6 +19,7 @@ cv::Ptr<T> required(const std::shared_ptr<T>& p, const char* name)
 }
 
 void bindMotion(py::module_& m);
+void bindCameraMotion(py::module_& m);
 void bindImaging(py::module_& m);
 void bindCalibration(py::module_& m);
 void bindRefinement(py::module_& m);

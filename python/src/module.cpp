@@ -60,6 +60,7 @@ PYBIND11_MODULE(_dynblur, m)
         return py::make_tuple(mat.rows, mat.cols, mat.channels(), mat.depth());
     }, py::arg("a"));
     bindMotion(m);
+    bindCameraMotion(m);
     bindRefinement(m);
     bindImaging(m);
     bindCalibration(m);

@@ -75,11 +75,14 @@ public:
     /** @brief A motion measured by a gyroscope: body rates integrated on SO(3) from
     `initialOrientation` at the first sample.
 
-    Between two samples the rates are taken as linear in time, and the orientation is advanced by
-    the fourth-order Magnus step of that linear rate (two Gauss points, one exponential map per
-    step) @cite Iserles2000Lie, exact for a rotation about a fixed axis; orientation(t) between
-    samples takes the same step over the partial interval, so it is continuous and its derivative
-    is the interpolated rate.
+    Between two samples the rate is the C¹ cubic Hermite curve through them, its slopes the
+    three-point derivative of the samples (exact for a rate quadratic in time; linear rates would
+    err by O(h²) on a smooth motion, cubic ones by O(h⁴)), and angularVelocity(t) returns it. The
+    orientation is advanced by the fourth-order Magnus step (two Gauss points, one exponential map
+    per step) @cite Iserles2000Lie, exact for a rotation about a fixed axis whose rate is at most
+    cubic between samples; orientation(t) between samples takes the same step over the partial
+    interval, so it is continuous and its derivative is the interpolated rate. A step that turns
+    by π or more (undersampled, or rates in deg/s) is refused.
     @param times sample times, seconds, strictly increasing, ≥ 2 samples, no gap longer than three
            times the median sample interval (N×1 or 1×N, CV_64F or CV_32F).
     @param rates body rates ω, rad/s, in camera axes (x right, y down, z forward), finite: N×3
@@ -90,9 +93,13 @@ public:
                                                          const Matx33d& initialOrientation = Matx33d::eye());
 
     /** @brief A motion measured as orientations (encoders, motion capture, a visual-inertial pose
-    stream), interpolated between samples by a C¹ cubic on SO(3): in the tangent space at each
-    sample, a cubic Hermite curve of the rotation vector whose end rates are the samples' rates
-    (central differences of neighbouring orientations) @cite Kim1995General.
+    stream), interpolated between samples by a C¹ cubic on SO(3): on [t_k, t_{k+1}],
+    Q(t) = Q_k·exp([v(t)]×) with v a cubic Hermite curve in the tangent space at Q_k from 0 to
+    log(Q_kᵀQ_{k+1}) (consecutive orientations are joined by the shorter rotation, so they must be
+    sampled less than half a turn apart) whose end slopes make the body rate equal the sample rates
+    there @cite Kim1995General. The sample rates are the three-point (second-order) derivative of the
+    neighbouring orientations; angularVelocity(t) is the interpolant's own derivative, in the body
+    frame.
     @param times sample times, seconds, strictly increasing, ≥ 2 samples, no gap longer than three
            times the median sample interval.
     @param rotations one orientation Q per sample (camera frame in the base frame): N×3 rotation

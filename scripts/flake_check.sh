@@ -6,7 +6,7 @@
 set -euo pipefail
 usage() {
   cat <<'USAGE'
-Usage: scripts/flake_check.sh [--repeat N] [--load N] [--regex R] [--build DIR]
+Usage: scripts/flake_check.sh [--repeat N] [--load N] [--regex R] [--exclude R] [--build DIR]
 
 Builds the project (scripts/setup.sh), starts N busy loops (default: one per core), and runs
 `ctest --repeat until-fail:N` on the build (each test up to N times, stopping at its first failure).
@@ -15,17 +15,19 @@ Exits non-zero if any test failed in any repetition.
   --repeat N   repetitions of each test (default 5)
   --load N     busy loops competing with the tests (default: nproc)
   --regex R    only the tests matching R (ctest -R)
+  --exclude R  not the tests matching R (ctest -E), e.g. the long figure tests, whose results depend
+               on no timing and which take most of the suite's time
   --build DIR  build folder (default: build/, or $DYNBLUR_BUILD_DIR)
 USAGE
 }
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-repeat=5 load="$(nproc)" regex="" build="${DYNBLUR_BUILD_DIR:-$here/build}"
+repeat=5 load="$(nproc)" regex="" exclude="" build="${DYNBLUR_BUILD_DIR:-$here/build}"
 while [ $# -gt 0 ]; do
   case "$1" in
-    --repeat|--load|--regex|--build)
+    --repeat|--load|--regex|--exclude|--build)
       [ $# -ge 2 ] || { echo "flake_check: $1 needs a value" >&2; exit 2; }
       opt="$1"; val="$2"; shift 2 ;;
-    --repeat=*|--load=*|--regex=*|--build=*) opt="${1%%=*}"; val="${1#*=}"; shift ;;
+    --repeat=*|--load=*|--regex=*|--exclude=*|--build=*) opt="${1%%=*}"; val="${1#*=}"; shift ;;
     -h|--help) usage; exit 0 ;;
     *) echo "flake_check: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -33,6 +35,7 @@ while [ $# -gt 0 ]; do
     --repeat) repeat="$val" ;;
     --load) load="$val" ;;
     --regex) regex="$val" ;;
+    --exclude) exclude="$val" ;;
     --build) build="$val" ;;
   esac
 done
@@ -50,10 +53,11 @@ for _ in $(seq 1 "$load"); do
   ( while :; do :; done ) &
   pids+=("$!")
 done
-echo "[flake] $load busy loop(s) running; ctest --repeat until-fail:$repeat${regex:+ -R $regex} on $build"
+echo "[flake] $load busy loop(s) running; ctest --repeat until-fail:$repeat${regex:+ -R $regex}${exclude:+ -E $exclude} on $build"
 start=$(date +%s)
 args=(--test-dir "$build" --output-on-failure -j "$(nproc)" --repeat "until-fail:$repeat")
 [ -n "$regex" ] && args+=(-R "$regex")
+[ -n "$exclude" ] && args+=(-E "$exclude")
 status=0
 ctest "${args[@]}" 2>&1 | tee "$build/flake-check.log" || status=$?
 echo "[flake] $(( ($(date +%s) - start) / 60 )) min; $( [ $status -eq 0 ] && echo "PASS: no failure in $repeat repetitions" || echo "FAIL (see $build/flake-check.log)")"

@@ -72,11 +72,18 @@ public:
             return deblur(frame, plantMotion->schedule(), shutter, restored, plantMotion->referenceAngle(tRef),
                           validMask);
         }
+        // A measured motion has no plant to scale; the calibration's clock offset and line delay hold.
         lastCorrection_ = MotionCorrection();
-        lastCorrection_.reason = "a measured motion: restored as given (its clock and line delay are not refined "
-                                 "per frame)";
-        lastWindow_ = classifyExposure(motion, shutter);
-        restoreFrame(input, detail::ViewMotion::of(motion, tRef, shutter), shutter, restored, validMask);
+        lastCorrection_.timeOffset = calibration_.timeOffset;
+        lastCorrection_.lineDelayScale = calibration_.lineDelayScale;
+        lastCorrection_.reason = calibrated_ ? "a measured motion: the calibration's clock offset and line delay "
+                                               "(not refined per frame)"
+                                             : "a measured motion: restored as given (its clock offset and the line "
+                                               "delay are not refined per frame)";
+        const RollingShutter corrected = lastCorrection_.correctShutter(shutter);
+        detail::checkMotionCovers(motion, corrected.readoutInterval(), "DynamicDeblurrer::deblur", "motion");
+        lastWindow_ = classifyExposure(motion, corrected);
+        restoreFrame(input, detail::ViewMotion::of(motion, tRef, corrected), corrected, restored, validMask);
     }
 
     int getRefinement() const CV_OVERRIDE { return refinement_; }

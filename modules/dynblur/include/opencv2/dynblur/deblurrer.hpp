@@ -84,9 +84,9 @@ public:
 
     A plant's motion (CameraMotion::fromPlant, with the deblurrer's plant and the camera's mount
     axis) is restored exactly as deblur(frame, schedule, shutter, restored, θ(tRef)), refinement
-    included. A measured motion is restored as given: its clock offset and the line delay are taken
-    as told (MotionCorrection::reason says so), and the exposure window comes from its rates
-    (classifyExposure).
+    included. A measured motion is restored with its clock offset and the line delay as told, or as
+    setCalibration corrected them (not refined per frame yet; MotionCorrection::reason says so),
+    and the exposure window comes from its rates (classifyExposure).
     @param frame as for the schedule overload.
     @param motion the camera's motion; its time span must cover the frame's readout (same clock as
            shutter.frameStart).

@@ -1,7 +1,8 @@
 // An application using the installed dynblur package: plans a 5° saccade, renders the frame a
 // rolling-shutter camera takes while the mount settles (window III), restores it and checks that
 // the restoration is closer to the sharp view than the blurred frame. Exit status 0 only then.
-// Built by scripts/install_check.sh with find_package(dynblur) and with pkg-config.
+// Built by scripts/install_check.sh with find_package(dynblur) and with pkg-config, and by
+// scripts/contrib_check.sh against an OpenCV build tree that contains the module.
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgproc.hpp>
 

@@ -1,8 +1,8 @@
 // dynblur_restore_video: restores a recording (frames, frame log, command log; docs/recording-format.md)
 // frame by frame, streaming: each frame taken during a move is refined against the stills on both
 // sides of its move (the deblurrer chooses the one that saw its moving rows) and restored; still
-// frames pass through. A frame that ends its move at rest waits for the still after the move. Writes the restored video and a CSV of
-// each frame's window, correction and consistency.
+// frames pass through. A frame that ends its move at rest waits for the still after the move.
+// Writes the restored video and a CSV of each frame's window, correction and consistency.
 //
 //     dynblur_restore_video --video rec/frame_%04d.png --frames rec/frames.csv --commands rec/commands.csv
 //                           --camera rec/camera.xml --plant rec/plant.yml --timing rec/timing.yml

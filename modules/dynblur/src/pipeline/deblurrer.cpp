@@ -290,8 +290,11 @@ private:
             stills_[k] = Still();
             if (images[k].empty())
                 continue;
-            stills_[k].pyramid =
-                detail::buildPyramid(detail::linearLuminance(images[k]), camera_, detail::kFitCoarseWidth, true);
+            // Kept beyond the call: a linear one-channel still's luminance is the caller's buffer itself.
+            Mat luminance = detail::linearLuminance(images[k]);
+            if (luminance.data == images[k].data)
+                luminance = luminance.clone();
+            stills_[k].pyramid = detail::buildPyramid(luminance, camera_, detail::kFitCoarseWidth, true);
             stills_[k].angle = angles[k];
             referenceType_ = images[k].type();
         }

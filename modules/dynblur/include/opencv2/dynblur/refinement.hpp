@@ -39,7 +39,7 @@ struct CV_EXPORTS_W_SIMPLE MotionCorrection
     CV_PROP_RW double naturalFreqScale;  //!< × the plant's natural frequency ωn
     CV_PROP_RW double dampingScale;      //!< × the plant's damping ratio ζ
     /** How well the corrected model explains the frame: the RMS of the frame minus the still
-        reference frame carried through the corrected blur, over the pixels both frames observe, in
+        reference frame carried through the corrected blur (times stillGain), over the pixels both frames observe, in
         units of the sensor noise's standard deviation (estimated on the reference). About 1 where the
         model is right (up to √2 on rows that do not move, where both frames' noise adds); a wrong
         schedule, a moving object or a bumped camera gives several. Refined blind (no reference
@@ -51,7 +51,8 @@ struct CV_EXPORTS_W_SIMPLE MotionCorrection
         (the value as told, or the calibration): a parameter the frame does not observe at all, or
         one that trades against another along a ridge (a later clock against a stiffer plant in a
         global-shutter frame at the end of a move), where only the combination the frame observes
-        moved. REFINE_NONE when every refined parameter was determined. */
+        moved; or one the fit ran to its search bound although the frame barely depends on it (ζ in
+        a frame that shows no ringing). REFINE_NONE when every refined parameter was determined. */
     CV_PROP_RW int held;
     /** the frame's brightness over its still's (least squares at the fit's result: a webcam's
         automatic exposure, a change of lighting); 1 without a still */

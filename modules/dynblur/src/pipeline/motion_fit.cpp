@@ -87,7 +87,7 @@ const double kObservable[4] = {0.3, 3, 2, 2.5};
 // ... unless resetting it raises the cost by more than this fraction.
 const double kUnobservedCostRise = 0.02;
 /* Residuals counted per independent one by the significance test of a change (significantDrop):
-   with 30 000 residuals at 320 px and four parameters it asks for a drop of about 1 %. */
+   with 70 000 residuals at 320 px and four parameters it asks for a drop of about 0.4 %. */
 const double kCorrelatedPixels = 16;
 /* The ridge: a combination of parameters whose information from the frames is below this many times
    the prior's (fit units scaled by kPriorDeviation) is held at the prior. */

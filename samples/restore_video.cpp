@@ -1,7 +1,8 @@
 // dynblur_restore_video: restores a recording (frames, frame log, command log; docs/recording-format.md)
-// frame by frame, streaming: each frame taken during a move is refined against the still frame that
-// saw its content and restored; still frames pass through. Writes the restored video and a CSV of
-// each frame's window, correction and consistency.
+// frame by frame, streaming: each frame taken during a move is refined against the stills on both
+// sides of its move (the deblurrer chooses the one that saw its moving rows) and restored; still
+// frames pass through. A frame that ends its move at rest waits for the still after the move.
+// Writes the restored video and a CSV of each frame's window, correction and consistency.
 //
 //     dynblur_restore_video --video rec/frame_%04d.png --frames rec/frames.csv --commands rec/commands.csv
 //                           --camera rec/camera.xml --plant rec/plant.yml --timing rec/timing.yml
@@ -33,7 +34,9 @@ static const char* const kUsage =
     "Restores the frames of a recording that a move blurred, with the blur predicted from the plant and\n"
     "the commands, corrected per frame against the still frame before the move (a frame that starts at\n"
     "rest) or after it (one that ends at rest). A frame no correction explains is written unchanged.\n"
-    "Each frame is restored to the view at the angle of its middle row's mid-exposure.\n"
+    "Each frame is restored to the view at the angle of its middle row's mid-exposure. A frame that\n"
+    "needs the still after its move is held until that still arrives (the rest of the move and one\n"
+    "frame; the progress line shows how many frames wait).\n"
     "\n"
     "  --recording DIR      a recording folder (frames.avi or frame_%04d.png, frames.csv, commands.csv,\n"
     "                       camera.xml, plant.yml, and timing.yml when calibrated)\n"
@@ -48,6 +51,10 @@ static const char* const kUsage =
     "  --refine LIST        offset, line-delay, plant, all or none, comma-separated (default: offset with\n"
     "                       --timing, all without)\n"
     "  --model NAME         rows (default, the frame-rate setting: 10 iterations) or tiles (20 iterations)\n"
+    "  --no-still-after WHAT  a frame that ends its move at rest (window III) but has no still after it\n"
+    "                       (the recording ends, or another move starts) cannot be refined: as-told\n"
+    "                       (default) restores it with the model as told (and --timing), unchanged writes\n"
+    "                       it as recorded; the tool lists those frames either way\n"
     "  --out FILE           restored video (default restored.avi; MJPG at the frame log's rate)\n"
     "  --csv FILE           per-frame log (default: OUT's name with .csv)\n"
     "  --help               this help\n"
@@ -91,7 +98,7 @@ int main(int argc, char** argv)
     {
         CliArgs args(argc, argv,
                      {"recording", "video", "frames", "commands", "camera", "plant", "timing", "exposure", "line-delay", "refine",
-                      "model", "out", "csv"},
+                      "model", "out", "csv", "no-still-after"},
                      {"help"});
         if (args.has("help"))
         {
@@ -103,6 +110,9 @@ int main(int argc, char** argv)
         const std::string model = args.str("model", "rows");
         if (model != "rows" && model != "tiles")
             return usageError("--model must be rows or tiles");
+        const std::string noStillAfterMode = args.str("no-still-after", "as-told");
+        if (noStillAfterMode != "as-told" && noStillAfterMode != "unchanged")
+            return usageError("--no-still-after must be as-told or unchanged");
         videoOut = args.str("out", "restored.avi");
         csvOut = args.str("csv", pathStem(videoOut) + ".csv");
 
@@ -150,7 +160,8 @@ int main(int argc, char** argv)
 
         ReferencePairing pairing(plant, camera, recording.commands, calibration, 0.005);
         std::vector<Mat> sheetRows;  // the first moving frames, blurred beside restored, for a look
-        Mat lastReference, restored;
+        Mat lastBefore, lastAfter, restored;
+        std::vector<int> unrefined;  // frames that needed the still after their move and had none
         int written = 0;
         TickMeter clock;
         clock.start();
@@ -159,13 +170,24 @@ int main(int argc, char** argv)
             {
                 MotionCorrection c;
                 Mat out = item.image;
-                if (!item.still)
+                int window = item.window;
+                // A frame that ends its move at rest is refined against the still after it.
+                const bool noStillAfter = !item.still && item.after.empty() && item.window == EXPOSURE_III;
+                if (noStillAfter)
+                    unrefined.push_back(item.record.frame);
+                if (noStillAfter && noStillAfterMode == "unchanged")
                 {
-                    if (item.reference.empty())
-                        deblurrer->clearReferenceFrame();
-                    else if (item.reference.data != lastReference.data)
-                        deblurrer->setReferenceFrame(item.reference, item.referenceAngle);
-                    lastReference = item.reference;
+                    c.applied = false;
+                    c.reason = "no still after the move: not refined; written as recorded (--no-still-after unchanged)";
+                }
+                else if (!item.still)
+                {
+                    if (noStillAfter || (item.before.empty() && item.after.empty()))
+                        deblurrer->clearReferenceFrame(), lastBefore = lastAfter = Mat();
+                    else if (item.before.data != lastBefore.data || item.after.data != lastAfter.data)
+                        deblurrer->setReferenceFrames(item.before, item.after, item.angleBefore, item.angleAfter);
+                    if (!noStillAfter)
+                        lastBefore = item.before, lastAfter = item.after;
                     /* Each frame is restored to the view the camera had at its middle row's mid-exposure
                        (the video does not jump to where a move will end, and the frame saw most of
                        that view), on the calibrated clock and plant. */
@@ -174,6 +196,9 @@ int main(int argc, char** argv)
                     correctedPlant->response(item.schedule, t, theta);
                     deblurrer->deblur(item.image, item.schedule, item.shutter, restored, theta.at<double>(0));
                     c = deblurrer->getLastCorrection();
+                    window = deblurrer->getLastExposureWindow();
+                    if (noStillAfter)
+                        c.reason = "no still after the move: not refined; restored as told (--no-still-after as-told)";
                     out = restored;
                     if (sheetRows.size() < kSheetRows && deblurrer->getLastExposureWindow() != EXPOSURE_IV)
                         sheetRows.push_back(sheetRow(item.image, restored, item.record.frame, c));
@@ -186,15 +211,15 @@ int main(int argc, char** argv)
                 for (char& ch : reason)
                     ch = ch == ',' || ch == '"' ? ';' : ch;
                 csv << format("%d,%s,%d,%.9f,%.6f,%.6f,%.6f,%.4f,%s\n", item.record.frame,
-                              item.still ? "still" : exposureWindowName(deblurrer->getLastExposureWindow()),
+                              item.still ? "still" : exposureWindowName(window),
                               int(!item.still && c.applied), c.timeOffset, c.lineDelayScale, c.naturalFreqScale,
                               c.dampingScale, c.consistency, reason.c_str());
                 written++;
             }
             clock.stop();
             const double rate = written / std::max(1e-9, clock.getTimeSec());
-            std::printf("\rframe %d of %zu, %.1f fps, ETA %.0f s   ", written, log.size(), rate,
-                        (log.size() - written) / std::max(rate, 1e-9));
+            std::printf("\rframe %d of %zu, %.1f fps, ETA %.0f s, %zu held for the still after their move   ",
+                        written, log.size(), rate, (log.size() - written) / std::max(rate, 1e-9), pairing.pending());
             std::fflush(stdout);
             clock.start();
         };
@@ -203,6 +228,15 @@ int main(int argc, char** argv)
             restoreAndWrite(pairing.push(f, recording.read(f).clone()));
         restoreAndWrite(pairing.finish());
         std::printf("\n");
+        if (!unrefined.empty())
+        {
+            std::string list;
+            for (int frame : unrefined)
+                list += (list.empty() ? "" : ", ") + std::to_string(frame);
+            std::printf("could not refine %zu frame(s) with no still after their move: %s; %s (--no-still-after)\n",
+                        unrefined.size(), list.c_str(),
+                        noStillAfterMode == "unchanged" ? "written as recorded" : "restored as told");
+        }
         writer.release();
         csv.close();
         if (!csv)

@@ -3,6 +3,7 @@
 #include "test_common.hpp"
 
 #include "image_metrics.hpp"
+#include "refinement_cases.hpp"
 #include "saccade_scene.hpp"
 
 #include <opencv2/dynblur.hpp>
@@ -15,54 +16,9 @@ using dynblur_samples::maskedPsnr;
 using dynblur_test::judgedPixels;
 using dynblur_test::kDeg;
 using dynblur_test::SaccadeScene;
+using namespace dynblur_test;
 
 namespace {
-
-const double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-//! How the hardware differs from the nominal model (the truth the frame is rendered with).
-struct Drift
-{
-    const char* name;
-    double timeOffset;        // s, added to the reported frame start
-    double lineDelayScale;
-    double naturalFreqScale;
-    double dampingScale;
-
-    //! The drift as the correction that takes the nominal model to the truth.
-    MotionCorrection correction() const
-    {
-        MotionCorrection c;
-        c.timeOffset = timeOffset;
-        c.lineDelayScale = lineDelayScale;
-        c.naturalFreqScale = naturalFreqScale;
-        c.dampingScale = dampingScale;
-        return c;
-    }
-    Ptr<Plant> plant(const SaccadeScene& s) const { return correction().correctPlant(s.plant); }
-    RollingShutter shutter(const RollingShutter& told) const { return correction().correctShutter(told); }
-};
-
-//! A frame of the scene in `window`, blurred by `drift`'s truth, and the still frame before the move.
-struct DriftedFrame
-{
-    RollingShutter told;
-    Mat frame, still;
-    double stillAngle = 0;  // radians
-};
-
-/* The still frame that saw what the frame's moving rows see: the one before the move for a frame
-   that starts at rest (window I), the one after it for a frame that ends at rest (III). */
-DriftedFrame captureDrifted(const SaccadeScene& s, int window, double lineDelay, const Drift& drift, uint64 seed)
-{
-    DriftedFrame d;
-    d.told = s.shutterInWindow(window, lineDelay);
-    d.frame = s.capture(drift.shutter(d.told), seed, drift.plant(s));
-    const bool after = window != EXPOSURE_I;
-    d.still = s.capture(RollingShutter(after ? 1.0 : -0.2, d.told.exposure, d.told.lineDelay, d.told.rows), seed + 1);
-    d.stillAngle = s.plant->restingAngle(after ? s.schedule.finalLevel() : s.schedule.initialLevel);
-    return d;
-}
 
 struct Outcome
 {
@@ -100,37 +56,6 @@ Outcome restoreDrifted(const SaccadeScene& s, const DriftedFrame& d, const Drift
     o.refined = maskedPsnr(s.truth, restored, judged, 255);
     o.correction = deblurrer->getLastCorrection();
     return o;
-}
-
-struct WindowCase
-{
-    int window;
-    double lineDelay;  // s
-    const char* name;
-};
-
-const WindowCase kWindows[] = {{EXPOSURE_I, 1.0 / 30 / 480, "I"},
-                               {EXPOSURE_III, 1.0 / 30 / 480, "III"},
-                               {EXPOSURE_III, 0.0, "III global"}};
-
-// The ranges: δt within ±2 ms, ωn ±5 %, ζ ±20 %, line delay ±10 %, one at a time and combined.
-const Drift kDrifts[] = {{"none", 0, 1, 1, 1},
-                         {"dt +2 ms", 2e-3, 1, 1, 1},
-                         {"dt -2 ms", -2e-3, 1, 1, 1},
-                         {"dt +0.7 ms", 0.7e-3, 1, 1, 1},
-                         {"wn +5 %", 0, 1, 1.05, 1},
-                         {"wn -5 %", 0, 1, 0.95, 1},
-                         {"zeta +20 %", 0, 1, 1, 1.2},
-                         {"zeta -20 %", 0, 1, 1, 0.8},
-                         {"ld +10 %", 0, 1.1, 1, 1},
-                         {"ld -10 %", 0, 0.9, 1, 1},
-                         {"combined A", 1.2e-3, 0.93, 1.035, 1.15},
-                         {"combined B", -1.5e-3, 1.06, 0.96, 0.88}};
-
-//! Rows a window's figure is judged on: the most blurred third of a rolling window III frame, else all.
-Range judgedRows(const SaccadeScene& s, const WindowCase& w, const RollingShutter& told)
-{
-    return w.window == EXPOSURE_III && w.lineDelay > 0 ? s.mostBlurredRows(told, 480 / 3) : Range(0, 480);
 }
 
 class RefinementQuality : public testing::TestWithParam<std::string>
@@ -172,8 +97,8 @@ TEST_P(RefinementQuality, WithAReferenceKeepsTheGainOfTheTruth)
             {
                 /* Told the truth already, the fit still moves where the forward model's own error (the
                    reference resampled, the path splatted) outweighs a few hundredths of a millisecond:
-                   up to 0.49 dB lost (fruits, window III), and gained on building. */
-                EXPECT_GE(o.refined, o.truth - 0.55) << w.name;
+                   up to 0.26 dB lost (fruits, window III), and gained on building. */
+                EXPECT_GE(o.refined, o.truth - 0.3) << w.name;
                 continue;  // not a drift: left out of the mean
             }
             keptSum += kept;
@@ -417,79 +342,6 @@ TEST(RefinementTruth, DISABLED_WhereTheLossToldTheTruthComesFrom)
                                                            {found, timing, MotionCorrection()}, d.stillAngle);
     std::printf("[ measured ] consistency: refined %.3f, its plant as told %.3f, the model as told %.3f\n", residual[0],
                 residual[1], residual[2]);
-}
-
-namespace {
-
-//! A frame in which something moves that the reference never saw: a bright bar streaked across it.
-Mat withMovingObject(const Mat& frame)
-{
-    Mat linear, streak = Mat::zeros(frame.size(), CV_32FC3);
-    srgbToLinear(frame, linear);
-    rectangle(streak, Rect(frame.cols / 3, frame.rows / 2, frame.cols / 4, frame.rows / 6), Scalar::all(0.9), FILLED);
-    blur(streak, streak, Size(41, 1));
-    Mat mask = streak > 0.0f;
-    linear = max(linear, streak);
-    Mat out;
-    linearToSrgb(linear, out, CV_8U);
-    return out;
-}
-
-}  // namespace
-
-/* The schedules the rejection tests tell a drifted frame instead of its own: the same one shifted
-   by 10 ms, and another move's (6°). */
-struct WrongSchedules
-{
-    explicit WrongSchedules(const SaccadeScene& s)
-        : shifted(s.schedule), another(SwitchPlanner::create(s.plant, 16)->plan(0.0, 6 * kDeg, 0.0))
-    {
-        for (double& t : shifted.times)
-            t += 0.010;
-    }
-    const Drift drift{"combined A", 1.2e-3, 0.93, 1.035, 1.15};
-    SwitchSchedule shifted, another;
-};
-
-/* A frame its model cannot explain (another move's schedule, one shifted by 10 ms, something moving
-   in the scene) is never returned worse than the blurred input by more than 0.1 dB. */
-TEST(RefinementRejection, AnInconsistentFrameIsNeverMadeWorse)
-{
-    DYNBLUR_REQUIRE_DATA(path, "building.jpg");
-    SaccadeScene s(path);
-    const WrongSchedules wrong(s);
-    const Drift& drift = wrong.drift;
-    const SwitchSchedule &shifted = wrong.shifted, &another = wrong.another;
-    int rejected = 0, cases = 0;
-    for (const WindowCase& w : kWindows)
-    {
-        const DriftedFrame d = captureDrifted(s, w.window, w.lineDelay, drift, 11);
-        struct Told { const char* name; SwitchSchedule schedule; Mat frame; };
-        const Told told[] = {{"shifted by 10 ms", shifted, d.frame},
-                             {"another move (6 deg)", another, d.frame},
-                             {"moving object", s.schedule, withMovingObject(d.frame)}};
-        for (const Told& t : told)
-        {
-            Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(s.plant, s.camera);
-            const bool after = w.window != EXPOSURE_I;
-            deblurrer->setReferenceFrame(
-                d.still, s.plant->restingAngle(after ? t.schedule.finalLevel() : t.schedule.initialLevel));
-            Mat restored, valid;
-            deblurrer->deblur(t.frame, t.schedule, d.told, restored, kNaN, valid);
-            const MotionCorrection c = deblurrer->getLastCorrection();
-            const Mat judged = judgedPixels(Mat(valid.size(), CV_8U, Scalar(255)), Range(0, 480));
-            const double blurred = maskedPsnr(s.truth, t.frame, judged, 255);
-            const double output = maskedPsnr(s.truth, restored, judged, 255);
-            std::printf("[ measured ] window %-10s told %-20s: blurred %.2f dB, output %.2f dB (floor %.2f), "
-                        "consistency %.2f, %s\n",
-                        w.name, t.name, blurred, output, blurred - 0.1, c.consistency,
-                        c.applied ? "restored" : "returned unchanged");
-            EXPECT_GE(output, blurred - 0.1) << w.name << ", " << t.name << ": " << c.reason;
-            rejected += c.applied ? 0 : 1;
-            cases++;
-        }
-    }
-    std::printf("[ measured ] %d of %d inconsistent frames returned unchanged\n", rejected, cases);
 }
 
 /* Blind, the same inconsistent frames: the criterion at the offset kept (MotionCorrection::consistency)
@@ -782,6 +634,19 @@ TEST(RefinementBadInput, ArgumentsAreCheckedAndNamed)
     bad = MotionCorrection();
     bad.timeOffset = std::numeric_limits<double>::infinity();
     expectErrorNaming([&] { d->setCalibration(bad); }, "timeOffset = inf s must be finite");
+
+    // Stills on both sides of a move: sizes, types and angles named by argument; at least one still.
+    expectErrorNaming([&] { d->setReferenceFrames(Mat(100, 160, CV_32F, Scalar(0.5)), still); },
+                      "'before' is 160x100 but the camera model is 160x120");
+    expectErrorNaming([&] { d->setReferenceFrames(still, Mat(120, 160, CV_32FC2, Scalar(0.5))); },
+                      "'after' has 2 channels");
+    expectErrorNaming([&] { d->setReferenceFrames(still, Mat(120, 160, CV_8U, Scalar(3))); },
+                      "'before' is CV_32FC1 but 'after' is CV_8UC1");
+    expectErrorNaming([&] { d->setReferenceFrames(still, still, 0.0, 2.0); },
+                      "angleAfter = 2 rad must be within [-pi/2, pi/2]");
+    expectErrorNaming([&] { d->setReferenceFrames(noArray(), still, -1.6); },
+                      "angleBefore = -1.6 rad must be within [-pi/2, pi/2]");
+    expectErrorNaming([&] { d->setReferenceFrames(Mat(), noArray()); }, "both 'before' and 'after' are empty");
 
     // A frame of another type than its reference.
     d->setReferenceFrame(still);

@@ -467,6 +467,20 @@ dtype; a window-IV frame comes back unchanged), or (restored, validMask) with re
             py::arg("still"), py::arg("angle") = kNaN,
             R"doc(The still frame the next frames are compared with (same stream: dtype and channels), taken at
 `angle` radians (NaN: each frame's schedule's initial resting angle).)doc")
+        .def("setReferenceFrames",
+            [](DynamicDeblurrer& db, py::handle before, py::handle after, double angleBefore, double angleAfter) {
+                MatIn b, a;
+                if (!before.is_none())
+                    b = toMat(before, "before");
+                if (!after.is_none())
+                    a = toMat(after, "after");
+                py::gil_scoped_release release;
+                db.setReferenceFrames(b.mat, a.mat, angleBefore, angleAfter);
+            },
+            py::arg("before"), py::arg("after"), py::arg("angleBefore") = kNaN, py::arg("angleAfter") = kNaN,
+            R"doc(The still frames before and after a move (None: none on that side; not both); each frame is
+compared with the one that observed its moving rows (window I: before; window III: after; window II: both).
+Angles in radians; NaN: the schedule's initial (before) or final (after) resting angle.)doc")
         .def("clearReferenceFrame", &DynamicDeblurrer::clearReferenceFrame)
         .def("getLastCorrection", &DynamicDeblurrer::getLastCorrection,
              "The MotionCorrection used for the last frame, its consistency, and whether it was applied.")

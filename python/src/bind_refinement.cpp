@@ -19,7 +19,7 @@ std::string repr(const MotionCorrection& c)
     std::ostringstream o;
     o << "MotionCorrection(timeOffset=" << c.timeOffset << ", lineDelayScale=" << c.lineDelayScale
       << ", naturalFreqScale=" << c.naturalFreqScale << ", dampingScale=" << c.dampingScale
-      << ", consistency=" << c.consistency << ", applied=" << (c.applied ? "True" : "False") << ", reason='"
+      << ", consistency=" << c.consistency << ", held=" << c.held << ", stillGain=" << c.stillGain << ", applied=" << (c.applied ? "True" : "False") << ", reason='"
       << c.reason << "')";
     return o.str();
 }
@@ -67,6 +67,11 @@ plant has naturalFreqScale times ωn and dampingScale times ζ.)doc")
         .def_readwrite("consistency", &MotionCorrection::consistency,
                        "RMS of the frame minus the reference carried through the corrected blur, in noise standard "
                        "deviations (about 1 when the model is right; NaN: not measured)")
+        .def_readwrite("held", &MotionCorrection::held,
+                       "MotionRefinement flags of the parameters the frames did not determine (unobserved, or "
+                       "trading against another along a ridge), kept at their prior")
+        .def_readwrite("stillGain", &MotionCorrection::stillGain,
+                       "the frame's brightness over its still's (automatic exposure, lighting); 1 without a still")
         .def_readwrite("applied", &MotionCorrection::applied, "False: the frame was returned unrestored (see reason)")
         .def_readwrite("reason", &MotionCorrection::reason, "why it was not applied, or how it was found")
         .def("correctShutter", &MotionCorrection::correctShutter, py::arg("shutter"),

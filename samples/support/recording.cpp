@@ -338,7 +338,8 @@ std::vector<ReferencePairing::Item> ReferencePairing::push(const FrameRecord& re
     }
     else if (item.window == EXPOSURE_I && waiting_.empty())
     {
-        item.reference = lastStill_, item.referenceAngle = lastStillAngle_;
+        item.reference = item.before = lastStill_;
+        item.referenceAngle = item.angleBefore = lastStillAngle_;
         ready.push_back(item);
     }
     else
@@ -370,6 +371,9 @@ void ReferencePairing::release(std::vector<Item>& ready, const cv::Mat& referenc
                            (next == commands_.times.end() || *next >= stillStart - maxOffset_);
         w.reference = after ? reference : lastStill_;
         w.referenceAngle = after ? angle : lastStillAngle_;
+        w.before = lastStill_, w.angleBefore = lastStillAngle_;
+        if (!reference.empty() && (next == commands_.times.end() || *next >= stillStart - maxOffset_))
+            w.after = reference, w.angleAfter = angle;
         ready.push_back(w);
     }
     waiting_.clear();

@@ -100,7 +100,11 @@ bool parseRefinementList(const std::string& list, int& flags);
 that saw what its moving rows see: the last still frame before it when the frame starts at rest
 (window I), the first still frame after it otherwise, unless another switch comes between (then,
 and when more than `maxPending` frames wait, the last still frame before it). Frames come back in
-their order, as soon as their reference is known: memory holds at most `maxPending` frames.
+their order, as soon as their reference is known: memory holds at most `maxPending` frames. Each
+moving frame also carries the stills on both sides of its move (`before`, `after`) for
+DynamicDeblurrer::setReferenceFrames, which chooses per frame: a frame that waits for the still after
+its move comes back when that still arrives (the latency of a stream: the rest of the move and one
+frame), or at finish() without one.
 
 "Still" is what a restoration cannot tell from still: the image moves by less than a quarter pixel
 (and by less than that during the exposure), with the clock off by as much as `maxOffset` either
@@ -118,6 +122,8 @@ public:
         bool still = false;
         cv::Mat reference;                     //!< the moving frame's still frame (empty: none known)
         double referenceAngle = 0;             //!< its angle, radians
+        cv::Mat before, after;                 //!< the stills before and after its move (empty: none)
+        double angleBefore = 0, angleAfter = 0;  //!< their angles, radians
     };
 
     /** @param plant the nominal plant. @param camera the camera. @param commands the command log.
@@ -131,6 +137,8 @@ public:
     std::vector<Item> push(const FrameRecord& record, const cv::Mat& image);
     //! At the end of the recording: the frames still waiting (with the last still frame before them).
     std::vector<Item> finish();
+    //! Frames held until the still after their move arrives.
+    size_t pending() const { return waiting_.size(); }
 
 private:
     void release(std::vector<Item>& ready, const cv::Mat& reference, double angle, double stillStart);

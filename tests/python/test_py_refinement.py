@@ -31,6 +31,7 @@ def test_enum_values_and_correction_fields(db):
     c = db.MotionCorrection(timeOffset=1e-3, naturalFreqScale=1.02)
     assert c.timeOffset == 1e-3 and c.lineDelayScale == 1.0 and c.naturalFreqScale == 1.02
     assert math.isnan(c.consistency) and c.applied and c.reason == ""
+    assert c.held == db.REFINE_NONE and c.stillGain == 1.0
     shutter = c.correctShutter(db.RollingShutter(frameStart=0.01, exposure=0.008, lineDelay=1e-4, rows=10))
     assert shutter.frameStart == pytest.approx(0.011) and shutter.lineDelay == pytest.approx(1e-4)
     plant = db.Plant.create(14.4, 0.12, 0.01)
@@ -65,6 +66,35 @@ def test_reference_frame_finds_the_clock_offset(db, tele):
     d.clearReferenceFrame()
     d.deblur(frame, sched, told)
     assert math.isnan(d.getLastCorrection().consistency)
+
+
+def test_stills_on_both_sides_the_deblurrer_chooses(db, tele):
+    """Given the stills before and after the move, a window III frame is compared with the one after,
+    and a still 20 % darker than its frame is absorbed as a brightness gain."""
+    plant, sched, cam, _ = tele
+    line_delay = 1 / 30 / 120
+    start = window_start(db, plant, sched, 120, 0.008, line_delay, db.EXPOSURE_III)
+    told = db.RollingShutter(frameStart=start, exposure=0.008, lineDelay=line_delay, rows=120)
+    truth = db.RollingShutter(frameStart=start + 2e-3, exposure=0.008, lineDelay=line_delay, rows=120)
+    frame = capture(db, tele, truth, 1)
+    before = capture(db, tele, db.RollingShutter(frameStart=-0.2, exposure=0.008, lineDelay=line_delay, rows=120), 2)
+    after = capture(db, tele, db.RollingShutter(frameStart=1.0, exposure=0.008, lineDelay=line_delay, rows=120), 3)
+    d = db.DynamicDeblurrer.create(plant, cam)
+    d.setPsfModel(db.PSF_ROWS)
+    d.setRefinement(db.REFINE_TIME_OFFSET)
+    d.setReferenceFrames(before, after * np.float32(0.8))
+    d.deblur(frame, sched, told)
+    c = d.getLastCorrection()
+    assert c.applied and "the still after the move" in c.reason, c.reason
+    assert c.timeOffset == pytest.approx(2e-3, abs=5e-4)
+    assert c.stillGain == pytest.approx(1.25, abs=0.03)
+    d.setReferenceFrames(None, after)
+    with pytest.raises(db.error, match="both 'before' and 'after' are empty"):
+        d.setReferenceFrames(None, None)
+    with pytest.raises(db.error, match=r"angleAfter = 2 rad must be within \[-pi/2, pi/2\]"):
+        d.setReferenceFrames(before, after, 0.0, 2.0)
+    with pytest.raises(db.error, match="'after' is 160x100"):
+        d.setReferenceFrames(before, np.full((100, 160), 0.5, np.float32))
 
 
 def test_calibrate_timing_over_frames_and_file(db, tele, tmp_path):

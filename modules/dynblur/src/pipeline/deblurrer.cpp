@@ -12,6 +12,10 @@
 namespace cv {
 namespace dynblur {
 
+namespace {
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+}
+
 class DynamicDeblurrerImpl CV_FINAL : public DynamicDeblurrer
 {
 public:
@@ -57,7 +61,8 @@ public:
     {
         const Mat input = frame.getMat();
         checkFrame(input, shutter);
-        detail::checkMotionCovers(motion, shutter.readoutInterval(), "DynamicDeblurrer::deblur", "motion");
+        if (motion.empty())
+            CV_Error(Error::StsNullPtr, "DynamicDeblurrer::deblur: motion is empty");
         if (std::isinf(tRef))
             CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: tRef must be finite (seconds) or NaN (the motion's "
                                        "default reference: a plant's final rest, a sampled motion's mid-exposure)");
@@ -99,20 +104,23 @@ public:
     void setReferenceFrame(InputArray still, double angle) CV_OVERRIDE
     {
         const char* fn = "DynamicDeblurrer::setReferenceFrame";
-        const Mat image = still.getMat();
-        detail::checkCameraFrame(image, *camera_, fn, "still");
-        if (!std::isnan(angle) && !(std::abs(angle) <= CV_PI / 2))
-            CV_Error(Error::StsOutOfRange,
-                     format("%s: angle = %g rad must be within [-pi/2, pi/2] (or NaN: the schedule's initial resting "
-                            "angle)",
-                            fn, angle));
-        reference_ = detail::buildPyramid(detail::linearLuminance(image), camera_, detail::kFitCoarseWidth, true);
-        referenceType_ = image.type();
-        referenceAngle_ = angle;
+        setStills(fn, still.getMat(), "still", angle, "angle", Mat(), "", kNaN, "");
+        single_ = true;
+    }
+    void setReferenceFrames(InputArray before, InputArray after, double angleBefore, double angleAfter) CV_OVERRIDE
+    {
+        const char* fn = "DynamicDeblurrer::setReferenceFrames";
+        const Mat first = before.getMat(), second = after.getMat();
+        if (first.empty() && second.empty())
+            CV_Error(Error::StsBadArg, format("%s: both 'before' and 'after' are empty; give at least one still "
+                                              "frame (or call clearReferenceFrame)",
+                                              fn));
+        setStills(fn, first, "before", angleBefore, "angleBefore", second, "after", angleAfter, "angleAfter");
+        single_ = false;
     }
     void clearReferenceFrame() CV_OVERRIDE
     {
-        reference_ = detail::LuminancePyramid();
+        stills_[0] = stills_[1] = Still();
         referenceType_ = -1;
     }
     MotionCorrection getLastCorrection() const CV_OVERRIDE { return lastCorrection_; }
@@ -322,13 +330,52 @@ private:
         encoded.copyTo(restored);
     }
 
+    /* Checks and keeps the stills (an empty Mat: none on that side), naming each argument as the
+       caller `fn` calls it. */
+    void setStills(const char* fn, const Mat& before, const char* beforeName, double angleBefore,
+                   const char* angleBeforeName, const Mat& after, const char* afterName, double angleAfter,
+                   const char* angleAfterName)
+    {
+        const Mat images[2] = {before, after};
+        const char* names[2] = {beforeName, afterName};
+        const double angles[2] = {angleBefore, angleAfter};
+        const char* angleNames[2] = {angleBeforeName, angleAfterName};
+        for (int k = 0; k < 2; k++)
+        {
+            if (!images[k].empty())
+                detail::checkCameraFrame(images[k], *camera_, fn, names[k]);
+            if (!std::isnan(angles[k]) && !(std::abs(angles[k]) <= CV_PI / 2))
+                CV_Error(Error::StsOutOfRange,
+                         format("%s: %s = %g rad must be within [-pi/2, pi/2] (or NaN: the schedule's %s resting "
+                                "angle)",
+                                fn, angleNames[k], angles[k], k == 0 ? "initial" : "final"));
+        }
+        if (!before.empty() && !after.empty() && before.type() != after.type())
+            CV_Error(Error::StsUnmatchedFormats,
+                     format("%s: '%s' is %s but '%s' is %s; both must come from the frames' stream", fn, beforeName,
+                            typeToString(before.type()).c_str(), afterName, typeToString(after.type()).c_str()));
+        for (int k = 0; k < 2; k++)
+        {
+            stills_[k] = Still();
+            if (images[k].empty())
+                continue;
+            // Kept beyond the call: a linear one-channel still's luminance is the caller's buffer itself.
+            Mat luminance = detail::linearLuminance(images[k]);
+            if (luminance.data == images[k].data)
+                luminance = luminance.clone();
+            stills_[k].pyramid = detail::buildPyramid(luminance, camera_, detail::kFitCoarseWidth, true);
+            stills_[k].angle = angles[k];
+            referenceType_ = images[k].type();
+        }
+    }
+
     /* The correction for this frame: the calibration, refined against the reference frame when
        there is one and the frame moves, and refused (applied = false) when even the best
        correction leaves the frame inconsistent with the reference. */
     MotionCorrection correctMotion(const Mat& input, const SwitchSchedule& schedule, const RollingShutter& shutter)
     {
         MotionCorrection correction = calibration_;
-        if (reference_.levels() == 0)
+        if (!stills_[0].present() && !stills_[1].present())
         {
             if (blind_ && (refinement_ & REFINE_TIME_OFFSET))
                 return blindCorrection(input, schedule, shutter, correction);
@@ -340,20 +387,50 @@ private:
                      format("DynamicDeblurrer::deblur: 'frame' is %s but the reference frame is %s; both must come "
                             "from the same stream (or call clearReferenceFrame)",
                             typeToString(input.type()).c_str(), typeToString(referenceType_).c_str()));
-        if (classifyExposure(correction.correctPlant(plant_), schedule, correction.correctShutter(shutter)) ==
-            EXPOSURE_IV)
+        const int window =
+            classifyExposure(correction.correctPlant(plant_), schedule, correction.correctShutter(shutter));
+        if (window == EXPOSURE_IV)
         {
             correction.reason = "still frame: nothing to refine";
             return correction;
         }
-        detail::FitFrame fit;
-        fit.reference = &reference_;
-        fit.frame = detail::buildPyramid(detail::linearLuminance(input), camera_, detail::kFitCoarseWidth, false);
-        fit.schedule = schedule;
-        fit.shutter = shutter;
-        fit.referenceAngle =
-            std::isnan(referenceAngle_) ? plant_->restingAngle(schedule.initialLevel) : referenceAngle_;
-        const std::vector<detail::FitFrame> frames{fit};
+        /* The still that observed the frame's moving rows: before the move for a frame that starts
+           at rest, after it for one that ends at rest, both for one moving throughout. */
+        std::vector<int> chosen;
+        if (window == EXPOSURE_II && stills_[0].present() && stills_[1].present())
+            chosen = {0, 1};
+        else
+        {
+            const int preferred = window == EXPOSURE_I ? 0 : 1;
+            chosen.push_back(stills_[preferred].present() ? preferred : 1 - preferred);
+        }
+        const detail::LuminancePyramid framePyramid =
+            detail::buildPyramid(detail::linearLuminance(input), camera_, detail::kFitCoarseWidth, false);
+        std::vector<detail::FitFrame> frames;
+        for (int k : chosen)
+        {
+            detail::FitFrame fit;
+            fit.reference = &stills_[k].pyramid;
+            fit.frame = framePyramid;
+            fit.schedule = schedule;
+            fit.shutter = shutter;
+            const double told = plant_->restingAngle(k == 0 ? schedule.initialLevel : schedule.finalLevel());
+            fit.referenceAngle = std::isnan(stills_[k].angle) ? told : stills_[k].angle;
+            frames.push_back(fit);
+        }
+        const String against = single_               ? "the reference frame"
+                               : chosen.size() == 2 ? "the stills before and after the move"
+                               : chosen[0] == 0   ? "the still before the move"
+                                                  : "the still after the move";
+        return fitAgainst(frames, against, correction);
+    }
+
+    /* The calibration refined against `frames` (each frame with its still) and the decision: refused
+       (applied = false) when the fit stops at a search bound, or when even the best correction leaves
+       the frame inconsistent with the still. */
+    MotionCorrection fitAgainst(const std::vector<detail::FitFrame>& frames, const String& against,
+                                MotionCorrection correction) const
+    {
         if (refinement_ != REFINE_NONE)
         {
             detail::FitSettings settings;
@@ -363,18 +440,36 @@ private:
             settings.deviation = false;
             const detail::FitResult result = detail::fitMotionCorrection(plant_, frames, correction, settings);
             correction = result.correction;
-            correction.reason = format("refined against the reference frame (%d forward models; residual %.1f %% below "
-                                       "the model as told)",
-                                       result.evaluations, 100 * result.improvement);
+            correction.held = result.held;
+            correction.stillGain = result.gain;
+            correction.reason = format("refined against %s (%d forward models; residual %.1f %% below the model as "
+                                       "told)",
+                                       against.c_str(), result.evaluations, 100 * result.improvement);
             if (result.unchanged)
-                correction.reason += "; the model as told explains the frame as well: kept";
+                correction.reason += "; not significantly better than the model as told: kept";
             else if (result.unobserved)
-                correction.reason += unobservedNote(result.unobserved);
+                correction.reason += "; not determined by this frame, kept as told: " +
+                                     detail::refinementFlagNames(result.unobserved) +
+                                     " (the frame barely depends on it, or its moving rows see little the still "
+                                     "saw)";
+            if (!result.unchanged && result.ridge)
+                correction.reason += "; " + detail::refinementFlagNames(result.ridge) +
+                                     " trade against each other in this frame: kept as told along that ridge, only "
+                                     "the combination the frame observes moved";
+            if (result.pinned)
+            {
+                correction.applied = false;
+                correction.reason = result.pinnedNote +
+                                    ": no correction within the search explains the frame (a wrong schedule?); "
+                                    "returned unchanged";
+                return correction;
+            }
         }
         else
         {
-            correction.consistency = detail::frameConsistency(plant_, frames, correction, detail::kFitFineWidth)[0];
-            correction.reason = "checked against the reference frame";
+            correction.consistency = std::sqrt(
+                detail::meanSquaredResiduals(plant_, frames, correction, {correction}, detail::kFitFineWidth)[0]);
+            correction.reason = "checked against " + against;
         }
         if (!(correction.consistency <= consistencyLimit_))
         {
@@ -430,19 +525,6 @@ private:
                                        result.score, blindLimit_);
         }
         return correction;
-    }
-
-    //! Which parameters the frame did not determine, for MotionCorrection::reason.
-    static String unobservedNote(int flags)
-    {
-        String note = "; not determined by this frame, kept as told:";
-        if (flags & REFINE_TIME_OFFSET)
-            note += " time offset";
-        if (flags & REFINE_LINE_DELAY)
-            note += " line delay";
-        if (flags & REFINE_PLANT)
-            note += " plant";
-        return note + " (its moving rows see little the reference frame saw)";
     }
 
     /* DEBLUR_COLOR_HALF_RESOLUTION: the color phase on the halved frame, with a half-size
@@ -520,9 +602,16 @@ private:
     double consistencyLimit_ = 3.0;
     MotionCorrection calibration_, lastCorrection_;
     bool calibrated_ = false;  // setCalibration was called
-    detail::LuminancePyramid reference_;  // the reference frame's luminance, halved down to the fit's coarse width
-    int referenceType_ = -1;
-    double referenceAngle_ = std::numeric_limits<double>::quiet_NaN();
+    //! A still frame of the stream: its luminance, halved down to the fit's coarse width, and its angle.
+    struct Still
+    {
+        detail::LuminancePyramid pyramid;
+        double angle = kNaN;  // radians; NaN: the schedule's resting angle on its side of the move
+        bool present() const { return pyramid.levels() > 0; }
+    };
+    Still stills_[2];         // before the move, after it
+    int referenceType_ = -1;  // the stills' type
+    bool single_ = false;     // setReferenceFrame: one still for every frame, whatever its window
     double wienerNoiseToSignal_ = 1e-2;
     RLParams params_;
     // Kept between frames, so a stream of frames faults in no fresh memory.

@@ -8,6 +8,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+
 namespace cv {
 namespace dynblur {
 namespace detail {
@@ -85,8 +86,16 @@ const double kPriorDeviation[4] = {2, 10, 5, 3};
 const double kObservable[4] = {0.3, 3, 2, 2.5};
 // ... unless resetting it raises the cost by more than this fraction.
 const double kUnobservedCostRise = 0.02;
-// The fit replaces the start only when it lowers the fine level's squared residual by more than this fraction.
-const double kSignificantImprovement = 0.01;
+/* Residuals counted per independent one by the significance test of a change (significantDrop):
+   with 70 000 residuals at 320 px and four parameters it asks for a drop of about 0.4 %. */
+const double kCorrelatedPixels = 16;
+/* The ridge: a combination of parameters whose information from the frames is below this many times
+   the prior's (fit units scaled by kPriorDeviation) is held at the prior. */
+const double kRidgeInformation = 100;
+// A parameter whose share in a held combination exceeds this (of a unit eigenvector) is reported held.
+const double kRidgeMixing = 0.3;
+// A fitted parameter within this fraction of its search half-width from a bound is pinned there.
+const double kBoundMargin = 0.02;
 // Local minima of the offset's scan the coarse fit starts from.
 const size_t kStartsTried = 2;
 // The scan's step of ωn when the plant is refined, fit units (percent).
@@ -103,6 +112,8 @@ const int kFitTileColumns = 8;
 const float kMinCoverage = 0.98f;
 // Pixels at or above this (linear) may be clipped by the sensor: the linear model fails there.
 const float kSaturated = 0.99f;
+// The brightness gain between a frame and its still is sought within [1/kMaxGain, kMaxGain].
+const double kMaxGain = 2;
 
 Vec4d toFitUnits(const MotionCorrection& c)
 {
@@ -140,6 +151,8 @@ public:
     void fixMasks(const MotionCorrection& c)
     {
         masks_.assign(frames_.size(), Mat());
+        gains_.assign(frames_.size(), 1.0);
+        weights_.assign(frames_.size(), Mat());
         pixels_ = 0;
         for (size_t i = 0; i < frames_.size(); i++)
         {
@@ -152,11 +165,14 @@ public:
             erode(mask, mask, getStructuringElement(MORPH_RECT, Size(5, 5)), Point(-1, -1), 1, BORDER_CONSTANT,
                   Scalar(0));
             masks_[i] = mask;
+            mask.convertTo(weights_[i], CV_32F, 1.0 / 255);
             pixels_ += size_t(countNonZero(mask));
         }
     }
 
     size_t pixels() const { return pixels_; }
+    //! Each frame's brightness gain over its still at the last residuals() (frame ≈ gain × still blurred).
+    const std::vector<double>& gains() const { return gains_; }
     size_t frames() const { return frames_.size(); }
     int evaluations() const { return evaluations_; }
 
@@ -171,19 +187,26 @@ public:
             Mat predicted, coverage;
             predict(i, c, predicted, coverage);
             const Mat& frame = frames_[i].frame.images[size_t(levels_[i])];
+            // Light that fell outside the reference is made up from what fell inside.
+            predicted = predicted / max(coverage, 0.5);
+            /* The still may be brighter or darker than the frame (a webcam's automatic exposure, the
+               lighting): the gain that fits best, in closed form (least squares over the mask). */
+            const double cross = predicted.dot(frame.mul(weights_[i]));
+            const double power = predicted.dot(predicted.mul(weights_[i]));
+            gains_[i] = power > 0 ? std::min(kMaxGain, std::max(1 / kMaxGain, cross / power)) : 1.0;
+            const float gain = float(gains_[i]);
             const float inverseSigma = float(1.0 / sigma_[i]);
             double sum = 0;
             size_t count = 0;
             for (int y = 0; y < frame.rows; y++)
             {
                 const uchar* m = masks_[i].ptr<uchar>(y);
-                const float *b = frame.ptr<float>(y), *p = predicted.ptr<float>(y), *w = coverage.ptr<float>(y);
+                const float *b = frame.ptr<float>(y), *p = predicted.ptr<float>(y);
                 for (int x = 0; x < frame.cols; x++)
                 {
                     if (!m[x])
                         continue;
-                    // Light that fell outside the reference is made up from what fell inside.
-                    const float r = (b[x] - p[x] / std::max(w[x], 0.5f)) * inverseSigma;
+                    const float r = (b[x] - gain * p[x]) * inverseSigma;
                     out.push_back(r);
                     sum += double(r) * r;
                     count++;
@@ -217,7 +240,8 @@ private:
     const std::vector<FitFrame>& frames_;
     std::vector<int> levels_;
     std::vector<double> sigma_;
-    std::vector<Mat> masks_;
+    std::vector<Mat> masks_, weights_;  // weights_: the masks as 0 and 1 in CV_32F
+    std::vector<double> gains_;
     Mat ones_;
     size_t pixels_ = 0;
     int evaluations_ = 0;
@@ -268,7 +292,7 @@ public:
         Mat jtj(n, n, CV_64F), jtr(n, 1, CV_64F);
         for (int iteration = 0; iteration < maxIterations && n > 0; iteration++)
         {
-            jacobianProducts(q, current, jtj, jtr);
+            jacobianProducts(q, current, jtj, jtr, true);
             bool accepted = false, converged = false;
             for (int attempt = 0; attempt < 6 && !accepted; attempt++)
             {
@@ -304,7 +328,7 @@ public:
         covariance = Matx44d::zeros();
         if (n > 0 && wantCovariance)
         {
-            jacobianProducts(q, current, jtj, jtr);
+            jacobianProducts(q, current, jtj, jtr, true);
             const double dof = std::max(1.0, double(current.size()) - n);
             const double variance = squaredNorm(current, current.size()) / dof;
             Mat inverse = jtj.inv(DECOMP_SVD) * variance;
@@ -318,13 +342,27 @@ public:
         return q;
     }
 
+    /* The data's information about the active parameters at q (JᵀJ of the residuals in noise
+       units, without the prior, over the residual's mean square): their inverse covariance. */
+    Mat information(const Vec4d& q)
+    {
+        std::vector<float> at;
+        cost(q, at);
+        const int n = int(active_.size());
+        Mat jtj(n, n, CV_64F), jtr(n, 1, CV_64F);
+        jacobianProducts(q, at, jtj, jtr, false);
+        const double variance = squaredNorm(at, at.size()) / std::max(1.0, double(at.size()) - n);
+        return jtj / std::max(variance, 1e-12);
+    }
+
     //! The data residuals at the last run's start and result.
     const std::vector<float>& startData() const { return startData_; }
     const std::vector<float>& finalData() const { return finalData_; }
 
 private:
-    // JᵀJ and Jᵀr of the data and the prior at q (forward differences; `at` holds the data at q).
-    void jacobianProducts(const Vec4d& q, const std::vector<float>& at, Mat& jtj, Mat& jtr)
+    /* JᵀJ and Jᵀr of the data at q (forward differences; `at` holds the data at q), and of the prior
+       when `withPrior`. */
+    void jacobianProducts(const Vec4d& q, const std::vector<float>& at, Mat& jtj, Mat& jtr, bool withPrior)
     {
         const int n = int(active_.size());
         std::vector<std::vector<float>> columns(static_cast<size_t>(n));
@@ -349,13 +387,13 @@ private:
             double g = 0;
             for (size_t k = 0; k < at.size(); k++)
                 g += double(columns[size_t(a)][k]) * at[k];
-            jtr.at<double>(a) = g + (q[j] - prior_[j]) / (kPriorDeviation[j] * kPriorDeviation[j]);
+            jtr.at<double>(a) = g + (withPrior ? (q[j] - prior_[j]) / (kPriorDeviation[j] * kPriorDeviation[j]) : 0);
             for (int b = a; b < n; b++)
             {
                 double s = 0;
                 for (size_t k = 0; k < at.size(); k++)
                     s += double(columns[size_t(a)][k]) * columns[size_t(b)][k];
-                if (a == b)
+                if (a == b && withPrior)
                     s += 1.0 / (kPriorDeviation[j] * kPriorDeviation[j]);
                 jtj.at<double>(a, b) = jtj.at<double>(b, a) = s;
             }
@@ -412,6 +450,61 @@ std::vector<Vec4d> scanStarts(LevelResiduals& coarse, const Vec4d& prior, const 
 
 }  // namespace
 
+namespace {
+
+int flagOf(int parameter)
+{
+    return parameter == 0 ? REFINE_TIME_OFFSET : parameter == 1 ? REFINE_LINE_DELAY : REFINE_PLANT;
+}
+
+/* Into `held`, the flags of the `observed` parameters that a ridge mixes: a combination whose
+   information from the frames at q is below kRidgeInformation times the prior's (eigenvectors of the
+   information in prior units). `information` receives the eigenvalues, descending. Returns the
+   parameter to hold first (the last in `observed` that a ridge mixes: ζ, then ωn, the line delay and
+   the clock, which varies most from frame to frame), or -1 when there is no ridge. */
+int ridgeParameter(LevelFit& fit, const std::vector<int>& observed, const Vec4d& q, int& held, Vec4d& information)
+{
+    const int n = int(observed.size());
+    const Mat info = fit.information(q);
+    Mat scaled(n, n, CV_64F);
+    for (int a = 0; a < n; a++)
+        for (int b = 0; b < n; b++)
+            scaled.at<double>(a, b) = info.at<double>(a, b) * kPriorDeviation[observed[size_t(a)]] *
+                                      kPriorDeviation[observed[size_t(b)]];
+    Mat values, vectors;
+    eigen(scaled, values, vectors);  // descending; rows are the eigenvectors
+    information = Vec4d();
+    int hold = -1;
+    for (int i = 0; i < n; i++)
+    {
+        information[i] = values.at<double>(i);
+        if (values.at<double>(i) >= kRidgeInformation)
+            continue;
+        for (int a = 0; a < n; a++)
+            if (std::abs(vectors.at<double>(i, a)) > kRidgeMixing)
+                held |= flagOf(observed[size_t(a)]), hold = std::max(hold, observed[size_t(a)]);
+    }
+    return hold;
+}
+
+/* Whether the fit's drop of the squared residual from `startCost` to `cost` over `pixels` residuals
+   with `parameters` fitted is more than noise would give: an F-test at the 0.1 % level on the
+   residuals counted as kCorrelatedPixels per independent one (blur, the pyramid's averaging and the
+   forward model's own error correlate neighbours), approximated with χ² quantiles. */
+bool significantDrop(double startCost, double cost, size_t pixels, int parameters)
+{
+    if (parameters <= 0 || pixels == 0)
+        return false;
+    static const double kChiSquare999[5] = {0, 10.83, 13.82, 16.27, 18.47};  // χ²_p at 0.999, p = 1..4
+    const double independent = std::max(double(parameters) + 1, double(pixels) / kCorrelatedPixels);
+    const double variance = cost / (independent - parameters);
+    return (startCost - cost) / std::max(variance, 1e-300) > kChiSquare999[std::min(parameters, 4)];
+}
+
+const char* const kParameterName[4] = {"time offset", "line delay", "natural frequency", "damping ratio"};
+
+}  // namespace
+
 FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFrame>& frames,
                               const MotionCorrection& start, const FitSettings& settings)
 {
@@ -462,7 +555,6 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
             if (cost < bestCost || starts.size() == 1)
                 bestCost = cost, q = fitted, covariance = startCovariance;
         }
-        evaluations += coarse.evaluations();
         /* A parameter the coarse fit leaves uncertain, and whose start value explains the frames
            about as well, is not observed by them (their moving rows see content the reference never
            saw): it keeps its start value rather than the noise's choice. */
@@ -481,9 +573,9 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
             if (keep)
                 observed.push_back(j);
             else
-                q[j] = prior[j],
-                result.unobserved |= j == 0 ? REFINE_TIME_OFFSET : j == 1 ? REFINE_LINE_DELAY : REFINE_PLANT;
+                q[j] = prior[j], result.unobserved |= flagOf(j);
         }
+        evaluations += coarse.evaluations();
     }
     const std::vector<int> tried = active;
     active.swap(observed);
@@ -493,11 +585,33 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
     LevelFit fineFit(fine, active, prior, lower, upper, start);
     if (fine.pixels() > 0)
         q = fineFit.run(q, settings.coarse ? 5 : 4, covariance, nullptr, settings.deviation);
+    /* Parameters the frames observe one by one may still trade against each other along a ridge (a
+       later clock against a stiffer plant, in a global-shutter frame at the end of a move): there
+       the frames determine only a combination. The parameters the ridge mixes are held at the prior
+       one by one, ζ first, then ωn and the line delay (the clock, which varies most from frame to
+       frame, is never held for a ridge), and the others are fitted again: only the combination the
+       frames observe moves. */
+    bool refit = false;
+    while (settings.coarse && active.size() > 1 && fine.pixels() > 0)
+    {
+        LevelFit activeFit(fine, active, prior, lower, upper, start);
+        const int hold = ridgeParameter(activeFit, active, q, result.ridge, result.information);
+        if (hold <= 0)
+            break;
+        active.erase(std::find(active.begin(), active.end(), hold));
+        q[hold] = prior[hold];
+        refit = true;
+    }
+    if (refit)
+    {
+        LevelFit heldFit(fine, active, prior, lower, upper, start);
+        q = heldFit.run(q, 5, covariance, nullptr, settings.deviation);
+    }
 
-    /* The start stays unless the fit explains the frames clearly better: a change within what the
-       frames cannot tell apart would only move the restoration by the noise's whim. The fine fit
-       began at the start when there was no coarse stage, and one frame's mean is the whole's:
-       then its own residuals serve. */
+    /* The start stays unless the fit explains the frames significantly better (significantDrop):
+       a change within what the frames cannot tell apart would only move the restoration by the
+       noise's whim. The fine fit began at the start when there was no coarse stage, and one frame's
+       mean is the whole's: then its own residuals serve. */
     std::vector<double> perFrame, startPerFrame;
     double startCost = 0;
     if (!settings.coarse && frames.size() == 1 && fine.pixels() > 0)
@@ -515,11 +629,71 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
         data.clear();
         fine.residuals(fromFitUnits(q, start), data, &perFrame);
     }
-    const double cost = squaredNorm(data, data.size());
+    double cost = squaredNorm(data, data.size());
+    const int fitted = int(active.size());
     result.improvement = startCost > 0 ? 1 - cost / startCost : 0;
-    result.unchanged = startCost <= cost * (1 + kSignificantImprovement);
+    result.unchanged = !significantDrop(startCost, cost, data.size(), fitted);
     if (result.unchanged)
         q = prior, perFrame = startPerFrame;
+    else
+    {
+        /* A parameter the fit left at a search bound was stopped there, not explained by the frames,
+           unless the frames barely observe it (ζ where the frame sees no ringing): put back to its
+           start without raising the residual by more than kUnobservedCostRise, it is held there. */
+        std::vector<float> held;
+        std::vector<double> heldPerFrame;
+        std::vector<int> pinned;
+        for (bool again = true; again;)
+        {
+            again = false;
+            pinned.clear();
+            for (int j : active)
+            {
+                const double margin = kBoundMargin * (upper[j] - lower[j]) / 2;
+                if (q[j] <= lower[j] + margin || q[j] >= upper[j] - margin)
+                    pinned.push_back(j);
+            }
+            for (size_t k = 0; k < pinned.size() && !again; k++)
+            {
+                const int j = pinned[k];
+                std::vector<int> others = active;
+                others.erase(std::find(others.begin(), others.end(), j));
+                Vec4d reset = q;
+                reset[j] = prior[j];
+                LevelFit heldFit(fine, others, prior, lower, upper, start);
+                Matx44d unused;
+                reset = heldFit.run(reset, 4, unused, nullptr, false);
+                held.clear();
+                fine.residuals(fromFitUnits(reset, start), held, &heldPerFrame);
+                const double heldCost = squaredNorm(held, held.size());
+                if (heldCost <= cost * (1 + kUnobservedCostRise))
+                {
+                    q = reset, cost = heldCost, result.unobserved |= flagOf(j), active.swap(others);
+                    data.swap(held), perFrame.swap(heldPerFrame);
+                    again = true;  // the others moved: look at the bounds afresh
+                }
+            }
+        }
+        const MotionCorrection c = fromFitUnits(q, start);
+        const double scale[4] = {0, c.lineDelayScale, c.naturalFreqScale, c.dampingScale};
+        for (int j : pinned)
+        {
+            result.pinned |= flagOf(j);
+            result.pinnedNote += result.pinnedNote.empty() ? "" : "; ";
+            result.pinnedNote +=
+                j == 0 ? format("time offset %+.2f ms at its search bound (%.2f ms either side of %+.2f ms)",
+                                c.timeOffset * 1e3, settings.maxTimeOffset * 1e3, start.timeOffset * 1e3)
+                       : format("%s x%.3f at its search bound (x%.2f to x%.2f)", kParameterName[j], scale[j],
+                                1 - kScaleBound[j] * kUnit[j], 1 + kScaleBound[j] * kUnit[j]);
+        }
+    }
+    result.held = result.unobserved | result.ridge;
+    if (!data.empty())
+    {
+        data.clear();
+        fine.residuals(fromFitUnits(q, start), data);
+        result.gain = fine.gains()[0];
+    }
     result.correction = fromFitUnits(q, start);
     for (double& meanSquare : perFrame)
         result.frameConsistency.push_back(std::sqrt(meanSquare));
@@ -532,6 +706,21 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
             result.deviation[j] = coarseDeviation[j] * kUnit[j];  // how little the frames say about it
     result.evaluations = evaluations + fine.evaluations();
     return result;
+}
+
+String refinementFlagNames(int flags)
+{
+    std::vector<String> names;
+    if (flags & REFINE_TIME_OFFSET)
+        names.push_back("time offset");
+    if (flags & REFINE_LINE_DELAY)
+        names.push_back("line delay");
+    if (flags & REFINE_PLANT)
+        names.push_back("plant");
+    String text;
+    for (size_t k = 0; k < names.size(); k++)
+        text += (k == 0 ? "" : k + 1 == names.size() ? " and " : ", ") + names[k];
+    return text;
 }
 
 std::vector<double> frameConsistency(const Ptr<Plant>& plant, const std::vector<FitFrame>& frames,

@@ -70,6 +70,12 @@ struct FitResult
     double improvement = 0;          //!< the fit's relative decrease of the fine level's squared residual from the start
     bool unchanged = false;          //!< the start explained the frames as well as the fit (within 1 %): kept
     int unobserved = 0;              //!< MotionRefinement flags of parameters the frames did not determine (kept at the start)
+    int ridge = 0;                   //!< MotionRefinement flags of parameters mixed in a combination held at the start (a ridge)
+    int held = 0;                    //!< unobserved | ridge
+    Vec4d information;               //!< eigenvalues of the frames' information in prior units, descending (0 when not analysed)
+    int pinned = 0;                  //!< MotionRefinement flags of fitted parameters that ended at a search bound
+    double gain = 1;                 //!< the first frame's brightness over its still's at the result
+    String pinnedNote;               //!< which parameter, at which value and bound
 };
 
 /** @brief Throws cv::Exception naming the argument when `image` is not a frame of `camera`: empty,
@@ -81,9 +87,14 @@ void checkCameraFrame(const Mat& image, const CameraModel& camera, const char* f
 at the coarse level, then Levenberg–Marquardt on the flagged parameters at the coarse and the fine
 level, with a weak prior toward `start`. A parameter the coarse fit leaves uncertain (the frames'
 moving rows see content the reference never saw, or their motion does not depend on it) keeps its
-start value; the start as a whole stays unless the fit lowers the squared residual by more than 1 %. */
+start value; combinations the frames determine too weakly (a ridge) stay at the start too, and the
+start as a whole stays unless the fit lowers the squared residual significantly. A fitted parameter
+left at a search bound is reported in `pinned`. */
 FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFrame>& frames,
                               const MotionCorrection& start, const FitSettings& settings);
+
+//! "time offset, line delay and plant": the parameters of MotionRefinement `flags`, for messages.
+String refinementFlagNames(int flags);
 
 /** @brief Consistency of `correction` with each frame at the level at most `width` wide. */
 std::vector<double> frameConsistency(const Ptr<Plant>& plant, const std::vector<FitFrame>& frames,

@@ -13,7 +13,7 @@ namespace dynblur {
 
 MotionCorrection::MotionCorrection()
     : timeOffset(0), lineDelayScale(1), naturalFreqScale(1), dampingScale(1),
-      consistency(std::numeric_limits<double>::quiet_NaN()), applied(true)
+      consistency(std::numeric_limits<double>::quiet_NaN()), held(REFINE_NONE), stillGain(1), applied(true)
 {
 }
 
@@ -266,6 +266,14 @@ TimingCalibration calibrateTiming(const Ptr<Plant>& plant, const Ptr<CameraModel
     TimingCalibration calibration;
     calibration.correction = result.correction;
     calibration.correction.reason = format("calibrated over %zu frames", kept.size());
+    calibration.correction.held = result.held;
+    if (result.held)
+        calibration.correction.reason += format("; the frames cannot separate %s: kept as told along what they "
+                                                "do not determine (frames at different phases of their moves "
+                                                "separate them)",
+                                                detail::refinementFlagNames(result.held).c_str());
+    if (result.pinned)
+        calibration.correction.reason += "; " + result.pinnedNote;
     calibration.timeOffsetStd = result.deviation[0];
     calibration.lineDelayScaleStd = result.deviation[1];
     calibration.naturalFreqScaleStd = result.deviation[2];

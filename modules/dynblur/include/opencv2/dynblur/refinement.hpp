@@ -39,7 +39,7 @@ struct CV_EXPORTS_W_SIMPLE MotionCorrection
     CV_PROP_RW double naturalFreqScale;  //!< × the plant's natural frequency ωn
     CV_PROP_RW double dampingScale;      //!< × the plant's damping ratio ζ
     /** How well the corrected model explains the frame: the RMS of the frame minus the still
-        reference frame carried through the corrected blur, over the pixels both frames observe, in
+        reference frame carried through the corrected blur (times stillGain), over the pixels both frames observe, in
         units of the sensor noise's standard deviation (estimated on the reference). About 1 where the
         model is right (up to √2 on rows that do not move, where both frames' noise adds); a wrong
         schedule, a moving object or a bumped camera gives several. Refined blind (no reference
@@ -47,6 +47,16 @@ struct CV_EXPORTS_W_SIMPLE MotionCorrection
         correction kept, another scale. NaN when it was not measured (no reference frame and no blind
         refinement, or too few still rows). */
     CV_PROP_RW double consistency;
+    /** MotionRefinement flags of the parameters the frames did not determine, kept at their prior
+        (the value as told, or the calibration): a parameter the frame does not observe at all, or
+        one that trades against another along a ridge (a later clock against a stiffer plant in a
+        global-shutter frame at the end of a move), where only the combination the frame observes
+        moved; or one the fit ran to its search bound although the frame barely depends on it (ζ in
+        a frame that shows no ringing). REFINE_NONE when every refined parameter was determined. */
+    CV_PROP_RW int held;
+    /** the frame's brightness over its still's (least squares at the fit's result: a webcam's
+        automatic exposure, a change of lighting); 1 without a still */
+    CV_PROP_RW double stillGain;
     CV_PROP_RW bool applied;             //!< false: the frame was returned unrestored (see reason)
     CV_PROP_RW String reason;            //!< why it was not applied, or how the correction was found
 
@@ -68,7 +78,10 @@ frames (calibrateTiming). */
 struct CV_EXPORTS_W_SIMPLE TimingCalibration
 {
     CV_WRAP TimingCalibration();
-    CV_PROP_RW MotionCorrection correction;  //!< the common correction; consistency: over all frames
+    /** the common correction; consistency: over all frames; `held`: the parameters the frames cannot
+        separate (they sit at the same phase of their moves), kept at their nominal values, which
+        `reason` names */
+    CV_PROP_RW MotionCorrection correction;
     /** standard deviations of the four parameters (seconds, then dimensionless scales), from the
         fit's curvature and its residual, treating pixel noise as independent (blur correlates
         neighbouring residuals, so the true spread can be larger); 0 for a parameter not refined */

@@ -44,7 +44,7 @@ source "$here/scripts/sanitizer_env.sh"
 # speed test, and the closed-loop servoing runs (whole 640x480 restorations every cycle). Every
 # parser, bus/driver, planner, plant and deconv test stays.
 # DYNBLUR_ASAN_CTEST_EXCLUDE replaces the list ("" runs everything).
-default_exclude='DeblurQuality\.|RefinementQuality\.|RefinementRejection\.|RefinementBlind\.|RefinementBlindRejection\.|CalibrateTiming\.TenFrames|PsfGenerator\.PointSourceMatchesRendererRollingShutter|PsfGenerator\.TilesCaptureColumnVariation|RenderBlurred\.FullFrameSaccadeSpeed|ServoTrack\.|ServoLoop\.|ServoDrift\.|RotationQuality\.|RotationBlur\.ThreeAxisPointSources'
+default_exclude='DeblurQuality\.|RefinementQuality\.|RefinementRejection\.|RefinementBlind\.|RefinementBlindRejection\.|CalibrateTiming\.TenFrames|PsfGenerator\.PointSourceMatchesRendererRollingShutter|PsfGenerator\.TilesCaptureColumnVariation|RenderBlurred\.FullFrameSaccadeSpeed|ServoTrack\.|ServoLoop\.|ServoDrift\.|RotationQuality\.|RotationBlur\.ThreeAxisPointSources|RefinementNeverWorse\.|RefinementStills\.|CalibrateTiming\.GlobalFramesAtOnePhase'
 exclude="${DYNBLUR_ASAN_CTEST_EXCLUDE-$default_exclude}"
 echo "[sanitize] C++ tests under ASan + UBSan (CTest${exclude:+, without the heavy quality tests})"
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)" ${exclude:+-E "$exclude"}

@@ -1,7 +1,7 @@
 # `cmake --install <build> [--prefix P]`: the public headers, the shared library, a CMake package
 # (find_package(dynblur) → imported target dynblur::dynblur) and a pkg-config file (dynblur.pc).
 # Included by the top-level CMakeLists.txt after modules/dynblur defined opencv_dynblur; not used
-# inside an OpenCV build tree (ocv_define_module installs the module there) nor for the Python
+# inside an OpenCV build tree (ocv_create_module installs the module there) nor for the Python
 # extension, which links the library statically (DYNBLUR_LIBRARY_TYPE STATIC).
 #
 #   P/include/opencv2/dynblur.hpp, P/include/opencv2/dynblur/*.hpp

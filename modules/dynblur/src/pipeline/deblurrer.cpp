@@ -563,7 +563,6 @@ private:
             halfCamera_ = detail::halfResolutionCamera(*camera_);
             halfGenerator_ = PsfGenerator::create(halfCamera_);
         }
-        halfCamera_->setMountAxis(camera_->getMountAxis());  // the one setting a camera has after create()
         halfGenerator_->setMaxKernelSize(generator_->getMaxKernelSize());
         const int bandRows = generator_->getBandRows(), gridRows = generator_->getTileGrid().height;
         halfGenerator_->setBandRows(bandRows > 0 ? std::max(1, bandRows / 2) : 0);

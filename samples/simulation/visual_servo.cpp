@@ -348,8 +348,11 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
     dof[3] = 1.0;  // the positioner turns the camera about its +x axis (DESIGN §2)
     task.setCameraDoF(dof);
     task.addFeature(s, sStar);
-    // One detector, default settings, for the raw and the restored frames alike.
+    /* One detector, default settings, for the raw and the restored frames alike; one thread, so its
+       output does not depend on how the threads interleave (the closed loop would amplify any
+       difference into another trajectory). */
     vpDetectorAprilTag detector(vpDetectorAprilTag::TAG_36h11);
+    detector.setAprilTagNbThreads(1);
 
     const double period = 1.0 / config.fps;
     // "Moving" for this camera: more than 0.25 px off the final view, or faster than 0.2 px per
@@ -359,7 +362,9 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
     SwitchSchedule saccade = history;                                      // the command of this cycle
     int level = 0, frameIndex = 0;
     Mat lastStill;                          // the last frame taken at rest: the reference of the next move's frames
-    const uchar* referenceData = nullptr;   // the frame the deblurrer holds as its reference
+    /* Which frame lastStill is and which the deblurrer holds as its reference: by index, not by
+       buffer address, which a later frame's allocation may reuse. */
+    int lastStillIndex = -1, referenceIndex = -1;
     RNG jitter(config.noiseSeed * 2654435761ull + 1u);
 
     auto takeFrame = [&](int cycle) {
@@ -387,15 +392,16 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
         {
             restored = noisy;  // nothing to undo
             lastStill = noisy;
+            lastStillIndex = frameIndex;
         }
         else
         {
             const double t0 = static_cast<double>(getTickCount());
             // The still frame before this cycle's move, at the saccade's initial resting angle.
-            if (config.refine && !lastStill.empty() && lastStill.data != referenceData)
+            if (config.refine && !lastStill.empty() && lastStillIndex != referenceIndex)
             {
                 deblurrer->setReferenceFrame(lastStill);
-                referenceData = lastStill.data;
+                referenceIndex = lastStillIndex;
             }
             deblurrer->deblur(noisy, saccade, shutter, restored);
             frame.correction = deblurrer->getLastCorrection();

@@ -188,9 +188,10 @@ def cpu_description():
 # docs/performance.md (the lower end of its paired rounds' medians), by a substring of
 # /proc/cpuinfo's model name and the threads the restoration ran on (the peer runs on one). The
 # ratio depends on the CPU (the row gathers use AVX512-BF16, filter2D does not); with two threads
-# also on whether another job holds the second core, so the one-thread ratio is judged where it is
-# documented. The short check fails 20 % below the documented value.
-FILTER2D_RATIO_DOCUMENTED = {("Intel(R) Xeon(R)", 1): 1.50, ("AMD EPYC", 2): 4.37}
+# also on whether another job holds the second core, so only one-thread ratios are documented: both
+# sides of a paired round then share whatever load the machine has. The short check fails 20 % below
+# the documented value.
+FILTER2D_RATIO_DOCUMENTED = {("Intel(R) Xeon(R)", 1): 1.50, ("AMD EPYC", 1): 2.28}
 CI_SHARE = 0.8
 
 
@@ -225,9 +226,6 @@ def run_ci(perf):
     ok = ratio >= floor
     print(f"[ measured ] {threads}-thread ratio {ratio:.2f}x; documented {documented:.2f}x on {key}, floor "
           f"{floor:.2f}x: {'PASS' if ok else 'FAIL'}")
-    if not ok and threads > 1 and load >= (os.cpu_count() or 1) - 0.5:
-        print(f"[benchmark] the load average was {load:.2f} before the rounds: another job may have held a core, "
-              "which slows the restoration and not the one-thread peer; rerun on an idle machine")
     return 0 if ok else 1
 
 

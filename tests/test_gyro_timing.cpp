@@ -159,7 +159,9 @@ TEST(GyroTiming, PerFrameOffsetAndGain)
                             100 * (fitted - blurred) / (truth - blurred));
                 EXPECT_TRUE(c.applied) << name << " frame " << i << ": " << c.reason;
                 if (biasKnown)  // measured within 0.12 ms; the issue asks 1 ms
+                {
                     EXPECT_NEAR(c.timeOffset, kLogOffset, 0.15e-3) << name << " frame " << i;
+                }
                 EXPECT_GE(fitted - blurred, 0.9 * (truth - blurred)) << name << " frame " << i;
             }
         }
@@ -192,4 +194,51 @@ TEST(GyroTiming, MismatchedLogIsNeverWorse)
                         c.consistency, blurred, out, c.reason.c_str());
             EXPECT_GE(out, blurred) << i;  // measured: every one refused, returned as it came
         }
+}
+
+/* Bad input to the measured motion's refinement: each refused with the argument's name. */
+TEST(GyroTimingBadInput, ArgumentsAreNamed)
+{
+    using dynblur_test::expectErrorNaming;
+    const Ptr<CameraModel> camera = CameraModel::create(120, 120, 31.5, 23.5, 64, 48);
+    const Ptr<CameraMotion> log = gyroLog(*dynblur_test::handShake(30), 0, Vec3d(), 5);  // samples over [-0.9, 0.9] s
+    const Mat frame(48, 64, CV_32F, Scalar(0.5));
+    const RollingShutter shutter(0.1, 0.01, 2e-4, 48), still(0.0, 1e-4, 0, 48);
+    const std::vector<Mat> two{frame, frame};
+    const std::vector<RollingShutter> shutters{shutter, shutter}, stills{still, still};
+    expectErrorNaming([&] { calibrateTiming(Ptr<CameraMotion>(), camera, two, two, shutters, stills); }, "'motion'");
+    expectErrorNaming([&] { calibrateTiming(log, camera, two, two, shutters, {still}); }, "referenceShutters 1");
+    expectErrorNaming([&] { calibrateTiming(log, camera, two, two, shutters, stills, REFINE_PLANT); }, "flags = 4");
+    expectErrorNaming([&] { calibrateTiming(log, camera, two, two, shutters, stills, 16); }, "flags = 16");
+    expectErrorNaming([&] { calibrateTiming(log, camera, two, two, shutters, stills, 3, 0.0); }, "maxTimeOffset");
+    const Ptr<Plant> plant = Plant::create(14.4, 0.12, kDegree);
+    expectErrorNaming(
+        [&] {
+            calibrateTiming(CameraMotion::fromPlant(plant, SwitchSchedule({0.0}, {1}, 0)), camera, two, two, shutters,
+                            stills);
+        },
+        "calibrateTiming(plant");
+    const std::vector<RollingShutter> late{shutter, RollingShutter(0.895, 0.01, 2e-4, 48)};
+    expectErrorNaming([&] { calibrateTiming(log, camera, two, two, late, stills); }, "'frames[1]'");
+    expectErrorNaming([&] { calibrateTiming(log, camera, two, two, shutters, {still, RollingShutter(0, 1e-4, 0, 47)}); },
+                      "referenceShutters[1]");
+
+    Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(camera);
+    Mat out;
+    expectErrorNaming([&] { deblurrer->setReferenceFrame(frame, RollingShutter(0, 1e-4, 0, 47)); }, "stillShutter");
+    expectErrorNaming([&] { deblurrer->setRefinement(16); }, "flags = 16");
+    deblurrer->setReferenceFrame(frame, 0.0);  // an angle: a plant's still
+    expectErrorNaming([&] { deblurrer->deblur(frame, log, shutter, out); }, "capture time");
+    deblurrer->setReferenceFrame(frame, RollingShutter(-0.899, 1e-4, 0, 48));
+    expectErrorNaming([&] { deblurrer->deblur(frame, log, shutter, out); }, "reference frame's capture time");
+    deblurrer->setReferenceFrame(frame, still);
+    expectErrorNaming([&] { deblurrer->deblur(frame, log, RollingShutter(0.89, 0.005, 0, 48), out); }, "'frame'");
+    MotionCorrection wrong;
+    wrong.gyroBias = Vec3d(0, NAN, 0);
+    expectErrorNaming([&] { deblurrer->setCalibration(wrong); }, "gyroBias[1]");
+    // A still placed by time does not serve a plant's frames.
+    Ptr<DynamicDeblurrer> plantDeblurrer = DynamicDeblurrer::create(plant, camera);
+    plantDeblurrer->setReferenceFrame(frame, still);
+    expectErrorNaming([&] { plantDeblurrer->deblur(frame, SwitchSchedule({0.1}, {4}, 0), shutter, out); },
+                      "setReferenceFrame(still, angle)");
 }

@@ -21,7 +21,7 @@ inline double midExposure(const RollingShutter& shutter)
 /** @brief `motion` with a constant gyro bias b (rad/s, camera axes) removed from its rates, to first
 order in b: Q_b(t) = Q(t)·exp(−[b·(t − t0)]×), whose body rate is exp([b·(t − t0)]×)·ω(t) − b exactly.
 It equals re-integrating ω − b from t0 up to the bias's turn carried through the camera's own turn
-between t0 and t (|b|·|t − t0| times that angle: 0.5 °/s over 0.1 s and 1° of shake, 3e-6 rad). The
+between t0 and t (|b|·|t − t0| times that angle: 0.5 °/s over 0.1 s and 1° of shake, 1.5e-5 rad). The
 time span is `motion`'s. An empty `motion` or b = 0 returns `motion` itself. */
 Ptr<CameraMotion> withoutGyroBias(const Ptr<CameraMotion>& motion, const Vec3d& bias, double t0);
 

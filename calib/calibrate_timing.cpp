@@ -11,6 +11,8 @@
 // the result (TIMING_objective.png).
 #include "atomic_file.hpp"  // samples/support
 #include "cli_args.hpp"
+#include "gyro_recording.hpp"
+#include "gyro_timing.hpp"
 #include "plant_file.hpp"
 #include "plot.hpp"
 #include "recording.hpp"
@@ -63,6 +65,9 @@ static const char* const kUsage =
     "                       with --as-video the frames go to frames.avi (MJPG, as a C270 streams them)\n"
     "  --true-offset S --true-line-delay-scale X --true-hz-scale X --true-zeta-scale X --saccades N\n"
     "                       the truth that moved the camera (defaults 0.0012, 0.95, 1.03, 1.1, 4)\n"
+    "\n"
+    "Usage: dynblur_calibrate_timing --gyro LOG --video V --frames FRAMES.csv [options]\n";
+static const char* const kUsageTail =
     "Exit status: 0 calibrated (or simulated), 1 bad or unusable recording (the message says why),\n"
     "2 bad usage.\n";
 
@@ -173,18 +178,23 @@ int main(int argc, char** argv)
 {
     try
     {
-        CliArgs args(argc, argv,
-                     {"recording", "video", "frames", "commands", "camera", "plant", "exposure", "line-delay", "refine",
-                      "max-frames", "max-offset", "out", "plot", "simulate", "true-offset", "true-line-delay-scale",
-                      "true-hz-scale", "true-zeta-scale", "saccades"},
-                     {"help", "no-png", "as-video"});
+        std::set<std::string> valued{"recording", "video", "frames", "commands", "camera", "plant", "exposure",
+                                     "line-delay", "refine", "max-frames", "max-offset", "out", "plot", "simulate",
+                                     "true-offset", "true-line-delay-scale", "true-hz-scale", "true-zeta-scale",
+                                     "saccades"};
+        valued.insert(gyroTimingOptionNames().begin(), gyroTimingOptionNames().end());
+        CliArgs args(argc, argv, valued, {"help", "no-png", "as-video"});
         if (args.has("help"))
         {
-            std::cout << kUsage;
+            std::cout << kUsage << kGyroTimingHelp << kGyroOptionsHelp << kUsageTail;
             return 0;
         }
         if (args.has("simulate"))
             return simulate(args, args.str("simulate", ""));
+        if (args.has("simulate-gyro"))
+            return simulateGyroTiming(args);
+        if (args.has("gyro"))
+            return calibrateGyroTiming(args, std::string(DYNBLUR_CALIB_DIR) + "/c270_nominal.xml");
         if (!OpenedRecording::named(args))
             return usageError("--recording DIR, or --video, --frames and --commands, are required");
         int flags = 0;

@@ -9,6 +9,7 @@
 #include "atomic_file.hpp"  // samples/support
 #include "cli_args.hpp"
 #include "frame_timing.hpp"
+#include "gyro_recording.hpp"
 #include "plant_file.hpp"
 #include "recording.hpp"
 
@@ -58,6 +59,13 @@ static const char* const kUsage =
     "  --out FILE           restored video (default restored.avi; MJPG at the frame log's rate)\n"
     "  --csv FILE           per-frame log (default: OUT's name with .csv)\n"
     "  --help               this help\n"
+    "\n"
+    "Usage: dynblur_restore_video --gyro LOG --video V --frames FRAMES.csv [options]\n"
+    "A recording whose motion is a gyro log: every frame is restored with the log's motion, on the clock,\n"
+    "line delay and bias of --timing (dynblur_calibrate_timing --gyro; without it, as the logs tell), to\n"
+    "the view at its middle row's mid-exposure. --camera, --timing, --exposure, --line-delay, --model, --out\n"
+    "and --csv as above; frames the log shows still pass through.\n"
+    "%GYRO%"
     "Output is written to temporary files and renamed into place only when the whole recording is done.\n"
     "Exit status: 0 restored, 1 bad or unusable recording (the message says why), 2 bad usage.\n";
 
@@ -68,6 +76,87 @@ static int usageError(const std::string& message)
 }
 
 const size_t kSheetRows = 6;
+
+//! The frame-rate setting (DeblurQuality checks its quality): rows, 10 iterations, color at half resolution.
+static void useFrameRateSetting(DynamicDeblurrer& deblurrer)
+{
+    deblurrer.setPsfModel(PSF_ROWS);
+    RLParams params = deblurrer.getRLParams();
+    params.iterations = 10;
+    params.colorIterations = 3;
+    params.blurPrecision = RL_BLUR_BFLOAT16;
+    deblurrer.setRLParams(params);
+    deblurrer.setColorResolution(DEBLUR_COLOR_HALF_RESOLUTION);
+}
+
+/* --gyro: each frame restored with the gyro log's motion as --timing corrects it; the video and a CSV
+   of each frame's window, written whole. */
+static int restoreGyroRecording(const CliArgs& args, const std::string& model)
+{
+    GyroRecording recording;
+    GyroRecording::open(args, std::string(DYNBLUR_CALIB_DIR) + "/c270_nominal.xml", recording);
+    if (args.has("refine") && args.str("refine", "") != "none")
+        return usageError("--refine: a gyro recording is restored with --timing's calibration (per-frame "
+                          "refinement needs stills: DynamicDeblurrer::setReferenceFrame(still, stillShutter))");
+    const std::string videoOut = args.str("out", "restored.avi"), csvOut = args.str("csv", pathStem(videoOut) + ".csv");
+    Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(recording.camera);
+    if (model == "rows")
+        useFrameRateSetting(*deblurrer);
+    MotionCorrection calibration;
+    if (!recording.timingPath.empty())
+        calibration = TimingCalibration::load(recording.timingPath).correction, deblurrer->setCalibration(calibration);
+    const std::vector<FrameRecord>& log = recording.log;
+    const double fps = log.size() > 1 ? (log.size() - 1) / (log.back().frameStart - log.front().frameStart) : 30.0;
+    const std::string videoTemporary = temporaryPathFor(videoOut), csvTemporary = temporaryPathFor(csvOut);
+    try
+    {
+        VideoWriter writer(videoTemporary, VideoWriter::fourcc('M', 'J', 'P', 'G'), fps,
+                           recording.camera->getImageSize(), true);
+        if (!writer.isOpened())
+            CV_Error(Error::StsError, "--out: cannot write a video to '" + videoOut + "'");
+        std::ofstream csv(csvTemporary);
+        csv << "frame,window,restored,time_offset,line_delay_scale,bias_x,bias_y,bias_z\n";
+        const Vec2d span = recording.motion->getTimeSpan();
+        Mat restored;
+        for (const FrameRecord& f : log)
+        {
+            const RollingShutter shutter = GyroRecording::shutterOf(f, recording.camera->getImageSize().height);
+            const Vec2d readout = calibration.correctShutter(shutter).readoutInterval();
+            if (!(readout[0] >= span[0] && readout[1] <= span[1]))
+                CV_Error(Error::StsOutOfRange,
+                         format("--timing: with its clock offset %+.6f s, frame %d is read outside the gyro log's "
+                                "time span [%.6f, %.6f] s",
+                                calibration.timeOffset, f.frame, span[0], span[1]));
+            const Mat image = recording.read(f);
+            deblurrer->deblur(image, recording.motion, shutter, restored);
+            const MotionCorrection c = deblurrer->getLastCorrection();
+            Mat color = restored;
+            if (restored.channels() == 1)
+                cvtColor(restored, color, COLOR_GRAY2BGR);
+            writer.write(color);
+            csv << format("%d,%s,%d,%.9f,%.6f,%.6g,%.6g,%.6g\n", f.frame,
+                          exposureWindowName(deblurrer->getLastExposureWindow()),
+                          int(deblurrer->getLastExposureWindow() != EXPOSURE_IV && c.applied), c.timeOffset,
+                          c.lineDelayScale, c.gyroBias[0], c.gyroBias[1], c.gyroBias[2]);
+            std::printf("\rframe %d of %zu", f.frame + 1, log.size());
+            std::fflush(stdout);
+        }
+        writer.release();
+        csv.close();
+        if (!csv)
+            CV_Error(Error::StsError, "--csv: cannot write '" + csvOut + "'");
+        renameIntoPlace(videoTemporary, videoOut);
+        renameIntoPlace(csvTemporary, csvOut);
+    }
+    catch (...)
+    {
+        std::remove(videoTemporary.c_str());
+        std::remove(csvTemporary.c_str());
+        throw;
+    }
+    std::printf("\nwrote %s, %s\n", videoOut.c_str(), csvOut.c_str());
+    return 0;
+}
 
 //! One row of the contact sheet: the frame and its restoration, 480 px wide each, labelled.
 static Mat sheetRow(const Mat& blurred, const Mat& restored, int frame, const MotionCorrection& c)
@@ -96,20 +185,24 @@ int main(int argc, char** argv)
     std::string videoOut, csvOut, videoTemporary, csvTemporary, sheetTemporary;
     try
     {
-        CliArgs args(argc, argv,
-                     {"recording", "video", "frames", "commands", "camera", "plant", "timing", "exposure", "line-delay", "refine",
-                      "model", "out", "csv", "no-still-after"},
-                     {"help"});
+        std::set<std::string> valued{"recording", "video", "frames", "commands", "camera", "plant", "timing",
+                                     "exposure", "line-delay", "refine", "model", "out", "csv", "no-still-after"};
+        valued.insert(gyroOptionNames().begin(), gyroOptionNames().end());
+        CliArgs args(argc, argv, valued, {"help"});
         if (args.has("help"))
         {
-            std::cout << kUsage;
+            std::string usage = kUsage;
+            usage.replace(usage.find("%GYRO%"), 6, kGyroOptionsHelp);
+            std::cout << usage;
             return 0;
         }
-        if (!OpenedRecording::named(args))
-            return usageError("--recording DIR, or --video, --frames and --commands, are required");
         const std::string model = args.str("model", "rows");
         if (model != "rows" && model != "tiles")
             return usageError("--model must be rows or tiles");
+        if (args.has("gyro"))
+            return restoreGyroRecording(args, model);
+        if (!OpenedRecording::named(args))
+            return usageError("--recording DIR, or --video, --frames and --commands, are required");
         const std::string noStillAfterMode = args.str("no-still-after", "as-told");
         if (noStillAfterMode != "as-told" && noStillAfterMode != "unchanged")
             return usageError("--no-still-after must be as-told or unchanged");
@@ -131,16 +224,7 @@ int main(int argc, char** argv)
         const Ptr<Plant> correctedPlant = calibration.correctPlant(plant);
         Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
         if (model == "rows")
-        {
-            // The frame-rate setting (DeblurQuality checks its quality).
-            deblurrer->setPsfModel(PSF_ROWS);
-            RLParams params = deblurrer->getRLParams();
-            params.iterations = 10;
-            params.colorIterations = 3;
-            params.blurPrecision = RL_BLUR_BFLOAT16;
-            deblurrer->setRLParams(params);
-            deblurrer->setColorResolution(DEBLUR_COLOR_HALF_RESOLUTION);
-        }
+            useFrameRateSetting(*deblurrer);
         deblurrer->setRefinement(flags);
         if (!timingPath.empty())
             deblurrer->setCalibration(calibration);

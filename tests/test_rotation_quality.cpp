@@ -3,6 +3,7 @@
 #include "image_metrics.hpp"
 #include "rotation_motion.hpp"
 #include "saccade_scene.hpp"
+#include "shake_scene.hpp"
 #include "test_common.hpp"
 
 #include <gtest/gtest.h>
@@ -15,41 +16,9 @@
 using namespace cv;
 using namespace cv::dynblur;
 using dynblur_samples::maskedPsnr;
+using dynblur_test::ShakeScene;
 
 namespace {
-
-/* A 640×480 camera at f = 600 px (56° across) held by a shaking hand: the view at Q_ref of a
-   natural image, wider than the frame by kMargin on each side so the shake never looks past it. */
-struct ShakeScene
-{
-    static constexpr int kMargin = 64;
-    Ptr<CameraModel> camera = CameraModel::create(600, 600, 319.5, 239.5, 640, 480);
-    Ptr<CameraMotion> motion;
-    Mat sceneLinear, truth;
-
-    ShakeScene(const std::string& imagePath, double peakRateDegPerSec) : motion(dynblur_test::handShake(peakRateDegPerSec))
-    {
-        const Size sceneSize(640 + 2 * kMargin, 480 + 2 * kMargin);
-        const Mat image = imread(imagePath, IMREAD_COLOR);
-        Mat scaled;
-        const double zoom = std::max(1.0 * sceneSize.width / image.cols, 1.0 * sceneSize.height / image.rows);
-        resize(image, scaled, Size(), zoom, zoom, INTER_AREA);
-        const Mat scene = scaled(Rect((scaled.cols - sceneSize.width) / 2, (scaled.rows - sceneSize.height) / 2,
-                                      sceneSize.width, sceneSize.height));
-        srgbToLinear(scene, sceneLinear);
-        truth = scene(Rect(kMargin, kMargin, 640, 480)).clone();
-    }
-
-    //! The 8-bit frame: the forward model, Poisson and read noise, sRGB.
-    Mat capture(const RollingShutter& shutter, uint64 seed) const
-    {
-        Mat blurred, noisy, frame;
-        renderBlurred(sceneLinear, motion, camera, shutter, blurred);
-        addSensorNoise(blurred, noisy, 4000.0, 8.0, 5.0, seed);
-        linearToSrgb(noisy, frame, CV_8U);
-        return frame;
-    }
-};
 
 struct Figures
 {

@@ -41,6 +41,7 @@ REFINE_TIME_OFFSET: int
 REFINE_LINE_DELAY: int
 REFINE_PLANT: int
 REFINE_ALL: int
+REFINE_GYRO_BIAS: int
 
 class SwitchSchedule:
     times: list[float]
@@ -260,6 +261,7 @@ class MotionCorrection:
     lineDelayScale: float
     naturalFreqScale: float
     dampingScale: float
+    gyroBias: tuple[float, float, float]
     consistency: float
     held: int
     stillGain: float
@@ -277,6 +279,7 @@ class TimingCalibration:
     lineDelayScaleStd: float
     naturalFreqScaleStd: float
     dampingScaleStd: float
+    gyroBiasStd: tuple[float, float, float]
     frameUsed: list[int]
     frameConsistency: list[float]
     scanTimeOffsets: list[float]
@@ -286,9 +289,15 @@ class TimingCalibration:
     @staticmethod
     def load(filename: str) -> TimingCalibration: ...
 
+@overload
 def calibrateTiming(plant: Plant, camera: CameraModel, references: Sequence[ArrayLike], frames: Sequence[ArrayLike],
                     schedules: Sequence[SwitchSchedule], shutters: Sequence[RollingShutter], flags: int = 3,
                     referenceAngles: Sequence[float] = ..., maxTimeOffset: float = 0.02,
+                    maxConsistency: float = 3.0) -> TimingCalibration: ...
+@overload
+def calibrateTiming(motion: CameraMotion, camera: CameraModel, references: Sequence[ArrayLike],
+                    frames: Sequence[ArrayLike], shutters: Sequence[RollingShutter],
+                    referenceShutters: Sequence[RollingShutter], flags: int = 3, maxTimeOffset: float = 0.02,
                     maxConsistency: float = 3.0) -> TimingCalibration: ...
 def motionConsistency(plant: Plant, camera: CameraModel, reference: ArrayLike, frame: ArrayLike,
                       schedule: SwitchSchedule, shutter: RollingShutter, candidates: Sequence[MotionCorrection],
@@ -329,7 +338,10 @@ class DynamicDeblurrer:
     def getPsfGenerator(self) -> PsfGenerator: ...
     def getRefinement(self) -> int: ...
     def setRefinement(self, flags: int) -> None: ...
+    @overload
     def setReferenceFrame(self, still: ArrayLike, angle: float = ...) -> None: ...
+    @overload
+    def setReferenceFrame(self, still: ArrayLike, stillShutter: RollingShutter) -> None: ...
     def setReferenceFrames(self, before: ArrayLike | None, after: ArrayLike | None, angleBefore: float = ...,
                            angleAfter: float = ...) -> None: ...
     def clearReferenceFrame(self) -> None: ...

@@ -467,6 +467,15 @@ dtype; a window-IV frame comes back unchanged), or (restored, validMask) with re
             py::arg("still"), py::arg("angle") = kNaN,
             R"doc(The still frame the next frames are compared with (same stream: dtype and channels), taken at
 `angle` radians (NaN: each frame's schedule's initial resting angle).)doc")
+        .def("setReferenceFrame",
+            [](DynamicDeblurrer& db, py::handle still, const RollingShutter& stillShutter) {
+                MatIn s = toMat(still, "still");
+                py::gil_scoped_release release;
+                db.setReferenceFrame(s.mat, stillShutter);
+            },
+            py::arg("still"), py::arg("stillShutter"),
+            R"doc(The still frame for a measured motion's frames, placed by its capture time: the orientation at the
+middle row's mid-exposure of stillShutter (the frames' clock, moved by the refined clock offset).)doc")
         .def("setReferenceFrames",
             [](DynamicDeblurrer& db, py::handle before, py::handle after, double angleBefore, double angleAfter) {
                 MatIn b, a;

@@ -19,6 +19,7 @@ std::string repr(const MotionCorrection& c)
     std::ostringstream o;
     o << "MotionCorrection(timeOffset=" << c.timeOffset << ", lineDelayScale=" << c.lineDelayScale
       << ", naturalFreqScale=" << c.naturalFreqScale << ", dampingScale=" << c.dampingScale
+      << ", gyroBias=(" << c.gyroBias[0] << ", " << c.gyroBias[1] << ", " << c.gyroBias[2] << ")"
       << ", consistency=" << c.consistency << ", held=" << c.held << ", stillGain=" << c.stillGain << ", applied=" << (c.applied ? "True" : "False") << ", reason='"
       << c.reason << "')";
     return o.str();
@@ -46,6 +47,7 @@ void bindRefinement(py::module_& m)
     m.attr("REFINE_LINE_DELAY") = int(REFINE_LINE_DELAY);
     m.attr("REFINE_PLANT") = int(REFINE_PLANT);
     m.attr("REFINE_ALL") = int(REFINE_ALL);
+    m.attr("REFINE_GYRO_BIAS") = int(REFINE_GYRO_BIAS);
 
     py::class_<MotionCorrection>(m, "MotionCorrection", R"doc(A correction of the predicted motion: the shutter
 starts timeOffset seconds later and reads its rows with lineDelayScale times the line delay; the
@@ -64,6 +66,8 @@ plant has naturalFreqScale times ωn and dampingScale times ζ.)doc")
         .def_readwrite("lineDelayScale", &MotionCorrection::lineDelayScale, "x the shutter's lineDelay")
         .def_readwrite("naturalFreqScale", &MotionCorrection::naturalFreqScale, "x the plant's natural frequency")
         .def_readwrite("dampingScale", &MotionCorrection::dampingScale, "x the plant's damping ratio")
+        .def_readwrite("gyroBias", &MotionCorrection::gyroBias,
+                       "a measured motion's gyro bias, rad/s, camera axes, removed from its rates")
         .def_readwrite("consistency", &MotionCorrection::consistency,
                        "RMS of the frame minus the reference carried through the corrected blur, in noise standard "
                        "deviations (about 1 when the model is right; NaN: not measured)")
@@ -93,6 +97,7 @@ plant has naturalFreqScale times ωn and dampingScale times ζ.)doc")
         .def_readwrite("lineDelayScaleStd", &TimingCalibration::lineDelayScaleStd)
         .def_readwrite("naturalFreqScaleStd", &TimingCalibration::naturalFreqScaleStd)
         .def_readwrite("dampingScaleStd", &TimingCalibration::dampingScaleStd)
+        .def_readwrite("gyroBiasStd", &TimingCalibration::gyroBiasStd, "rad/s (a measured motion's bias)")
         .def_readwrite("frameUsed", &TimingCalibration::frameUsed, "1 for each frame in the fit, else 0")
         .def_readwrite("frameConsistency", &TimingCalibration::frameConsistency,
                        "each frame's consistency at the result (NaN: a still frame)")
@@ -121,6 +126,23 @@ plant has naturalFreqScale times ωn and dampingScale times ζ.)doc")
 from several frames each paired with a still frame (before the move for a frame that starts at rest,
 after it for one that ends at rest). referenceAngles: radians, empty = each schedule's initial
 resting angle. Returns a TimingCalibration.)doc");
+
+    m.def("calibrateTiming",
+        [](const std::shared_ptr<CameraMotion>& motion, const std::shared_ptr<CameraModel>& camera,
+           py::handle references, py::handle frames, const std::vector<RollingShutter>& shutters,
+           const std::vector<RollingShutter>& referenceShutters, int flags, double maxTimeOffset,
+           double maxConsistency) {
+            const std::vector<cv::Mat> stills = toMats(references, "references"), blurred = toMats(frames, "frames");
+            py::gil_scoped_release release;
+            return calibrateTiming(required(motion, "motion"), required(camera, "camera"), stills, blurred, shutters,
+                                   referenceShutters, flags, maxTimeOffset, maxConsistency);
+        },
+        py::arg("motion"), py::arg("camera"), py::arg("references"), py::arg("frames"), py::arg("shutters"),
+        py::arg("referenceShutters"), py::arg("flags") = int(REFINE_TIME_OFFSET | REFINE_LINE_DELAY),
+        py::arg("maxTimeOffset") = 0.02, py::arg("maxConsistency") = 3.0,
+        R"doc(The clock offset, line delay (and, with REFINE_GYRO_BIAS, the gyro bias) of a recording whose
+motion was measured (a gyro log's CameraMotion), from frames each paired with a still placed by its
+capture time (the mid-exposure of its shutter in referenceShutters). Returns a TimingCalibration.)doc");
 
     m.def("motionConsistency",
         [](const std::shared_ptr<Plant>& plant, const std::shared_ptr<CameraModel>& camera, py::handle reference,

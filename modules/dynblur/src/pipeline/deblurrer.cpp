@@ -2,6 +2,7 @@
 
 #include "imaging/psf_generator.hpp"
 #include "motion/camera_motion.hpp"
+#include "motion/corrected_motion.hpp"
 #include "pipeline/blind_fit.hpp"
 #include "pipeline/half_color.hpp"
 #include "pipeline/motion_fit.hpp"
@@ -77,27 +78,21 @@ public:
             return deblur(frame, plantMotion->schedule(), shutter, restored, plantMotion->referenceAngle(tRef),
                           validMask);
         }
-        // A measured motion has no plant to scale; the calibration's clock offset and line delay hold.
-        lastCorrection_ = MotionCorrection();
-        lastCorrection_.timeOffset = calibration_.timeOffset;
-        lastCorrection_.lineDelayScale = calibration_.lineDelayScale;
-        lastCorrection_.reason = calibrated_ ? "a measured motion: the calibration's clock offset and line delay "
-                                               "(not refined per frame)"
-                                             : "a measured motion: restored as given (its clock offset and the line "
-                                               "delay are not refined per frame)";
+        lastCorrection_ = correctMeasured(input, motion, shutter);
         const RollingShutter corrected = lastCorrection_.correctShutter(shutter);
         detail::checkMotionCovers(motion, corrected.readoutInterval(), "DynamicDeblurrer::deblur", "motion");
         lastWindow_ = classifyExposure(motion, corrected);
-        restoreFrame(input, detail::ViewMotion::of(motion, tRef, corrected), corrected, restored, validMask);
+        restoreFrame(input, detail::correctedView(motion, lastCorrection_, tRef, corrected), corrected, restored,
+                     validMask);
     }
 
     int getRefinement() const CV_OVERRIDE { return refinement_; }
     void setRefinement(int flags) CV_OVERRIDE
     {
-        if (flags < REFINE_NONE || flags > REFINE_ALL)
+        if (flags < REFINE_NONE || flags > (REFINE_ALL | REFINE_GYRO_BIAS))
             CV_Error(Error::StsOutOfRange,
                      format("DynamicDeblurrer::setRefinement: flags = %d must combine REFINE_TIME_OFFSET (1), "
-                            "REFINE_LINE_DELAY (2) and REFINE_PLANT (4): a value in [0, 7]",
+                            "REFINE_LINE_DELAY (2), REFINE_PLANT (4) and REFINE_GYRO_BIAS (8): a value in [0, 15]",
                             flags));
         refinement_ = flags;
     }
@@ -105,6 +100,15 @@ public:
     {
         const char* fn = "DynamicDeblurrer::setReferenceFrame";
         setStills(fn, still.getMat(), "still", angle, "angle", Mat(), "", kNaN, "");
+        single_ = true;
+    }
+    void setReferenceFrame(InputArray still, const RollingShutter& stillShutter) CV_OVERRIDE
+    {
+        const char* fn = "DynamicDeblurrer::setReferenceFrame";
+        const Mat image = still.getMat();
+        detail::checkShutter(stillShutter, fn, "stillShutter.", image.empty() ? 0 : image.rows);
+        setStills(fn, image, "still", kNaN, "angle", Mat(), "", kNaN, "");
+        stills_[0].time = detail::midExposure(stillShutter);
         single_ = true;
     }
     void setReferenceFrames(InputArray before, InputArray after, double angleBefore, double angleAfter) CV_OVERRIDE
@@ -144,6 +148,7 @@ public:
         calibration_.lineDelayScale = correction.lineDelayScale;
         calibration_.naturalFreqScale = correction.naturalFreqScale;
         calibration_.dampingScale = correction.dampingScale;
+        calibration_.gyroBias = correction.gyroBias;
         calibrated_ = true;
     }
     double getConsistencyLimit() const CV_OVERRIDE { return consistencyLimit_; }
@@ -387,6 +392,11 @@ private:
                      format("DynamicDeblurrer::deblur: 'frame' is %s but the reference frame is %s; both must come "
                             "from the same stream (or call clearReferenceFrame)",
                             typeToString(input.type()).c_str(), typeToString(referenceType_).c_str()));
+        if (!std::isnan(stills_[0].time))
+            CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: the reference frame was placed by its capture time "
+                                       "(setReferenceFrame(still, stillShutter)), which serves a measured motion; "
+                                       "for a plant's frames give the angle it was taken at: "
+                                       "setReferenceFrame(still, angle)");
         const int window =
             classifyExposure(correction.correctPlant(plant_), schedule, correction.correctShutter(shutter));
         if (window == EXPOSURE_IV)
@@ -422,22 +432,77 @@ private:
                                : chosen.size() == 2 ? "the stills before and after the move"
                                : chosen[0] == 0   ? "the still before the move"
                                                   : "the still after the move";
-        return fitAgainst(frames, against, correction);
+        detail::FitSettings settings;
+        settings.flags = refinement_ & REFINE_ALL;
+        // From a recording's calibration only the frame's jitter is left to find: the fine level's fit alone.
+        settings.coarse = !(settings.flags == REFINE_TIME_OFFSET && calibrated_);
+        settings.deviation = false;
+        return fitAgainst(frames, against, correction, settings);
+    }
+
+    /* The correction for a frame of a measured motion: the calibration (its clock offset, line delay
+       and gyro bias), refined against the still placed by its capture time when there is one and the
+       frame moves, and refused (applied = false) as fitAgainst decides. */
+    MotionCorrection correctMeasured(const Mat& input, const Ptr<CameraMotion>& motion, const RollingShutter& shutter)
+    {
+        const char* fn = "DynamicDeblurrer::deblur";
+        MotionCorrection correction = calibration_;
+        correction.naturalFreqScale = correction.dampingScale = 1;  // no plant to scale
+        const Still& still = stills_[0].present() ? stills_[0] : stills_[1];
+        if (!still.present())
+        {
+            correction.reason = calibrated_ ? "a measured motion without a reference frame: the calibration's clock "
+                                              "offset, line delay and gyro bias"
+                                            : "a measured motion without a reference frame: restored as given";
+            return correction;
+        }
+        if (input.type() != referenceType_)
+            CV_Error(Error::StsUnmatchedFormats,
+                     format("%s: 'frame' is %s but the reference frame is %s; both must come from the same stream "
+                            "(or call clearReferenceFrame)",
+                            fn, typeToString(input.type()).c_str(), typeToString(referenceType_).c_str()));
+        if (std::isnan(still.time))
+            CV_Error(Error::StsBadArg, format("%s: a measured motion's reference frame is placed by its capture "
+                                              "time: set it with setReferenceFrame(still, stillShutter), not with "
+                                              "an angle",
+                                              fn));
+        if (classifyExposure(motion, correction.correctShutter(shutter)) == EXPOSURE_IV)
+        {
+            correction.reason = "still frame: nothing to refine";
+            return correction;
+        }
+        detail::FitSettings settings;
+        settings.flags = refinement_ & (REFINE_TIME_OFFSET | REFINE_LINE_DELAY | REFINE_GYRO_BIAS);
+        settings.maxTimeOffset = kMeasuredMaxTimeOffset;
+        settings.scanStep = kMeasuredScanStep;
+        settings.coarse = !(settings.flags == REFINE_TIME_OFFSET && calibrated_);
+        settings.deviation = false;
+        const double margin = settings.flags & REFINE_TIME_OFFSET ? settings.maxTimeOffset : 0.0;
+        detail::checkMotionCoversSearch(motion, correction.correctShutter(shutter), margin, fn, "'frame'");
+        const Vec2d span = motion->getTimeSpan();
+        if (!(still.time + correction.timeOffset - margin >= span[0] &&
+              still.time + correction.timeOffset + margin <= span[1]))
+            CV_Error(Error::StsOutOfRange,
+                     format("%s: the reference frame's capture time %.6f s (plus the clock offset %+.6f s, within "
+                            "%.6f s of search) lies outside the time span of 'motion', [%.6f, %.6f] s",
+                            fn, still.time, correction.timeOffset, margin, span[0], span[1]));
+        detail::FitFrame fit;
+        fit.reference = &still.pyramid;
+        fit.frame = detail::buildPyramid(detail::linearLuminance(input), camera_, detail::kFitCoarseWidth, false);
+        fit.shutter = shutter;
+        fit.motion = motion;
+        fit.referenceTime = still.time;
+        return fitAgainst({fit}, "the reference frame", correction, settings);
     }
 
     /* The calibration refined against `frames` (each frame with its still) and the decision: refused
        (applied = false) when the fit stops at a search bound, or when even the best correction leaves
        the frame inconsistent with the still. */
     MotionCorrection fitAgainst(const std::vector<detail::FitFrame>& frames, const String& against,
-                                MotionCorrection correction) const
+                                MotionCorrection correction, const detail::FitSettings& settings) const
     {
-        if (refinement_ != REFINE_NONE)
+        if (settings.flags != REFINE_NONE)
         {
-            detail::FitSettings settings;
-            settings.flags = refinement_;
-            // From a recording's calibration only the frame's jitter is left to find: the fine level's fit alone.
-            settings.coarse = !(refinement_ == REFINE_TIME_OFFSET && calibrated_);
-            settings.deviation = false;
             const detail::FitResult result = detail::fitMotionCorrection(plant_, frames, correction, settings);
             correction = result.correction;
             correction.held = result.held;
@@ -595,6 +660,12 @@ private:
        found restores worse than the model as told (a small offset, drifts of the plant) up to 62 %;
        where it restores better, from 91 % (most above 120 %). */
     static constexpr double kBlindDecisive = 0.8;
+    /* A measured motion's frame is refined within this clock offset of its calibration, seconds: a
+       gyro log's timestamps can be tens of milliseconds off the camera's (DeepGyro calibrated 22 ms),
+       so a plant's ±3 ms will not do; a frame calibrated over its recording first needs less. */
+    static constexpr double kMeasuredMaxTimeOffset = 0.015;
+    // ... scanned in steps of this, seconds: a hand's shake changes the blur over milliseconds.
+    static constexpr double kMeasuredScanStep = 0.001;
     int refinement_ = REFINE_ALL;
     bool blind_ = false;
     double blindLimit_ = std::numeric_limits<double>::infinity();
@@ -606,6 +677,7 @@ private:
     {
         detail::LuminancePyramid pyramid;
         double angle = kNaN;  // radians; NaN: the schedule's resting angle on its side of the move
+        double time = kNaN;   // a measured motion's still: its capture time (mid-exposure), seconds; else NaN
         bool present() const { return pyramid.levels() > 0; }
     };
     Still stills_[2];         // before the move, after it

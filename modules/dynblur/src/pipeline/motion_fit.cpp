@@ -1,9 +1,9 @@
 // Fitting a MotionCorrection: the reference carried through the predicted blur, compared with the frame.
 #include "precomp.hpp"
 
+#include "imaging/psf_generator.hpp"
+#include "motion/corrected_motion.hpp"
 #include "restore/deconv_operator.hpp"
-#include "restore/deconv_rl.hpp"
-#include "pipeline/half_color.hpp"
 #include "pipeline/motion_fit.hpp"
 
 #include <opencv2/imgproc.hpp>
@@ -12,51 +12,6 @@
 namespace cv {
 namespace dynblur {
 namespace detail {
-
-Mat linearLuminance(const Mat& frame)
-{
-    Mat linear = frame;
-    if (frame.depth() == CV_8U)
-        srgbToLinear(frame, linear);
-    if (linear.channels() == 1)
-        return linear;
-    Mat weights = Mat::zeros(1, linear.channels(), CV_32F);
-    weights.colRange(0, 3).setTo(1.0 / 3);  // color only: alpha is coverage, not light
-    Mat luminance;
-    transform(linear, luminance, weights);
-    return luminance;
-}
-
-LuminancePyramid buildPyramid(const Mat& luminance, const Ptr<CameraModel>& camera, int coarsestWidth,
-                              bool estimateNoise)
-{
-    LuminancePyramid pyramid;
-    pyramid.images.push_back(luminance);
-    pyramid.cameras.push_back(camera);
-    while (pyramid.images.back().cols > coarsestWidth && pyramid.images.back().cols % 2 == 0 &&
-           pyramid.images.back().rows % 2 == 0)
-    {
-        Mat half;
-        resize(pyramid.images.back(), half, Size(), 0.5, 0.5, INTER_AREA);
-        pyramid.cameras.push_back(halfResolutionCamera(*pyramid.cameras.back()));
-        pyramid.images.push_back(half);
-    }
-    if (estimateNoise)
-    {
-        std::vector<Mat> pool;
-        for (const Mat& image : pyramid.images)
-            pyramid.noiseSigma.push_back(observeFrame(image, pool, true).noiseSigma);
-    }
-    return pyramid;
-}
-
-RollingShutter shutterAtLevel(const RollingShutter& shutter, int halvings)
-{
-    RollingShutter result = shutter;
-    for (int k = 0; k < halvings; k++)
-        result = halfResolutionShutter(result);
-    return result;
-}
 
 namespace {
 
@@ -71,19 +26,22 @@ int levelAtMostWide(const LuminancePyramid& pyramid, int width)
 
 /* The parameters in the units the fit works in, chosen so that a unit step moves the image by
    comparable amounts: the offset in milliseconds, the line delay and ωn in percent, ζ in tens of
-   percent (the blur is least sensitive to it). */
-const double kUnit[4] = {1e-3, 1e-2, 1e-2, 1e-1};
-const double kStep[4] = {0.1, 1, 1, 1};  // forward-difference steps, fit units
-const double kTolerance[4] = {0.01, 0.05, 0.05, 0.1};  // a step below these in every parameter ends a level
-// Scales are searched within these bounds, fit units (±15 % line delay, ±10 % ωn, ±50 % ζ).
-const double kScaleBound[4] = {0, 15, 10, 5};
+   percent (the blur is least sensitive to it), the gyro bias in mrad/s. */
+const double kUnit[kFitParameters] = {1e-3, 1e-2, 1e-2, 1e-1, 1e-3, 1e-3, 1e-3};
+const double kStep[kFitParameters] = {0.1, 1, 1, 1, 1, 1, 1};  // forward-difference steps, fit units
+// A step below these in every parameter ends a level.
+const double kTolerance[kFitParameters] = {0.01, 0.05, 0.05, 0.1, 0.1, 0.1, 0.1};
+/* Scales are searched within these bounds, fit units (±15 % line delay, ±10 % ωn, ±50 % ζ), and the
+   bias within ±40 mrad/s (2.3 °/s: a phone's gyro bias is a fraction of that). */
+const double kScaleBound[kFitParameters] = {0, 15, 10, 5, 40, 40, 40};
 /* A weak prior toward the start, fit units: it decides only parameters that the frames do not
-   observe (a global shutter's line delay, ζ in a frame that sees no ringing). */
-const double kPriorDeviation[4] = {2, 10, 5, 3};
+   observe (a global shutter's line delay, ζ in a frame that sees no ringing, a bias over a short
+   still-to-frame interval). */
+const double kPriorDeviation[kFitParameters] = {2, 10, 5, 3, 20, 20, 20};
 /* A parameter whose standard deviation after the coarse fit exceeds this (fit units: 0.3 ms, 3 %,
-   2 %, 25 %) is not observed by the frames (their moving rows see content the reference never
-   saw, or the motion they see does not depend on it): it keeps its start value. */
-const double kObservable[4] = {0.3, 3, 2, 2.5};
+   2 %, 25 %, 5 mrad/s) is not observed by the frames (their moving rows see content the reference
+   never saw, or the motion they see does not depend on it): it keeps its start value. */
+const double kObservable[kFitParameters] = {0.3, 3, 2, 2.5, 5, 5, 5};
 // ... unless resetting it raises the cost by more than this fraction.
 const double kUnobservedCostRise = 0.02;
 /* Residuals counted per independent one by the significance test of a change (significantDrop):
@@ -115,19 +73,27 @@ const float kSaturated = 0.99f;
 // The brightness gain between a frame and its still is sought within [1/kMaxGain, kMaxGain].
 const double kMaxGain = 2;
 
-Vec4d toFitUnits(const MotionCorrection& c)
+FitVector toFitUnits(const MotionCorrection& c)
 {
-    return Vec4d(c.timeOffset / kUnit[0], (c.lineDelayScale - 1) / kUnit[1], (c.naturalFreqScale - 1) / kUnit[2],
-                 (c.dampingScale - 1) / kUnit[3]);
+    FitVector q;
+    q[0] = c.timeOffset / kUnit[0];
+    q[1] = (c.lineDelayScale - 1) / kUnit[1];
+    q[2] = (c.naturalFreqScale - 1) / kUnit[2];
+    q[3] = (c.dampingScale - 1) / kUnit[3];
+    for (int i = 0; i < 3; i++)
+        q[4 + i] = c.gyroBias[i] / kUnit[4 + i];
+    return q;
 }
 
-MotionCorrection fromFitUnits(const Vec4d& q, const MotionCorrection& like)
+MotionCorrection fromFitUnits(const FitVector& q, const MotionCorrection& like)
 {
     MotionCorrection c = like;
     c.timeOffset = q[0] * kUnit[0];
     c.lineDelayScale = 1 + q[1] * kUnit[1];
     c.naturalFreqScale = 1 + q[2] * kUnit[2];
     c.dampingScale = 1 + q[3] * kUnit[3];
+    for (int i = 0; i < 3; i++)
+        c.gyroBias[i] = q[4 + i] * kUnit[4 + i];
     return c;
 }
 
@@ -174,6 +140,8 @@ public:
     //! Each frame's brightness gain over its still at the last residuals() (frame ≈ gain × still blurred).
     const std::vector<double>& gains() const { return gains_; }
     size_t frames() const { return frames_.size(); }
+    //! Whether the frames carry a measured motion (FitFrame::motion) rather than a plant's.
+    bool measured() const { return !frames_[0].motion.empty(); }
     int evaluations() const { return evaluations_; }
 
     /* Appends every frame's residuals under `c` to `out` (in mask order); `perFrame`, when given,
@@ -225,9 +193,22 @@ private:
         const Ptr<CameraModel>& camera = f.reference->cameras[size_t(level)];
         const Mat& reference = f.reference->images[size_t(level)];
         const RollingShutter shutter = shutterAtLevel(c.correctShutter(f.shutter), level);
-        Ptr<PsfGenerator> generator = PsfGenerator::create(c.correctPlant(plant_), camera);
-        generator->setTileGrid(Size(kFitTileColumns, 0));
-        const PsfBank bank = generator->generate(PSF_TILES, f.schedule, shutter, f.referenceAngle);
+        PsfBank bank;
+        if (f.motion)
+        {
+            // The still lies at its capture time on the same clock as the frame: the offset moves both.
+            Ptr<PsfGenerator> generator = PsfGenerator::create(camera);
+            generator->setTileGrid(Size(kFitTileColumns, 0));
+            bank = generatePsfBank(*generator, PSF_TILES, correctedView(f.motion, c, f.referenceTime + c.timeOffset,
+                                                                          shutter),
+                                   shutter);
+        }
+        else
+        {
+            Ptr<PsfGenerator> generator = PsfGenerator::create(c.correctPlant(plant_), camera);
+            generator->setTileGrid(Size(kFitTileColumns, 0));
+            bank = generator->generate(PSF_TILES, f.schedule, shutter, f.referenceAngle);
+        }
         std::unique_ptr<BlurOperator> op = createBankOperator(bank, false);
         op->forward(reference, predicted);
         if (ones_.size() != reference.size())
@@ -259,14 +240,14 @@ double squaredNorm(const std::vector<float>& r, size_t count)
 class LevelFit
 {
 public:
-    LevelFit(LevelResiduals& residuals, const std::vector<int>& active, const Vec4d& prior, const Vec4d& lower,
-             const Vec4d& upper, const MotionCorrection& like)
+    LevelFit(LevelResiduals& residuals, const std::vector<int>& active, const FitVector& prior, const FitVector& lower,
+             const FitVector& upper, const MotionCorrection& like)
         : r_(residuals), active_(active), prior_(prior), lower_(lower), upper_(upper), like_(like)
     {
     }
 
     //! Data plus prior cost at q; `data` receives the residual vector.
-    double cost(const Vec4d& q, std::vector<float>& data)
+    double cost(const FitVector& q, std::vector<float>& data)
     {
         data.clear();
         r_.residuals(fromFitUnits(q, like_), data);
@@ -281,7 +262,7 @@ public:
 
     /** Fits from q; `finalCost`, when given, receives the cost at the result; `covariance` is left
         zero unless `wantCovariance` (it costs a Jacobian at the result). */
-    Vec4d run(Vec4d q, int maxIterations, Matx44d& covariance, double* finalCost = nullptr,
+    FitVector run(FitVector q, int maxIterations, FitMatrix& covariance, double* finalCost = nullptr,
               bool wantCovariance = true)
     {
         std::vector<float> current, shifted;
@@ -301,7 +282,7 @@ public:
                     damped.at<double>(a, a) += lambda * jtj.at<double>(a, a) + 1e-9;
                 Mat delta;
                 solve(damped, -jtr, delta, DECOMP_CHOLESKY);
-                Vec4d candidate = q;
+                FitVector candidate = q;
                 converged = true;
                 for (int a = 0; a < n; a++)
                 {
@@ -325,7 +306,7 @@ public:
                 break;
         }
         // Curvature at the result: the parameters' covariance for independent pixel noise.
-        covariance = Matx44d::zeros();
+        covariance = FitMatrix::zeros();
         if (n > 0 && wantCovariance)
         {
             jacobianProducts(q, current, jtj, jtr, true);
@@ -344,7 +325,7 @@ public:
 
     /* The data's information about the active parameters at q (JᵀJ of the residuals in noise
        units, without the prior, over the residual's mean square): their inverse covariance. */
-    Mat information(const Vec4d& q)
+    Mat information(const FitVector& q)
     {
         std::vector<float> at;
         cost(q, at);
@@ -362,7 +343,7 @@ public:
 private:
     /* JᵀJ and Jᵀr of the data at q (forward differences; `at` holds the data at q), and of the prior
        when `withPrior`. */
-    void jacobianProducts(const Vec4d& q, const std::vector<float>& at, Mat& jtj, Mat& jtr, bool withPrior)
+    void jacobianProducts(const FitVector& q, const std::vector<float>& at, Mat& jtj, Mat& jtr, bool withPrior)
     {
         const int n = int(active_.size());
         std::vector<std::vector<float>> columns(static_cast<size_t>(n));
@@ -370,7 +351,7 @@ private:
         for (int a = 0; a < n; a++)
         {
             const int j = active_[size_t(a)];
-            Vec4d moved = q;
+            FitVector moved = q;
             // Step inward at an upper bound, so the difference is taken inside the box.
             const double h = q[j] + kStep[j] <= upper_[j] ? kStep[j] : -kStep[j];
             moved[j] += h;
@@ -403,30 +384,30 @@ private:
     LevelResiduals& r_;
     std::vector<float> startData_, finalData_;
     std::vector<int> active_;
-    Vec4d prior_, lower_, upper_;
+    FitVector prior_, lower_, upper_;
     MotionCorrection like_;
 };
 
 /* The deepest local minima of the coarse objective over the offset's scan, deepest first, at most
    `count`. With the plant refined the scan is repeated at ωn scaled by ±kScanFrequencyStep: an error
    in ωn delays the end of a move by a growing amount, which the offset alone cannot match. */
-std::vector<Vec4d> scanStarts(LevelResiduals& coarse, const Vec4d& prior, const MotionCorrection& start,
+std::vector<FitVector> scanStarts(LevelResiduals& coarse, const FitVector& prior, const MotionCorrection& start,
                               const FitSettings& settings, size_t count)
 {
     const int steps = int(std::ceil(settings.maxTimeOffset / settings.scanStep));
     std::vector<double> frequencies{prior[2]};
-    if (settings.flags & REFINE_PLANT)
+    if ((settings.flags & REFINE_PLANT) && !coarse.measured())
         frequencies = {prior[2] - kScanFrequencyStep, prior[2], prior[2] + kScanFrequencyStep};
-    std::vector<Vec4d> minima;
+    std::vector<FitVector> minima;
     std::vector<double> minimumCosts;
     std::vector<float> data;
     for (double frequency : frequencies)
     {
-        std::vector<Vec4d> candidates;
+        std::vector<FitVector> candidates;
         std::vector<double> costs;
         for (int k = -steps; k <= steps; k++)
         {
-            Vec4d candidate = prior;
+            FitVector candidate = prior;
             candidate[0] = prior[0] + k * settings.scanStep / kUnit[0];
             candidate[2] = frequency;
             data.clear();
@@ -442,7 +423,7 @@ std::vector<Vec4d> scanStarts(LevelResiduals& coarse, const Vec4d& prior, const 
     for (size_t k = 0; k < order.size(); k++)
         order[k] = k;
     std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return minimumCosts[a] < minimumCosts[b]; });
-    std::vector<Vec4d> starts;
+    std::vector<FitVector> starts;
     for (size_t k = 0; k < order.size() && k < count; k++)
         starts.push_back(minima[order[k]]);
     return starts;
@@ -454,15 +435,18 @@ namespace {
 
 int flagOf(int parameter)
 {
-    return parameter == 0 ? REFINE_TIME_OFFSET : parameter == 1 ? REFINE_LINE_DELAY : REFINE_PLANT;
+    return parameter == 0 ? REFINE_TIME_OFFSET
+           : parameter == 1 ? REFINE_LINE_DELAY
+           : parameter < 4  ? REFINE_PLANT
+                            : REFINE_GYRO_BIAS;
 }
 
 /* Into `held`, the flags of the `observed` parameters that a ridge mixes: a combination whose
    information from the frames at q is below kRidgeInformation times the prior's (eigenvectors of the
    information in prior units). `information` receives the eigenvalues, descending. Returns the
-   parameter to hold first (the last in `observed` that a ridge mixes: ζ, then ωn, the line delay and
-   the clock, which varies most from frame to frame), or -1 when there is no ridge. */
-int ridgeParameter(LevelFit& fit, const std::vector<int>& observed, const Vec4d& q, int& held, Vec4d& information)
+   parameter to hold first (the last in `observed` that a ridge mixes: a bias component or ζ, then ωn,
+   the line delay and the clock, which varies most from frame to frame), or -1 when there is no ridge. */
+int ridgeParameter(LevelFit& fit, const std::vector<int>& observed, const FitVector& q, int& held, FitVector& information)
 {
     const int n = int(observed.size());
     const Mat info = fit.information(q);
@@ -473,7 +457,7 @@ int ridgeParameter(LevelFit& fit, const std::vector<int>& observed, const Vec4d&
                                       kPriorDeviation[observed[size_t(b)]];
     Mat values, vectors;
     eigen(scaled, values, vectors);  // descending; rows are the eigenvectors
-    information = Vec4d();
+    information = FitVector();
     int hold = -1;
     for (int i = 0; i < n; i++)
     {
@@ -495,13 +479,14 @@ bool significantDrop(double startCost, double cost, size_t pixels, int parameter
 {
     if (parameters <= 0 || pixels == 0)
         return false;
-    static const double kChiSquare999[5] = {0, 10.83, 13.82, 16.27, 18.47};  // χ²_p at 0.999, p = 1..4
+    static const double kChiSquare999[6] = {0, 10.83, 13.82, 16.27, 18.47, 20.52};  // χ²_p at 0.999, p = 1..5
     const double independent = std::max(double(parameters) + 1, double(pixels) / kCorrelatedPixels);
     const double variance = cost / (independent - parameters);
-    return (startCost - cost) / std::max(variance, 1e-300) > kChiSquare999[std::min(parameters, 4)];
+    return (startCost - cost) / std::max(variance, 1e-300) > kChiSquare999[std::min(parameters, 5)];
 }
 
-const char* const kParameterName[4] = {"time offset", "line delay", "natural frequency", "damping ratio"};
+const char* const kParameterName[kFitParameters] = {"time offset", "line delay", "natural frequency", "damping ratio",
+                                                    "gyro bias x",  "gyro bias y", "gyro bias z"};
 
 }  // namespace
 
@@ -517,23 +502,26 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
         active.push_back(0);
     if ((settings.flags & REFINE_LINE_DELAY) && rolling)
         active.push_back(1);
-    if (settings.flags & REFINE_PLANT)
+    const bool measured = !frames[0].motion.empty();
+    if ((settings.flags & REFINE_PLANT) && !measured)
         active.push_back(2), active.push_back(3);
+    if ((settings.flags & REFINE_GYRO_BIAS) && measured)
+        active.push_back(4), active.push_back(5), active.push_back(6);
 
-    const Vec4d prior = toFitUnits(start);
-    Vec4d lower, upper;
+    const FitVector prior = toFitUnits(start);
+    FitVector lower, upper;
     lower[0] = prior[0] - settings.maxTimeOffset / kUnit[0];
     upper[0] = prior[0] + settings.maxTimeOffset / kUnit[0];
-    for (int j = 1; j < 4; j++)
+    for (int j = 1; j < kFitParameters; j++)
         lower[j] = -kScaleBound[j], upper[j] = kScaleBound[j];
 
     FitResult result;
-    Vec4d q = prior;
+    FitVector q = prior;
     int evaluations = 0;
-    Matx44d covariance = Matx44d::zeros();
+    FitMatrix covariance = FitMatrix::zeros();
 
     std::vector<int> observed = active;
-    Vec4d coarseDeviation;
+    FitVector coarseDeviation;
     std::vector<float> data;
     if (settings.coarse)
     {
@@ -541,16 +529,16 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
         coarse.fixMasks(start);
         // Starts for the coarse fit: the offset's scan has one basin per few pixels of motion, and
         // with the plant off as well the deepest basin at the nominal plant may not be the true one.
-        std::vector<Vec4d> starts{prior};
+        std::vector<FitVector> starts{prior};
         if (settings.flags & REFINE_TIME_OFFSET)
             starts = scanStarts(coarse, prior, start, settings, kStartsTried);
         LevelFit coarseFit(coarse, active, prior, lower, upper, start);
         double bestCost = std::numeric_limits<double>::infinity();
-        Matx44d startCovariance;
-        for (const Vec4d& candidate : starts)
+        FitMatrix startCovariance;
+        for (const FitVector& candidate : starts)
         {
             double cost = 0;
-            const Vec4d fitted =
+            const FitVector fitted =
                 coarse.pixels() > 0 ? coarseFit.run(candidate, 8, startCovariance, &cost) : candidate;
             if (cost < bestCost || starts.size() == 1)
                 bestCost = cost, q = fitted, covariance = startCovariance;
@@ -566,7 +554,7 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
             bool keep = coarseDeviation[j] <= kObservable[j];
             if (!keep && coarse.pixels() > 0)
             {
-                Vec4d reset = q;
+                FitVector reset = q;
                 reset[j] = prior[j];
                 keep = coarseFit.cost(reset, data) > bestCost * (1 + kUnobservedCostRise);
             }
@@ -658,10 +646,10 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
                 const int j = pinned[k];
                 std::vector<int> others = active;
                 others.erase(std::find(others.begin(), others.end(), j));
-                Vec4d reset = q;
+                FitVector reset = q;
                 reset[j] = prior[j];
                 LevelFit heldFit(fine, others, prior, lower, upper, start);
-                Matx44d unused;
+                FitMatrix unused;
                 reset = heldFit.run(reset, 4, unused, nullptr, false);
                 held.clear();
                 fine.residuals(fromFitUnits(reset, start), held, &heldPerFrame);
@@ -681,10 +669,13 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
             result.pinned |= flagOf(j);
             result.pinnedNote += result.pinnedNote.empty() ? "" : "; ";
             result.pinnedNote +=
-                j == 0 ? format("time offset %+.2f ms at its search bound (%.2f ms either side of %+.2f ms)",
-                                c.timeOffset * 1e3, settings.maxTimeOffset * 1e3, start.timeOffset * 1e3)
-                       : format("%s x%.3f at its search bound (x%.2f to x%.2f)", kParameterName[j], scale[j],
-                                1 - kScaleBound[j] * kUnit[j], 1 + kScaleBound[j] * kUnit[j]);
+                j == 0  ? format("time offset %+.2f ms at its search bound (%.2f ms either side of %+.2f ms)",
+                                 c.timeOffset * 1e3, settings.maxTimeOffset * 1e3, start.timeOffset * 1e3)
+                : j < 4 ? format("%s x%.3f at its search bound (x%.2f to x%.2f)", kParameterName[j], scale[j],
+                                 1 - kScaleBound[j] * kUnit[j], 1 + kScaleBound[j] * kUnit[j])
+                        : format("%s %+.2f deg/s at its search bound (%.2f deg/s either side of 0)",
+                                 kParameterName[j], c.gyroBias[j - 4] * 180 / CV_PI,
+                                 kScaleBound[j] * kUnit[j] * 180 / CV_PI);
         }
     }
     result.held = result.unobserved | result.ridge;
@@ -699,7 +690,7 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
         result.frameConsistency.push_back(std::sqrt(meanSquare));
     result.correction.consistency = data.empty() ? std::numeric_limits<double>::quiet_NaN()
                                                  : std::sqrt(std::min(cost, startCost) / double(data.size()));
-    for (int j = 0; j < 4; j++)
+    for (int j = 0; j < kFitParameters; j++)
         result.deviation[j] = std::sqrt(std::max(0.0, covariance(j, j))) * kUnit[j];
     for (int j : tried)
         if (std::find(active.begin(), active.end(), j) == active.end())
@@ -717,6 +708,8 @@ String refinementFlagNames(int flags)
         names.push_back("line delay");
     if (flags & REFINE_PLANT)
         names.push_back("plant");
+    if (flags & REFINE_GYRO_BIAS)
+        names.push_back("gyro bias");
     String text;
     for (size_t k = 0; k < names.size(); k++)
         text += (k == 0 ? "" : k + 1 == names.size() ? " and " : ", ") + names[k];

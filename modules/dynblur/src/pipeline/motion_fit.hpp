@@ -10,6 +10,12 @@ namespace cv {
 namespace dynblur {
 namespace detail {
 
+/** The fit's parameters, in this order: the time offset, the line delay, the plant's ωn and ζ (a
+plant's motion), the gyro bias's three components (a measured motion). */
+const int kFitParameters = 7;
+typedef Vec<double, kFitParameters> FitVector;
+typedef Matx<double, kFitParameters, kFitParameters> FitMatrix;
+
 //! The fit's two resolutions: the scan and a first fit at most this wide, pixels, then the last fit.
 const int kFitCoarseWidth = 160, kFitFineWidth = 320;
 
@@ -44,6 +50,10 @@ struct FitFrame
     SwitchSchedule schedule;
     RollingShutter shutter;  //!< as reported, full resolution
     double referenceAngle = 0;  //!< radians
+    /** a measured motion (CameraMotion not a plant's; then `schedule` and `referenceAngle` are
+        unused): every frame of a fit has one, or none does */
+    Ptr<CameraMotion> motion;
+    double referenceTime = 0;  //!< with `motion`: the still's capture time, the frames' clock, seconds
 };
 
 //! What the fit may change, and how far.
@@ -64,7 +74,7 @@ struct FitSettings
 struct FitResult
 {
     MotionCorrection correction;     //!< consistency over every frame at the fine level
-    Vec4d deviation;                 //!< standard deviations of the four parameters (0 when not fitted)
+    FitVector deviation;             //!< standard deviations of the parameters (0 when not fitted)
     std::vector<double> frameConsistency;  //!< each frame's consistency at the result
     int evaluations = 0;             //!< forward models computed
     double improvement = 0;          //!< the fit's relative decrease of the fine level's squared residual from the start
@@ -72,7 +82,7 @@ struct FitResult
     int unobserved = 0;              //!< MotionRefinement flags of parameters the frames did not determine (kept at the start)
     int ridge = 0;                   //!< MotionRefinement flags of parameters mixed in a combination held at the start (a ridge)
     int held = 0;                    //!< unobserved | ridge
-    Vec4d information;               //!< eigenvalues of the frames' information in prior units, descending (0 when not analysed)
+    FitVector information;           //!< eigenvalues of the frames' information in prior units, descending (0 when not analysed)
     int pinned = 0;                  //!< MotionRefinement flags of fitted parameters that ended at a search bound
     double gain = 1;                 //!< the first frame's brightness over its still's at the result
     String pinnedNote;               //!< which parameter, at which value and bound
@@ -89,11 +99,12 @@ level, with a weak prior toward `start`. A parameter the coarse fit leaves uncer
 moving rows see content the reference never saw, or their motion does not depend on it) keeps its
 start value; combinations the frames determine too weakly (a ridge) stay at the start too, and the
 start as a whole stays unless the fit lowers the squared residual significantly. A fitted parameter
-left at a search bound is reported in `pinned`. */
+left at a search bound is reported in `pinned`. `plant` is unused (may be null) when the frames carry
+a measured motion; their fit has the bias in place of the plant. */
 FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFrame>& frames,
                               const MotionCorrection& start, const FitSettings& settings);
 
-//! "time offset, line delay and plant": the parameters of MotionRefinement `flags`, for messages.
+//! "time offset, line delay, plant and gyro bias": the parameters of MotionRefinement `flags`, for messages.
 String refinementFlagNames(int flags);
 
 /** @brief Consistency of `correction` with each frame at the level at most `width` wide. */

@@ -1,6 +1,8 @@
 // MotionCorrection, TimingCalibration and the calls that estimate them (refinement.hpp).
 #include "precomp.hpp"
 
+#include "motion/camera_motion.hpp"
+#include "motion/corrected_motion.hpp"
 #include "motion/shutter_check.hpp"
 #include "pipeline/blind_fit.hpp"
 #include "pipeline/motion_fit.hpp"
@@ -44,6 +46,11 @@ void MotionCorrection::validate() const
         if (!(scale.second > 0 && scale.second < 10))
             CV_Error(Error::StsOutOfRange,
                      format("MotionCorrection: %s = %g must be in (0, 10)", scale.first, scale.second));
+    for (int i = 0; i < 3; i++)
+        if (!(std::abs(gyroBias[i]) <= 1))
+            CV_Error(Error::StsOutOfRange, format("MotionCorrection: gyroBias[%d] = %g rad/s must be finite and "
+                                                  "within [-1, 1] rad/s",
+                                                  i, gyroBias[i]));
 }
 
 TimingCalibration::TimingCalibration()
@@ -65,6 +72,10 @@ void TimingCalibration::save(const String& filename) const
                         "the nominal line delay, natural frequency and damping ratio");
         fs << "timeOffset" << correction.timeOffset << "lineDelayScale" << correction.lineDelayScale
            << "naturalFreqScale" << correction.naturalFreqScale << "dampingScale" << correction.dampingScale;
+        if (correction.gyroBias != Vec3d() || gyroBiasStd != Vec3d())  // a measured motion's (rad/s)
+            fs << "gyroBias" << std::vector<double>{correction.gyroBias[0], correction.gyroBias[1],
+                                                    correction.gyroBias[2]}
+               << "gyroBiasStd" << std::vector<double>{gyroBiasStd[0], gyroBiasStd[1], gyroBiasStd[2]};
         if (std::isfinite(correction.consistency))
             fs << "consistency" << correction.consistency;
         fs << "timeOffsetStd" << timeOffsetStd << "lineDelayScaleStd" << lineDelayScaleStd << "naturalFreqScaleStd"
@@ -100,6 +111,18 @@ TimingCalibration TimingCalibration::load(const String& filename)
     for (const auto& d : deviations)
         if (file.has(d.first))
             *d.second = file.real(d.first);
+    const std::pair<const char*, Vec3d*> vectors[] = {{"gyroBias", &c.gyroBias},
+                                                      {"gyroBiasStd", &calibration.gyroBiasStd}};
+    for (const auto& v : vectors)
+        if (file.has(v.first))
+        {
+            const std::vector<double> values = file.reals(v.first);
+            if (values.size() != 3)
+                CV_Error(Error::StsParseError, format("TimingCalibration::load: '%s': %s has %zu values; 3 "
+                                                      "(rad/s, camera axes x, y, z) are expected",
+                                                      filename.c_str(), v.first, values.size()));
+            *v.second = Vec3d(values[0], values[1], values[2]);
+        }
     if (file.has("frameUsed"))
         calibration.frameUsed = file.integers("frameUsed");
     if (file.has("frameConsistency"))
@@ -155,11 +178,11 @@ namespace {
 
 const int kCoarseWidth = detail::kFitCoarseWidth, kFineWidth = detail::kFitFineWidth;
 
-//! The pyramids of one (reference, frame) pair, checked; `reference` must outlive the FitFrame.
-detail::FitFrame makeFitFrame(const Mat& reference, const Mat& frame, const Ptr<CameraModel>& camera,
-                              const Ptr<Plant>& plant, const SwitchSchedule& schedule, const RollingShutter& shutter,
-                              double referenceAngle, detail::LuminancePyramid& referencePyramid, const char* fn,
-                              int index, int coarsestWidth = kCoarseWidth)
+/* The pyramids of one (reference, frame) pair and the frame's shutter, checked; `reference` must
+   outlive the FitFrame. */
+detail::FitFrame pairFrames(const Mat& reference, const Mat& frame, const Ptr<CameraModel>& camera,
+                            const RollingShutter& shutter, detail::LuminancePyramid& referencePyramid, const char* fn,
+                            int index, int coarsestWidth)
 {
     const String referenceName = index < 0 ? String("reference") : format("references[%d]", index);
     const String frameName = index < 0 ? String("frame") : format("frames[%d]", index);
@@ -170,18 +193,30 @@ detail::FitFrame makeFitFrame(const Mat& reference, const Mat& frame, const Ptr<
                  format("%s: '%s' is %s but '%s' is %s; a still frame must come from the same camera stream", fn,
                         referenceName.c_str(), typeToString(reference.type()).c_str(), frameName.c_str(),
                         typeToString(frame.type()).c_str()));
-    schedule.validate();
     detail::checkShutter(shutter, fn, ("the shutter of '" + frameName + "': ").c_str(), frame.rows);
-    const double angle = std::isnan(referenceAngle) ? plant->restingAngle(schedule.initialLevel) : referenceAngle;
-    if (!std::isfinite(angle) || std::abs(angle) > CV_PI / 2)
-        CV_Error(Error::StsOutOfRange, format("%s: the angle of '%s' = %g rad must be finite and within [-pi/2, pi/2]",
-                                              fn, referenceName.c_str(), angle));
     referencePyramid = detail::buildPyramid(detail::linearLuminance(reference), camera, coarsestWidth, true);
     detail::FitFrame f;
     f.reference = &referencePyramid;
     f.frame = detail::buildPyramid(detail::linearLuminance(frame), camera, coarsestWidth, false);
-    f.schedule = schedule;
     f.shutter = shutter;
+    return f;
+}
+
+//! pairFrames for a plant's frame: its schedule and its still's angle, checked.
+detail::FitFrame makeFitFrame(const Mat& reference, const Mat& frame, const Ptr<CameraModel>& camera,
+                              const Ptr<Plant>& plant, const SwitchSchedule& schedule, const RollingShutter& shutter,
+                              double referenceAngle, detail::LuminancePyramid& referencePyramid, const char* fn,
+                              int index, int coarsestWidth = kCoarseWidth)
+{
+    schedule.validate();
+    const double angle = std::isnan(referenceAngle) ? plant->restingAngle(schedule.initialLevel) : referenceAngle;
+    if (!std::isfinite(angle) || std::abs(angle) > CV_PI / 2)
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: the angle of '%s' = %g rad must be finite and within [-pi/2, pi/2]", fn,
+                        (index < 0 ? String("reference") : format("references[%d]", index)).c_str(), angle));
+    detail::FitFrame f =
+        pairFrames(reference, frame, camera, shutter, referencePyramid, fn, index, coarsestWidth);
+    f.schedule = schedule;
     f.referenceAngle = angle;
     return f;
 }
@@ -195,58 +230,26 @@ void checkFlags(int flags, const char* fn)
                         fn, flags));
 }
 
-}  // namespace
-
-TimingCalibration calibrateTiming(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera,
-                                  InputArrayOfArrays references, InputArrayOfArrays frames,
-                                  const std::vector<SwitchSchedule>& schedules,
-                                  const std::vector<RollingShutter>& shutters, int flags,
-                                  const std::vector<double>& referenceAngles, double maxTimeOffset,
-                                  double maxConsistency)
+void checkSearch(double maxTimeOffset, double maxConsistency, const char* fn)
 {
-    const char* fn = "calibrateTiming";
-    if (plant.empty() || camera.empty())
-        CV_Error(Error::StsNullPtr, format("%s: '%s' is null", fn, plant.empty() ? "plant" : "camera"));
-    checkFlags(flags, fn);
     if (!(maxTimeOffset > 0 && maxTimeOffset <= 1))
         CV_Error(Error::StsOutOfRange, format("%s: maxTimeOffset = %g s must be in (0, 1]", fn, maxTimeOffset));
     if (!(maxConsistency > 1) || std::isnan(maxConsistency))
         CV_Error(Error::StsOutOfRange, format("%s: maxConsistency = %g must be > 1", fn, maxConsistency));
-    std::vector<Mat> stills, blurred;
-    references.getMatVector(stills);
-    frames.getMatVector(blurred);
-    const size_t n = blurred.size();
-    if (stills.size() != n || schedules.size() != n || shutters.size() != n ||
-        (!referenceAngles.empty() && referenceAngles.size() != n))
-        CV_Error(Error::StsBadSize,
-                 format("%s: frames has %zu entries but references %zu, schedules %zu, shutters %zu and "
-                        "referenceAngles %zu (empty or one per frame)",
-                        fn, n, stills.size(), schedules.size(), shutters.size(), referenceAngles.size()));
+}
 
-    std::vector<detail::LuminancePyramid> pyramids(n);
-    std::vector<detail::FitFrame> fit;
-    std::vector<size_t> index;
-    for (size_t i = 0; i < n; i++)
-    {
-        const double angle = referenceAngles.empty() ? std::numeric_limits<double>::quiet_NaN() : referenceAngles[i];
-        detail::FitFrame f = makeFitFrame(stills[i], blurred[i], camera, plant, schedules[i], shutters[i], angle,
-                                          pyramids[i], fn, int(i));
-        if (classifyExposure(plant, schedules[i], shutters[i]) == EXPOSURE_IV)
-            continue;  // a still frame says nothing about the motion
-        fit.push_back(std::move(f));
-        index.push_back(i);
-    }
+/* The common correction of the moving frames `fit` (`index`: their places among the `n` frames
+   given), fitted again without the frames it leaves above `maxConsistency`, as a TimingCalibration
+   with its offset scan. `plant` is null for a measured motion. */
+TimingCalibration calibrateFrames(const Ptr<Plant>& plant, const std::vector<detail::FitFrame>& fit,
+                                  const std::vector<size_t>& index, size_t n, const detail::FitSettings& settings,
+                                  double maxConsistency, const char* fn)
+{
     if (fit.size() < 2)
         CV_Error(Error::StsBadArg,
                  format("%s: fewer than two usable frames: %zu of the %zu frames are taken during a move (the others "
                         "are in window IV, still); give at least two moving frames",
                         fn, fit.size(), n));
-
-    detail::FitSettings settings;
-    settings.flags = flags;
-    settings.maxTimeOffset = maxTimeOffset;
-    settings.coarseWidth = kCoarseWidth;
-    settings.fineWidth = kFineWidth;
     detail::FitResult result = fitMotionCorrection(plant, fit, MotionCorrection(), settings);
 
     // Frames the common model cannot explain (another schedule, something moving) leave the fit.
@@ -278,6 +281,7 @@ TimingCalibration calibrateTiming(const Ptr<Plant>& plant, const Ptr<CameraModel
     calibration.lineDelayScaleStd = result.deviation[1];
     calibration.naturalFreqScaleStd = result.deviation[2];
     calibration.dampingScaleStd = result.deviation[3];
+    calibration.gyroBiasStd = Vec3d(result.deviation[4], result.deviation[5], result.deviation[6]);
     calibration.frameUsed.assign(n, 0);
     for (size_t i : keptIndex)
         calibration.frameUsed[i] = 1;
@@ -295,6 +299,109 @@ TimingCalibration calibrateTiming(const Ptr<Plant>& plant, const Ptr<CameraModel
     }
     calibration.scanObjective = detail::meanSquaredResiduals(plant, kept, result.correction, scan, kFineWidth);
     return calibration;
+}
+
+}  // namespace
+
+TimingCalibration calibrateTiming(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera,
+                                  InputArrayOfArrays references, InputArrayOfArrays frames,
+                                  const std::vector<SwitchSchedule>& schedules,
+                                  const std::vector<RollingShutter>& shutters, int flags,
+                                  const std::vector<double>& referenceAngles, double maxTimeOffset,
+                                  double maxConsistency)
+{
+    const char* fn = "calibrateTiming";
+    if (plant.empty() || camera.empty())
+        CV_Error(Error::StsNullPtr, format("%s: '%s' is null", fn, plant.empty() ? "plant" : "camera"));
+    checkFlags(flags, fn);
+    checkSearch(maxTimeOffset, maxConsistency, fn);
+    std::vector<Mat> stills, blurred;
+    references.getMatVector(stills);
+    frames.getMatVector(blurred);
+    const size_t n = blurred.size();
+    if (stills.size() != n || schedules.size() != n || shutters.size() != n ||
+        (!referenceAngles.empty() && referenceAngles.size() != n))
+        CV_Error(Error::StsBadSize,
+                 format("%s: frames has %zu entries but references %zu, schedules %zu, shutters %zu and "
+                        "referenceAngles %zu (empty or one per frame)",
+                        fn, n, stills.size(), schedules.size(), shutters.size(), referenceAngles.size()));
+
+    std::vector<detail::LuminancePyramid> pyramids(n);
+    std::vector<detail::FitFrame> fit;
+    std::vector<size_t> index;
+    for (size_t i = 0; i < n; i++)
+    {
+        const double angle = referenceAngles.empty() ? std::numeric_limits<double>::quiet_NaN() : referenceAngles[i];
+        detail::FitFrame f = makeFitFrame(stills[i], blurred[i], camera, plant, schedules[i], shutters[i], angle,
+                                          pyramids[i], fn, int(i));
+        if (classifyExposure(plant, schedules[i], shutters[i]) == EXPOSURE_IV)
+            continue;  // a still frame says nothing about the motion
+        fit.push_back(std::move(f));
+        index.push_back(i);
+    }
+    detail::FitSettings settings;
+    settings.flags = flags;
+    settings.maxTimeOffset = maxTimeOffset;
+    settings.coarseWidth = kCoarseWidth;
+    settings.fineWidth = kFineWidth;
+    return calibrateFrames(plant, fit, index, n, settings, maxConsistency, fn);
+}
+
+TimingCalibration calibrateTiming(const Ptr<CameraMotion>& motion, const Ptr<CameraModel>& camera,
+                                  InputArrayOfArrays references, InputArrayOfArrays frames,
+                                  const std::vector<RollingShutter>& shutters,
+                                  const std::vector<RollingShutter>& referenceShutters, int flags,
+                                  double maxTimeOffset, double maxConsistency)
+{
+    const char* fn = "calibrateTiming";
+    if (motion.empty() || camera.empty())
+        CV_Error(Error::StsNullPtr, format("%s: '%s' is null", fn, motion.empty() ? "motion" : "camera"));
+    if (motion->isPlantMotion())
+        CV_Error(Error::StsBadArg, format("%s: 'motion' is a plant's (CameraMotion::fromPlant); calibrate it with "
+                                          "calibrateTiming(plant, camera, references, frames, schedules, shutters), "
+                                          "which refines the plant too",
+                                          fn));
+    const int measurable = REFINE_TIME_OFFSET | REFINE_LINE_DELAY | REFINE_GYRO_BIAS;
+    if (flags < 0 || flags > (REFINE_ALL | REFINE_GYRO_BIAS) || !(flags & measurable))
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: flags = %d must combine REFINE_TIME_OFFSET (1), REFINE_LINE_DELAY (2) and "
+                        "REFINE_GYRO_BIAS (8), at least one of them (REFINE_PLANT, 4, is ignored for a measured "
+                        "motion): a value in [1, 15]",
+                        fn, flags));
+    checkSearch(maxTimeOffset, maxConsistency, fn);
+    std::vector<Mat> stills, blurred;
+    references.getMatVector(stills);
+    frames.getMatVector(blurred);
+    const size_t n = blurred.size();
+    if (stills.size() != n || shutters.size() != n || referenceShutters.size() != n)
+        CV_Error(Error::StsBadSize, format("%s: frames has %zu entries but references %zu, shutters %zu and "
+                                           "referenceShutters %zu (one per frame)",
+                                           fn, n, stills.size(), shutters.size(), referenceShutters.size()));
+
+    std::vector<detail::LuminancePyramid> pyramids(n);
+    std::vector<detail::FitFrame> fit;
+    std::vector<size_t> index;
+    for (size_t i = 0; i < n; i++)
+    {
+        detail::FitFrame f = pairFrames(stills[i], blurred[i], camera, shutters[i], pyramids[i], fn, int(i),
+                                        kCoarseWidth);
+        const String stillName = format("referenceShutters[%zu]", i);
+        detail::checkShutter(referenceShutters[i], fn, (stillName + ".").c_str(), stills[i].rows);
+        detail::checkMotionCoversSearch(motion, shutters[i], maxTimeOffset, fn, format("'frames[%zu]'", i));
+        detail::checkMotionCoversSearch(motion, referenceShutters[i], maxTimeOffset, fn, format("'references[%zu]'", i));
+        if (classifyExposure(motion, shutters[i]) == EXPOSURE_IV)
+            continue;  // a frame taken at rest says nothing about the clock
+        f.motion = motion;
+        f.referenceTime = detail::midExposure(referenceShutters[i]);
+        fit.push_back(std::move(f));
+        index.push_back(i);
+    }
+    detail::FitSettings settings;
+    settings.flags = flags & measurable;
+    settings.maxTimeOffset = maxTimeOffset;
+    settings.coarseWidth = kCoarseWidth;
+    settings.fineWidth = kFineWidth;
+    return calibrateFrames(Ptr<Plant>(), fit, index, n, settings, maxConsistency, fn);
 }
 
 std::vector<double> motionConsistency(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera, InputArray reference,

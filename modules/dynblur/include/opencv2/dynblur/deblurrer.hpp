@@ -85,12 +85,15 @@ public:
 
     A plant's motion (CameraMotion::fromPlant, with the deblurrer's plant and the camera's mount
     axis) is restored exactly as deblur(frame, schedule, shutter, restored, θ(tRef)), refinement
-    included. A measured motion is restored with its clock offset and the line delay as told, or as
-    setCalibration corrected them (not refined per frame yet; MotionCorrection::reason says so),
-    and the exposure window comes from its rates (classifyExposure).
+    included. A measured motion starts from setCalibration's clock offset, line delay and gyro bias
+    (none: as told); with a still placed by its capture time (setReferenceFrame(still, stillShutter))
+    the clock offset (within ±15 ms of the calibration), the line delay and, with REFINE_GYRO_BIAS,
+    the gyro bias are refined against it (getRefinement; REFINE_PLANT is ignored), and the frame is
+    refused or kept as told exactly as for a plant's (the significance test, bound-pinned fits,
+    setConsistencyLimit). The exposure window comes from its rates (classifyExposure).
     @param frame as for the schedule overload.
     @param motion the camera's motion; its time span must cover the frame's readout (same clock as
-           shutter.frameStart).
+           shutter.frameStart), widened by the refinement's search when a still is set.
     @param shutter the frame's timing (rows = frame height).
     @param restored output, same size, type and channels as frame.
     @param tRef reference time, seconds; NaN: a plant's final rest, a sampled motion's orientation at
@@ -109,9 +112,20 @@ public:
     (setReferenceFrames(still, noArray(), angle) does the same).
     @param still a frame of the same stream (its type and channels) taken at rest, the camera's image size.
     @param angle the angle it was taken at, radians, within [-π/2, π/2]; NaN: each frame's schedule's
-           initial resting angle (the frame before a move). */
+           initial resting angle (the frame before a move). For a measured motion the still is placed
+           by its capture time instead: use the overload that takes the still's shutter. */
     CV_WRAP virtual void setReferenceFrame(InputArray still,
                                            double angle = std::numeric_limits<double>::quiet_NaN()) = 0;
+    /** @brief Sets one still frame for frames of a measured motion (deblur(frame, motion, ...) with a
+    motion that is not a plant's), placed on the motion by its capture time: the view at the
+    orientation Q(t_s + δt), t_s the middle row's mid-exposure instant of `stillShutter` on the frames'
+    clock and δt the clock offset being refined (a camera timestamp, the offset moves it with the
+    frames). The still's own blur is not modelled: take one held steady. A gyro bias shows as the turn
+    it adds between t_s and the frame, so refining it (REFINE_GYRO_BIAS) needs a still some tenths
+    of a second from the frames. A still placed this way does not serve a plant's frames (refused).
+    @param still a frame of the same stream (its type and channels), the camera's image size.
+    @param stillShutter its timing as the camera reports it (rows = its height). */
+    CV_WRAP virtual void setReferenceFrame(InputArray still, const RollingShutter& stillShutter) = 0;
     /** @brief Sets the still frames on both sides of a move; each next frame is compared with the one
     that observed its moving rows. A frame that starts at rest (window I) moves in its later rows,
     which see the view before the move only where the move has not yet begun: it takes `before`. A
@@ -120,7 +134,8 @@ public:
     never saw, and in a rolling window III frame those are the rows that move (given `before`
     instead, window III kept 56 % of the truth's gain rather than 97 %). A frame moving throughout
     (window II) is compared with both. Where the chosen still is missing the other serves.
-    getLastCorrection().reason says which still was used.
+    getLastCorrection().reason says which still was used. These stills serve a plant's frames; a
+    measured motion's still is placed by its capture time (setReferenceFrame(still, stillShutter)).
     @param before the still frame before the move (empty: none), same stream and size as the frames.
     @param after the still frame after the move (empty: none), the same type as `before`.
     @param angleBefore the angle `before` was taken at, radians, within [-π/2, π/2]; NaN: each frame's

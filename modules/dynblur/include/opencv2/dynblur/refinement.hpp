@@ -2,6 +2,7 @@
 #define OPENCV_DYNBLUR_REFINEMENT_HPP
 
 #include <opencv2/dynblur/camera.hpp>
+#include <opencv2/dynblur/camera_motion.hpp>
 #include <opencv2/dynblur/plant.hpp>
 #include <opencv2/dynblur/shutter.hpp>
 
@@ -15,21 +16,28 @@ namespace dynblur {
 //! @{
 
 /** @brief What DynamicDeblurrer::setRefinement and calibrateTiming estimate from the frames
-(flags, combined with |). The schedule and the plant's gain are known exactly and never refined. */
+(flags, combined with |). The schedule and the plant's gain are known exactly and never refined.
+For a measured motion (a gyro log: a CameraMotion that is not a plant's) REFINE_PLANT has no
+meaning and is ignored, and REFINE_GYRO_BIAS may be added. */
 enum MotionRefinement
 {
     REFINE_NONE = 0,         //!< use the model as told
-    REFINE_TIME_OFFSET = 1,  //!< the offset between the camera's clock and the actuator's
+    REFINE_TIME_OFFSET = 1,  //!< the offset between the camera's clock and the actuator's (or the motion log's)
     REFINE_LINE_DELAY = 2,   //!< the rolling shutter's line delay (ignored for a global shutter)
     REFINE_PLANT = 4,        //!< the plant's natural frequency and damping ratio
-    REFINE_ALL = 7
+    REFINE_ALL = 7,          //!< the three above
+    /** a measured motion's constant gyro bias (3 components; ignored for a plant's motion). Not in
+        REFINE_ALL: a frame observes it mostly through the turn it adds between the still and the
+        frame, which needs stills some time away from their frames. */
+    REFINE_GYRO_BIAS = 8
 };
 
 /** @brief A correction of the predicted motion: the difference between the model a deblurrer is
 told and the one that moved the camera (DESIGN §2, "What is known on real hardware").
 
 The corrected shutter starts `timeOffset` later and reads its rows with `lineDelayScale` times the
-line delay; the corrected plant is the linear second-order plant with `naturalFreqScale` times the
+line delay (for a measured motion: the frame lies `timeOffset` later on the motion's clock); a
+measured motion turns at its rates minus `gyroBias`; the corrected plant is the linear second-order plant with `naturalFreqScale` times the
 natural frequency and `dampingScale` times the damping ratio, and the same gain. */
 struct CV_EXPORTS_W_SIMPLE MotionCorrection
 {
@@ -38,6 +46,10 @@ struct CV_EXPORTS_W_SIMPLE MotionCorrection
     CV_PROP_RW double lineDelayScale;    //!< × the shutter's lineDelay
     CV_PROP_RW double naturalFreqScale;  //!< × the plant's natural frequency ωn
     CV_PROP_RW double dampingScale;      //!< × the plant's damping ratio ζ
+    /** a measured motion's constant gyro bias, rad/s, camera axes: the rates it reports minus the
+        true ones, removed from them (to first order about the reference time: the orientation becomes
+        Q(t)·exp(−[gyroBias·(t − t_ref)]×)); 0 for a plant's motion */
+    CV_PROP_RW Vec3d gyroBias;
     /** How well the corrected model explains the frame: the RMS of the frame minus the still
         reference frame carried through the corrected blur (times stillGain), over the pixels both frames observe, in
         units of the sensor noise's standard deviation (estimated on the reference). About 1 where the
@@ -68,8 +80,8 @@ struct CV_EXPORTS_W_SIMPLE MotionCorrection
     by the linear plant of its nominal parameters).
     @param plant the plant as told. */
     CV_WRAP Ptr<Plant> correctPlant(const Ptr<Plant>& plant) const;
-    /** @brief Throws cv::Exception naming the field when a value is not finite or a scale is not in
-    (0, 10). */
+    /** @brief Throws cv::Exception naming the field when a value is not finite, a scale is not in
+    (0, 10) or a gyroBias component exceeds 1 rad/s. */
     CV_WRAP void validate() const;
 };
 
@@ -89,6 +101,7 @@ struct CV_EXPORTS_W_SIMPLE TimingCalibration
     CV_PROP_RW double lineDelayScaleStd;    //!< see timeOffsetStd
     CV_PROP_RW double naturalFreqScaleStd;  //!< see timeOffsetStd
     CV_PROP_RW double dampingScaleStd;      //!< see timeOffsetStd
+    CV_PROP_RW Vec3d gyroBiasStd;           //!< rad/s, see timeOffsetStd (a measured motion's bias)
     CV_PROP_RW std::vector<int> frameUsed;  //!< 1 for each input frame that entered the fit, else 0 (still, or inconsistent)
     CV_PROP_RW std::vector<double> frameConsistency;  //!< MotionCorrection::consistency of each frame at the result
     /** time offsets scanned around the result, seconds, and the objective (mean squared residual
@@ -132,6 +145,33 @@ CV_EXPORTS_W TimingCalibration calibrateTiming(const Ptr<Plant>& plant, const Pt
                                                const std::vector<RollingShutter>& shutters,
                                                int flags = REFINE_TIME_OFFSET | REFINE_LINE_DELAY,
                                                const std::vector<double>& referenceAngles = std::vector<double>(),
+                                               double maxTimeOffset = 0.02, double maxConsistency = 3.0);
+
+/** @brief The clock offset, line delay (and optionally the gyro bias) of a recording whose motion
+was measured (a gyro log, CameraMotion::fromAngularVelocity or GyroLog::toMotion), estimated jointly
+from several frames each paired with a still frame of the same stream: calibrateTiming's fit
+with the motion's blur in place of the plant's.
+
+Each still is placed on the motion by its capture time: the orientation at the middle row's
+mid-exposure instant of its shutter, on the frames' clock (so the offset moves it with the frames).
+Take stills held steady (their own blur is not modelled) and, to observe a bias, some tenths of a
+second from their frames: the bias shows as the turn it adds between the two.
+@param motion the measured motion (not a plant's: calibrateTiming(plant, ...) refines the plant too);
+       its time span must cover every frame's and still's readout, widened by maxTimeOffset.
+@param camera the camera (its image size is the frames').
+@param references still frames, one per frame (see calibrateTiming).
+@param frames the blurred frames, the same type as their still.
+@param shutters each frame's timing as the camera reports it.
+@param referenceShutters each still's timing as the camera reports it (its rows are the frame height).
+@param flags MotionRefinement flags among REFINE_TIME_OFFSET, REFINE_LINE_DELAY and REFINE_GYRO_BIAS
+       (REFINE_PLANT is ignored); none of them is refused.
+@param maxTimeOffset half-width of the offset scan, seconds, in (0, 1].
+@param maxConsistency frames above it at the result are left out of the final fit, > 1. */
+CV_EXPORTS_W TimingCalibration calibrateTiming(const Ptr<CameraMotion>& motion, const Ptr<CameraModel>& camera,
+                                               InputArrayOfArrays references, InputArrayOfArrays frames,
+                                               const std::vector<RollingShutter>& shutters,
+                                               const std::vector<RollingShutter>& referenceShutters,
+                                               int flags = REFINE_TIME_OFFSET | REFINE_LINE_DELAY,
                                                double maxTimeOffset = 0.02, double maxConsistency = 3.0);
 
 /** @brief The consistency (MotionCorrection::consistency) of candidate corrections with one frame:

@@ -1,0 +1,165 @@
+// dynblur_calibrate_timing --gyro: calibrateTiming on a gyro log's motion, frames paired with the
+// frames the log shows held still (gyro_timing.hpp).
+#include "gyro_timing.hpp"
+
+#include "atomic_file.hpp"  // samples/support
+#include "cli_args.hpp"
+#include "gyro_recording.hpp"
+#include "gyro_simulation.hpp"
+#include "plot.hpp"
+
+#include <opencv2/dynblur.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+using namespace cv;
+using namespace cv::dynblur;
+using namespace dynblur_samples;
+
+namespace {
+const double kDeg = CV_PI / 180;
+}
+
+const std::set<std::string>& gyroTimingOptionNames()
+{
+    static std::set<std::string> names = [] {
+        std::set<std::string> all = gyroOptionNames();
+        all.insert({"still-rate", "max-still-gap", "simulate-gyro", "true-bias"});
+        return all;
+    }();
+    return names;
+}
+
+const char* const kGyroTimingHelp =
+    "A recording whose motion is a gyro log (--gyro): the log's clock offset to the camera's, the line\n"
+    "delay and the gyro bias (--refine offset,line-delay,bias, the default), from frames taken while the\n"
+    "hand moved, each against the nearest frame the log shows held still (its rate below --still-rate\n"
+    "over the whole readout); the bias is observed through the turn it adds between the two.\n"
+    "  --still-rate D       deg/s below which a frame is a still (default 2)\n"
+    "  --max-still-gap S    a moving frame is used only with a still within S seconds (default 1)\n"
+    "  --simulate-gyro DIR  renders a hand-held recording with its gyro log into DIR (320x240, 2 s) and\n"
+    "                       exits; its truth from --true-offset (default 0.005), --true-line-delay-scale\n"
+    "                       (default 1.03) and --true-bias BX,BY,BZ deg/s (default 0.5,-0.5,0.5)\n";
+
+int simulateGyroTiming(const CliArgs& args)
+{
+    GyroSimulation truth;
+    truth.timeOffset = args.num("true-offset", truth.timeOffset);
+    truth.lineDelayScale = args.num("true-line-delay-scale", truth.lineDelayScale);
+    if (args.has("true-bias"))
+    {
+        const std::string text = args.str("true-bias", "");
+        double b[3];
+        if (std::sscanf(text.c_str(), "%lf,%lf,%lf", &b[0], &b[1], &b[2]) != 3 || std::abs(b[0]) > 10 ||
+            std::abs(b[1]) > 10 || std::abs(b[2]) > 10)
+            throw std::runtime_error("--true-bias takes BX,BY,BZ in deg/s, each within +-10");
+        truth.bias = Vec3d(b[0], b[1], b[2]) * kDeg;
+    }
+    if (!(std::abs(truth.timeOffset) <= 0.05) || !(truth.lineDelayScale > 0.8 && truth.lineDelayScale < 1.2))
+        throw std::runtime_error("--true-offset must be within +-0.05 s and --true-line-delay-scale in (0.8, 1.2)");
+    const std::string dir = args.str("simulate-gyro", "");
+    const int frames = simulateGyroRecording(dir, truth);
+    std::printf("wrote %d frames (frame_%%04d.png), frames.csv, gyro.gcsv and camera.xml to %s\n"
+                "truth: clock offset %+.4f ms, line delay x%.4f, bias (%.3f, %.3f, %.3f) deg/s\n",
+                frames, dir.c_str(), truth.timeOffset * 1e3, truth.lineDelayScale, truth.bias[0] / kDeg,
+                truth.bias[1] / kDeg, truth.bias[2] / kDeg);
+    return 0;
+}
+
+int calibrateGyroTiming(const CliArgs& args, const std::string& defaultCameraPath)
+{
+    int flags = 0;
+    const std::string list = args.str("refine", "offset,line-delay,bias");
+    for (size_t start = 0; start <= list.size();)
+    {
+        const size_t end = std::min(list.find(',', start), list.size());
+        const std::string item = list.substr(start, end - start);
+        start = end + 1;
+        flags |= item == "offset" ? REFINE_TIME_OFFSET : item == "line-delay" ? REFINE_LINE_DELAY
+               : item == "bias"   ? REFINE_GYRO_BIAS   : -1;
+        if (flags < 0)
+            throw std::runtime_error("--refine takes offset, line-delay and bias with --gyro, comma-separated");
+    }
+    const int maxFrames = args.integer("max-frames", 10);
+    const double maxOffset = args.num("max-offset", 0.02);
+    const double stillRate = args.num("still-rate", 2.0) * kDeg, maxGap = args.num("max-still-gap", 1.0);
+    if (maxFrames < 2 || !(maxOffset > 0 && maxOffset <= 1))
+        throw std::runtime_error("--max-frames must be >= 2 and --max-offset in (0, 1] s");
+    if (!(stillRate > 0) || !(maxGap > 0))
+        throw std::runtime_error("--still-rate (deg/s) and --max-still-gap (s) must be > 0");
+    const std::string out = args.str("out", "timing.yml");
+    const std::string plotPath = args.str("plot", pathStem(out) + "_objective.png");
+
+    GyroRecording recording;
+    GyroRecording::open(args, defaultCameraPath, recording);
+    const int rows = recording.camera->getImageSize().height;
+    // Stills: frames the log shows held still, searched widened by the offset's search.
+    std::vector<int> stills, moving;
+    for (size_t i = 0; i < recording.log.size(); i++)
+        (recording.peakRate(recording.log[i]) < stillRate ? stills : moving).push_back(int(i));
+    std::vector<std::pair<int, int>> pairs;  // (moving, still) indices into the log
+    for (int m : moving)
+    {
+        int best = -1;
+        for (int s : stills)
+            if (best < 0 || std::abs(recording.log[s].frameStart - recording.log[m].frameStart) <
+                                std::abs(recording.log[best].frameStart - recording.log[m].frameStart))
+                best = s;
+        if (best >= 0 && std::abs(recording.log[best].frameStart - recording.log[m].frameStart) <= maxGap)
+            pairs.emplace_back(m, best);
+    }
+    if (pairs.size() < 2)
+        CV_Error(Error::StsBadArg,
+                 format("the recording has %zu still frames (rate below --still-rate %.2f deg/s) and %zu moving "
+                        "frames within --max-still-gap %.2f s of one; calibration needs at least two such pairs",
+                        stills.size(), stillRate / kDeg, pairs.size(), maxGap));
+    // At most maxFrames pairs, spread over the recording.
+    std::vector<std::pair<int, int>> used;
+    for (int k = 0; k < std::min(maxFrames, int(pairs.size())); k++)
+        used.push_back(pairs[size_t(k * int(pairs.size()) / std::min(maxFrames, int(pairs.size())))]);
+
+    std::vector<Mat> images(recording.log.size());
+    for (size_t i = 0; i < recording.log.size(); i++)
+        images[i] = recording.read(recording.log[i]);
+    std::vector<Mat> references, frames;
+    std::vector<RollingShutter> shutters, stillShutters;
+    for (const auto& p : used)
+    {
+        frames.push_back(images[size_t(p.first)]);
+        references.push_back(images[size_t(p.second)]);
+        shutters.push_back(GyroRecording::shutterOf(recording.log[size_t(p.first)], rows));
+        stillShutters.push_back(GyroRecording::shutterOf(recording.log[size_t(p.second)], rows));
+    }
+    std::printf("calibrating over %zu moving frames, each against the nearest of %zu still frames ...\n", used.size(),
+                stills.size());
+    const TimingCalibration t = calibrateTiming(recording.motion, recording.camera, references, frames, shutters,
+                                                stillShutters, flags, maxOffset);
+    t.save(out);
+    const MotionCorrection& c = t.correction;
+    const Vec3d bias = c.gyroBias * (1 / kDeg), biasStd = t.gyroBiasStd * (1 / kDeg);
+    std::printf("clock offset      %+.4f ms (sd %.4f)\nline delay        x%.4f (sd %.4f)\n"
+                "gyro bias         (%+.3f, %+.3f, %+.3f) deg/s (sd %.3f, %.3f, %.3f), beyond --gyro-bias's\n"
+                "consistency       %.2f (noise units; about 1 when the model explains the frames)\n%s\nwrote %s\n",
+                c.timeOffset * 1e3, t.timeOffsetStd * 1e3, c.lineDelayScale, t.lineDelayScaleStd, bias[0], bias[1],
+                bias[2], biasStd[0], biasStd[1], biasStd[2], c.consistency, c.reason.c_str(), out.c_str());
+    if (!args.has("no-png"))
+    {
+        std::vector<double> ms;
+        for (double offset : t.scanTimeOffsets)
+            ms.push_back(offset * 1e3);
+        dynblur_plot::Figure figure(900, "Gyro timing calibration: objective around the result");
+        figure.addPanel("", "mean squared residual (noise^2)")
+            .line(ms, t.scanObjective, "objective over the gyro log's clock offset")
+            .hLine(*std::min_element(t.scanObjective.begin(), t.scanObjective.end()));
+        figure.xLabel("clock offset (ms)");
+        const std::string temporary = temporaryPathFor(plotPath);
+        if (!figure.save(temporary))
+            CV_Error(Error::StsError, "cannot write '" + plotPath + "'");
+        renameIntoPlace(temporary, plotPath);
+        std::printf("wrote %s\n", plotPath.c_str());
+    }
+    return 0;
+}

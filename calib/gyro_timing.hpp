@@ -1,0 +1,23 @@
+// dynblur_calibrate_timing --gyro: the gyro log's clock offset, the line delay and the gyro bias of a
+// hand-held recording (gyro_timing.cpp), and --simulate-gyro.
+#ifndef DYNBLUR_CALIB_GYRO_TIMING_HPP
+#define DYNBLUR_CALIB_GYRO_TIMING_HPP
+
+#include <set>
+#include <string>
+
+namespace dynblur_samples {
+class CliArgs;
+}
+
+//! The options of the gyro path (valued), to add to the program's.
+const std::set<std::string>& gyroTimingOptionNames();
+//! Their help text.
+extern const char* const kGyroTimingHelp;
+/** Calibrates the recording the options name (--gyro ...), writes the timing file and the plot;
+returns the exit status. Throws as the program's main expects (std::runtime_error: usage). */
+int calibrateGyroTiming(const dynblur_samples::CliArgs& args, const std::string& defaultCameraPath);
+//! --simulate-gyro DIR: writes a hand-held recording with its gyro log; returns the exit status.
+int simulateGyroTiming(const dynblur_samples::CliArgs& args);
+
+#endif

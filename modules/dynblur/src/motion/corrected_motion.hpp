@@ -1,0 +1,45 @@
+// Private: a measured motion as a MotionCorrection corrects it (clock offset, gyro bias), seen from a
+// reference time: what refinement fits and what DynamicDeblurrer restores with.
+#ifndef OPENCV_DYNBLUR_MOTION_CORRECTED_MOTION_HPP
+#define OPENCV_DYNBLUR_MOTION_CORRECTED_MOTION_HPP
+
+#include "opencv2/dynblur/camera_motion.hpp"
+#include "opencv2/dynblur/refinement.hpp"
+
+#include "imaging/trajectory.hpp"
+
+namespace cv {
+namespace dynblur {
+namespace detail {
+
+//! The middle row's mid-exposure instant of `shutter`, seconds: a sampled motion's default reference time.
+inline double midExposure(const RollingShutter& shutter)
+{
+    return shutter.frameStart + 0.5 * (shutter.rows - 1) * shutter.lineDelay + 0.5 * shutter.exposure;
+}
+
+/** @brief `motion` with a constant gyro bias b (rad/s, camera axes) removed from its rates, to first
+order in b: Q_b(t) = Q(t)·exp(−[b·(t − t0)]×), whose body rate is exp([b·(t − t0)]×)·ω(t) − b exactly.
+It equals re-integrating ω − b from t0 up to the bias's turn carried through the camera's own turn
+between t0 and t (|b|·|t − t0| times that angle: 0.5 °/s over 0.1 s and 1° of shake, 1.5e-5 rad). The
+time span is `motion`'s. An empty `motion` or b = 0 returns `motion` itself. */
+Ptr<CameraMotion> withoutGyroBias(const Ptr<CameraMotion>& motion, const Vec3d& bias, double t0);
+
+/** @brief The view motion of a measured `motion` for a frame read by `corrected` (the shutter
+`correction` has corrected: its clock offset and line delay applied), relative to the orientation at
+`tRef` (seconds on the motion's clock; NaN: the corrected shutter's mid-exposure), with
+`correction.gyroBias` removed about tRef. Without a bias it is ViewMotion::of(motion, tRef, corrected). */
+ViewMotion correctedView(const Ptr<CameraMotion>& motion, const MotionCorrection& correction, double tRef,
+                         const RollingShutter& corrected);
+
+/** @brief Throws cv::Exception naming `function` and `name` unless `motion` covers the readout of
+`shutter` widened by `margin` seconds on both sides and by a line delay 15 % longer at its end:
+every clock offset and line delay a refinement within `margin` may try. */
+void checkMotionCoversSearch(const Ptr<CameraMotion>& motion, const RollingShutter& shutter, double margin,
+                             const char* function, const String& name);
+
+}  // namespace detail
+}  // namespace dynblur
+}  // namespace cv
+
+#endif

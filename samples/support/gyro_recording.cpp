@@ -1,0 +1,131 @@
+// A recording whose motion is a gyro log: its files opened and checked, its frames read.
+#include "gyro_recording.hpp"
+
+#include "cli_args.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace dynblur_samples {
+
+using namespace cv;
+using namespace cv::dynblur;
+
+const std::set<std::string>& gyroOptionNames()
+{
+    static const std::set<std::string> names{"gyro", "gyro-orientation", "gyro-bias", "gyro-still-seconds"};
+    return names;
+}
+
+const char* const kGyroOptionsHelp =
+    "  --gyro LOG           the recording's motion: a gyro log (Gyroflow gcsv, or CSV t,gx,gy,gz in s and\n"
+    "                       rad/s; docs/recording-format.md), same clock as the frame log up to the offset\n"
+    "                       that dynblur_calibrate_timing --gyro finds\n"
+    "  --gyro-orientation STR  axis string taking the gyro's axes to the camera's (x right, y down,\n"
+    "                       z forward; lowercase: inverted), replacing the gcsv file's (default: its\n"
+    "                       own, XYZ for a CSV)\n"
+    "  --gyro-bias B        estimate (from still intervals), none (default), or BX,BY,BZ in rad/s,\n"
+    "                       camera axes, removed from the rates\n"
+    "  --gyro-still-seconds S  shortest still interval the bias is estimated from (default 0.5)\n";
+
+GyroLogOptions gyroOptions(const CliArgs& args, Vec3d& bias)
+{
+    GyroLogOptions options;
+    options.orientation = args.str("gyro-orientation", "");
+    bias = Vec3d();
+    const std::string mode = args.str("gyro-bias", "none");
+    if (mode == "estimate")
+        options.estimateBias = true;
+    else if (mode != "none")
+    {
+        std::istringstream in(mode);
+        char comma1 = 0, comma2 = 0;
+        if (!(in >> bias[0] >> comma1 >> bias[1] >> comma2 >> bias[2]) || comma1 != ',' || comma2 != ',' ||
+            !in.eof() || !(std::abs(bias[0]) < 1 && std::abs(bias[1]) < 1 && std::abs(bias[2]) < 1))
+            throw std::runtime_error("--gyro-bias takes estimate, none or BX,BY,BZ (rad/s, each within +-1)");
+    }
+    options.stillMinDuration = args.num("gyro-still-seconds", 0.5);
+    if (!(options.stillMinDuration > 0))
+        throw std::runtime_error("--gyro-still-seconds must be > 0 (seconds)");
+    return options;
+}
+
+void GyroRecording::open(const CliArgs& args, const std::string& defaultCameraPath, GyroRecording& r)
+{
+    if (!args.has("gyro") || !args.has("video") || !args.has("frames"))
+        throw std::runtime_error("--gyro, --video and --frames are required for a recording whose motion is a "
+                                 "gyro log");
+    Vec3d bias;
+    const GyroLogOptions options = gyroOptions(args, bias);
+    r.log = readFrameLog(args.str("frames", ""), args.num("exposure", NAN), args.num("line-delay", NAN));
+    const std::string camera = args.str("camera", "");
+    r.camera = CameraModel::load(camera.empty() ? defaultCameraPath : camera);
+    try
+    {
+        r.gyro = GyroLog::load(args.str("gyro", ""), options);
+    }
+    catch (const cv::Exception& e)
+    {
+        CV_Error(e.code, "--gyro: " + e.err);
+    }
+    if (bias != Vec3d())
+        r.gyro.bias = bias;
+    r.motion = r.gyro.toMotion();
+    r.timingPath = args.str("timing", "");
+    const Vec2d span = r.motion->getTimeSpan();
+    const int rows = r.camera->getImageSize().height;
+    for (const FrameRecord& f : r.log)
+    {
+        const Vec2d readout = shutterOf(f, rows).readoutInterval();
+        if (!(readout[0] >= span[0] && readout[1] <= span[1]))
+            CV_Error(Error::StsOutOfRange,
+                     format("--frames: frame %d is read over [%.6f, %.6f] s, outside the gyro log's time span "
+                            "[%.6f, %.6f] s (--gyro): the log must cover every frame (same clock)",
+                            f.frame, readout[0], readout[1], span[0], span[1]));
+    }
+    const std::string video = args.str("video", "");
+    if (video.find('%') == std::string::npos && !std::ifstream(video).good())
+        CV_Error(Error::StsError, "--video: '" + video + "' does not exist");
+    if (!r.video.open(video))
+        CV_Error(Error::StsError, "--video: cannot open '" + video + "'");
+    r.position = 0;
+}
+
+Mat GyroRecording::read(const FrameRecord& record)
+{
+    Mat image;
+    while (position <= record.frame)
+    {
+        if (!video.read(image))
+            CV_Error(Error::StsBadArg, format("--frames: line for frame %d, but the video ends after %d frames",
+                                              record.frame, position));
+        position++;
+    }
+    const Size size = camera->getImageSize();
+    if (image.size() != size)
+        CV_Error(Error::StsBadSize, format("--video: frame %d is %dx%d but the camera is %dx%d", record.frame,
+                                           image.cols, image.rows, size.width, size.height));
+    return image;
+}
+
+RollingShutter GyroRecording::shutterOf(const FrameRecord& record, int rows)
+{
+    return RollingShutter(record.frameStart, record.exposure, record.lineDelay, rows);
+}
+
+double GyroRecording::peakRate(const FrameRecord& record) const
+{
+    const Vec2d readout = shutterOf(record, camera->getImageSize().height).readoutInterval();
+    const Vec2d span = motion->getTimeSpan();
+    if (!(readout[0] >= span[0] && readout[1] <= span[1]))
+        return std::numeric_limits<double>::infinity();
+    double peak = 0;
+    for (double t = readout[0]; t <= readout[1]; t += 5e-4)
+        peak = std::max(peak, norm(motion->angularVelocity(t)));
+    return peak;
+}
+
+}  // namespace dynblur_samples

@@ -22,6 +22,7 @@ RollingShutter → kernels from PsfGenerator → richardsonLucyVariant → resto
 #include "opencv2/dynblur/schedule.hpp"
 #include "opencv2/dynblur/plant.hpp"
 #include "opencv2/dynblur/camera_motion.hpp"
+#include "opencv2/dynblur/mount.hpp"
 #include "opencv2/dynblur/gyro_log.hpp"
 #include "opencv2/dynblur/planner.hpp"
 #include "opencv2/dynblur/shutter.hpp"

@@ -305,8 +305,8 @@ def main():
             targets.append(("held", f"PSF_AUTO / tiles, {window} (tiles in {100 * tiles_share:.0f} % of the rows; "
                             f"medians {a['auto_ms']:.0f} vs {a['tiles_ms']:.0f} ms)", f"{a['auto_over_tiles']:.2f}x",
                             "<= 1.1x", a["auto_over_tiles"] <= 1.1))
-        held = "III" in window
-        targets.append(("held" if held else "reported",
+        # Out of reach on windows III and global: the preset's quality there needs tiles (docs/performance.md).
+        targets.append(("out of reach" if "III" in window else "reported",
                         f"frame-rate preset / the frame-rate setting of rows and 10 iterations, {window} (tiles in "
                         f"{100 * a['preset_tiles_share']:.0f} % of the rows; medians {a['preset_ms']:.0f} vs "
                         f"{a['frame_rate_ms']:.0f} ms)", f"{a['preset_over_frame_rate']:.2f}x", "<= 1.2x",

@@ -287,15 +287,11 @@ PsfBank PsfGeneratorImpl::bankOf(int model, const ViewMotion& motion, const Roll
             for (int band : chosen.bandModel)
                 rowsOnly.push_back(band != PSF_TILES);
         else
-        {
-            bank.nodeRows.clear();
-            bank.nodeCols.clear();
-        }
+            bank = PsfBank();  // the cheaper model's own nodes, below
+        bank.imageSize = size;
     }
     bank.model = model;
-    if (!bank.nodeRows.empty())
-        ;  // PSF_AUTO's tile nodes
-    else if (model == PSF_UNIFORM)
+    if (model == PSF_UNIFORM)
     {
         bank.nodeCols.assign(1, xc);
         bank.nodeRows.assign(1, yc);
@@ -311,7 +307,7 @@ PsfBank PsfGeneratorImpl::bankOf(int model, const ViewMotion& motion, const Roll
         else
             bank.nodeRows = autoBands(tr, pr, shutter, std::vector<double>(1, xc));
     }
-    else
+    else if (bank.nodeRows.empty())  // PSF_AUTO has placed them
         tileNodes(tr, pr, shutter, bank);
 
     const int nx = (int)bank.nodeCols.size(), n = (int)(bank.nodeRows.size() * nx);

@@ -281,7 +281,7 @@ private:
     /* DEBLUR_PRESET_FRAME_RATE's iterations for a frame blurred as `bank`, from its longest kernel
        L (pixels): kShortBlurIterations up to kShortBlurPx, else kLongBlurIterations; the color takes
        one iteration per kPxPerColorIteration of L, from kMinColorIterations to kMaxColorIterations
-       (docs/quality.md, "The frame-rate preset"). */
+       (docs/quality.md, "PSF_AUTO and the frame-rate preset"). */
     RLParams iterationsFor(const PsfBank& bank) const
     {
         const Size k = bank.maxKernelSize();

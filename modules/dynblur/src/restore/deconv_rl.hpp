@@ -3,10 +3,10 @@
 #define OPENCV_DYNBLUR_DECONV_RL_HPP
 
 #include "restore/deconv_operator.hpp"
-#include "restore/fill_unobserved.hpp"
-#include "restore/frame_planes.hpp"
-#include "restore/restored_planes.hpp"
-#include "restore/rl_rows.hpp"
+#include "restore/rl/fill_unobserved.hpp"
+#include "restore/rl/frame_planes.hpp"
+#include "restore/rl/restored_planes.hpp"
+#include "restore/rl/rl_rows.hpp"
 
 #include <vector>
 

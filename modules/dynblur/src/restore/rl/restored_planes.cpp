@@ -1,4 +1,4 @@
-#include "restore/restored_planes.hpp"
+#include "restore/rl/restored_planes.hpp"
 
 #include "restore/deconv_rl.hpp"
 

@@ -1,8 +1,8 @@
-#include "restore/blur_operator.hpp"
+#include "restore/operators/blur_operator.hpp"
 
-#include "restore/packed_gather.hpp"
-#include "restore/row_bank_operator.hpp"
-#include "restore/tile_bank_operator.hpp"
+#include "restore/operators/packed_gather.hpp"
+#include "restore/operators/row_bank_operator.hpp"
+#include "restore/operators/tile_bank_operator.hpp"
 
 #include <opencv2/core/utility.hpp>
 

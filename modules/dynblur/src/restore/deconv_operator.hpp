@@ -5,6 +5,7 @@
 
 #include "restore/operators/bank_geometry.hpp"
 #include "restore/operators/bank_operator.hpp"
+#include "restore/operators/bank_operator_factory.hpp"
 #include "restore/operators/blur_operator.hpp"
 #include "restore/operators/displacement.hpp"
 #include "restore/operators/packed_gather.hpp"

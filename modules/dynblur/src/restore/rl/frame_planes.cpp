@@ -1,7 +1,5 @@
 #include "restore/rl/frame_planes.hpp"
 
-#include "restore/deconv_rl.hpp"
-
 #include "restore/rl/rl_rows.hpp"
 
 #include <opencv2/core/utility.hpp>

@@ -27,9 +27,17 @@ namespace {
    (docs/quality.md), with a tenth of margin. */
 const double kBfloat16Tolerance = 0.021;
 
+/* PSF_AUTO (the default) against the best fixed model, both at the default's settings, and the
+   frame-rate preset against the default: the issue's bounds, dB. */
+const double kAutoGap = 0.3;
+const double kPresetGap = 0.5;
+
+std::string imageName(const std::string& file) { return file.substr(0, file.find('.')); }
+
 struct Restorations
 {
     Mat frame, uniform, variant, valid;
+    PsfPlan plan;  // the default's (PSF_AUTO's)
 
     //! PSNR against `truth` over `judged`, in order: the blurred frame, the uniform and the variant restorations.
     std::array<double, 3> psnr(const Mat& truth, const Mat& judged) const
@@ -49,7 +57,47 @@ Restorations restoreBoth(const SaccadeScene& s, const RollingShutter& shutter)
     uniform->deblur(r.frame, s.schedule, shutter, r.uniform);
     Ptr<DynamicDeblurrer> variant = DynamicDeblurrer::create(s.plant, s.camera);
     variant->deblur(r.frame, s.schedule, shutter, r.variant, std::numeric_limits<double>::quiet_NaN(), r.valid);
+    r.plan = variant->getLastPlan();
     return r;
+}
+
+//! PSNR of the frame restored by a deblurrer with the default settings but `model`.
+double modelPsnr(const SaccadeScene& s, const RollingShutter& shutter, const Mat& frame, const Mat& judged, int model)
+{
+    Ptr<DynamicDeblurrer> fixed = DynamicDeblurrer::create(s.plant, s.camera);
+    fixed->setPsfModel(model);
+    Mat restored;
+    fixed->deblur(frame, s.schedule, shutter, restored);
+    return maskedPsnr(s.truth, restored, judged, 255);
+}
+
+/* PSF_AUTO (r.variant, PSNR `variant`) within kAutoGap of the best fixed model (`uniform` is r.uniform's
+   PSNR; `rows` PSF_ROWS's when measured already, NaN: measured here), and the frame-rate preset within
+   kPresetGap of the default. Prints both and the share of rows PSF_AUTO gave each operator. */
+void expectAutoAndPreset(const std::string& file, const std::string& window, const SaccadeScene& s,
+                         const RollingShutter& shutter, const Restorations& r, const Mat& judged, double uniform,
+                         double variant, double rows = std::numeric_limits<double>::quiet_NaN())
+{
+    const double tiles = modelPsnr(s, shutter, r.frame, judged, PSF_TILES);
+    if (std::isnan(rows))
+        rows = modelPsnr(s, shutter, r.frame, judged, PSF_ROWS);
+    const double best = std::max(tiles, std::max(rows, uniform));
+    std::printf("[ measured ] %s: %s, PSF_AUTO - best fixed model: %+.3f dB (auto %.2f, tiles %.2f, rows %.2f, "
+                "uniform %.2f dB), allowed -%.1f dB; rows given uniform / rows / tiles: %.0f / %.0f / %.0f %%\n",
+                imageName(file).c_str(), window.c_str(), variant - best, variant, tiles, rows, uniform, kAutoGap,
+                100 * r.plan.rowShare(PSF_UNIFORM), 100 * r.plan.rowShare(PSF_ROWS),
+                100 * r.plan.rowShare(PSF_TILES));
+    EXPECT_GE(variant - best, -kAutoGap) << window;
+
+    Ptr<DynamicDeblurrer> preset = DynamicDeblurrer::create(s.plant, s.camera);
+    preset->setPreset(DEBLUR_PRESET_FRAME_RATE);
+    Mat restored;
+    preset->deblur(r.frame, s.schedule, shutter, restored);
+    const double fast = maskedPsnr(s.truth, restored, judged, 255);
+    std::printf("[ measured ] %s: %s, frame-rate preset - default: %+.3f dB (%.2f against %.2f dB), allowed -%.1f "
+                "dB\n",
+                imageName(file).c_str(), window.c_str(), fast - variant, fast, variant, kPresetGap);
+    EXPECT_GE(fast - variant, -kPresetGap) << window;
 }
 
 /* PSNR of the frame-rate setting (10 iterations, 3 in color) with `model`, `blurPrecision` and the
@@ -139,8 +187,6 @@ const std::map<std::string, double>& documentedGains()
     return gains;
 }
 
-std::string imageName(const std::string& file) { return file.substr(0, file.find('.')); }
-
 /* Prints "[ measured ] <figure>: <gain> dB (<restored> against <reference> dB), floor <f> dB" and
    asserts gain ≥ kFloorShare × the documented gain. */
 void expectGain(const std::string& file, const std::string& figure, double restored, double reference)
@@ -189,6 +235,7 @@ TEST_P(DeblurQuality, RollingShutterWindowIIIGainsInTheMostBlurredThird)
     rowWise->deblur(r.frame, s.schedule, shutter, rowsRestored);
     const double rows = maskedPsnr(s.truth, rowsRestored, judged, 255);
     expectGain(GetParam(), "III rolling, variant - rows (full color)", variant, rows);
+    expectAutoAndPreset(GetParam(), "III rolling", s, shutter, r, judged, uniform, variant, rows);
 
     // The frame-rate setting (the speed benchmark's): row bands, 10 iterations, 3 of them in color.
     const double frameRate =
@@ -233,6 +280,7 @@ TEST_P(DeblurQuality, GlobalShutterVariantMatchesUniform)
     expectGain(GetParam(), "III global, variant - blurred", variant, blurred);
     expectGain(GetParam(), "III global, uniform - blurred", uniform, blurred);
     expectGain(GetParam(), "III global, variant - uniform", variant, uniform);
+    expectAutoAndPreset(GetParam(), "III global", s, shutter, r, judged, uniform, variant);
 }
 
 TEST_P(DeblurQuality, RollingShutterWindowIPutsRowsBackInPlace)
@@ -250,6 +298,7 @@ TEST_P(DeblurQuality, RollingShutterWindowIPutsRowsBackInPlace)
                 GetParam().c_str(), blurred, uniform, variant);
     expectGain(GetParam(), "I rolling, variant - blurred", variant, blurred);
     expectGain(GetParam(), "I rolling, variant - uniform", variant, uniform);
+    expectAutoAndPreset(GetParam(), "I rolling", s, shutter, r, judged, uniform, variant);
 
     /* Window I is where columns differ most (the tile model's gain): the color's kernels at half
        resolution take half the tile grid's columns (the same spacing in pixels). */
@@ -277,6 +326,7 @@ TEST_P(DeblurQuality, RollingShutterWindowIIMovingThroughout)
                 GetParam().c_str(), blurred, uniform, variant);
     expectGain(GetParam(), "II rolling, variant - blurred", variant, blurred);
     expectGain(GetParam(), "II rolling, variant - uniform", variant, uniform);
+    expectAutoAndPreset(GetParam(), "II rolling", s, shutter, r, judged, uniform, variant);
 }
 
 // building and fruits have been looked at while the restoration was developed; board is held out.

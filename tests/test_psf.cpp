@@ -463,7 +463,7 @@ TEST(PsfGenerator, BadArgumentsNameTheArgument)
     Ptr<CameraModel> cam = CameraModel::create(300, 300, 80, 60, 160, 120);
     Ptr<PsfGenerator> gen = PsfGenerator::create(seedPlant(), cam);
     const RollingShutter rs(0.0, 0.008, 1e-4, 120);
-    dynblur_test::expectErrorNaming([&] { gen->generate(3, saccade(), rs); }, "model");
+    dynblur_test::expectErrorNaming([&] { gen->generate(4, saccade(), rs); }, "model");
     dynblur_test::expectErrorNaming([&] { gen->generate(PSF_ROWS, saccade(), RollingShutter(0, 0.008, 1e-4, 100)); },
                       "shutter.rows");
     dynblur_test::expectErrorNaming([&] { gen->generate(PSF_ROWS, saccade(), RollingShutter(0, -1, 1e-4, 120)); },

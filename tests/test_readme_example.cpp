@@ -32,13 +32,7 @@ cv::Mat restoreOneFrame(const cv::Mat& frame)  // 640×480, CV_8UC3 sRGB or CV_3
 // ---- README.md, "Using it from C++" (second block: the frame-rate setting) ----
 void useFrameRateSetting(DynamicDeblurrer& deblurrer)
 {
-    deblurrer.setPsfModel(PSF_ROWS);                               // one kernel per row band
-    deblurrer.setColorResolution(DEBLUR_COLOR_HALF_RESOLUTION);  // color planes at half resolution
-    RLParams params = deblurrer.getRLParams();
-    params.iterations = 10;                   // on the luminance, at full resolution
-    params.colorIterations = 3;               // on the color planes
-    params.blurPrecision = RL_BLUR_BFLOAT16;  // bfloat16 blurs, float sums
-    deblurrer.setRLParams(params);
+    deblurrer.setPreset(DEBLUR_PRESET_FRAME_RATE);  // explicit setters still override it
 }
 // ---- README.md, "Using it from C++" (third block: a hand-held camera with a gyroscope) ----
 cv::Mat restoreHandHeldFrame(const cv::Mat& frame, const cv::String& gyroLogPath)  // 640×480, a .gcsv or t,gx,gy,gz CSV
@@ -104,7 +98,7 @@ TEST(ReadmeExample, FrameRateSettingRestoresAFrameCloserToTheTruth)
     cv::Ptr<DynamicDeblurrer> deblurrer =
         DynamicDeblurrer::create(plant, CameraModel::create(615, 615, 319.5, 239.5, 640, 480));
     useFrameRateSetting(*deblurrer);
-    EXPECT_EQ(deblurrer->getPsfModel(), PSF_ROWS);
+    EXPECT_EQ(deblurrer->getPsfModel(), PSF_AUTO);
     EXPECT_EQ(deblurrer->getRLParams().blurPrecision, RL_BLUR_BFLOAT16);
     cv::Mat restored;
     deblurrer->deblur(frame, SwitchPlanner::create(plant, 16)->plan(0.0, 10 * CV_PI / 180, 0.0),

@@ -207,6 +207,19 @@ same noise. Returns float32.)doc");
     m.attr("PSF_UNIFORM") = int(PSF_UNIFORM);
     m.attr("PSF_ROWS") = int(PSF_ROWS);
     m.attr("PSF_TILES") = int(PSF_TILES);
+    m.attr("PSF_AUTO") = int(PSF_AUTO);
+    py::class_<PsfPlan>(m, "PsfPlan", R"doc(What PSF_AUTO chose for one frame: the operator (model) and, per band of rows (bandStart: first
+row), PSF_UNIFORM, PSF_ROWS or PSF_TILES, with the displacement errors (pixels) of the cheaper models
+it was chosen by. List fields are copies.)doc")
+        .def(py::init<>())
+        .def_readwrite("model", &PsfPlan::model, "the frame's operator: PSF_UNIFORM, PSF_ROWS or PSF_TILES")
+        .def_readwrite("tolerance", &PsfPlan::tolerance, "tolerance it was chosen with, pixels")
+        .def_readwrite("uniformError", &PsfPlan::uniformError, "PSF_UNIFORM's largest displacement error, pixels")
+        .def_readwrite("bandStart", &PsfPlan::bandStart, "first frame row of each band")
+        .def_readwrite("bandModel", &PsfPlan::bandModel, "per band: PSF_UNIFORM, PSF_ROWS or PSF_TILES")
+        .def_readwrite("rowsError", &PsfPlan::rowsError, "per band: PSF_ROWS's largest displacement error, pixels")
+        .def_readwrite("rows", &PsfPlan::rows, "frame rows")
+        .def("rowShare", &PsfPlan::rowShare, py::arg("model"), "Share of the frame's rows given `model`, in [0, 1].");
     py::class_<PsfBank>(m, "PsfBank", R"doc(Spatially variant blur: kernels on a grid of nodes, blended with bilinear (partition of unity)
 weights. Kernel n sits at node (nodeCols[n % nx], nodeRows[n // nx]); a latent point q spreads to
 blurred pixels q + shifts[n] + (u − c) with weight kernels[n][u], c the kernel's centre element.
@@ -272,7 +285,20 @@ tRef: seconds, NaN = the motion's default reference. Returns a PsfBank.)doc")
             },
             py::arg("model"), py::arg("schedule"), py::arg("shutter"), py::arg("thetaRef") = kNaN,
             R"doc(Kernels for one frame. model: PSF_UNIFORM, PSF_ROWS or PSF_TILES; shutter.rows must equal the
-camera's image height; thetaRef: radians, NaN = the schedule's final resting angle. Returns a PsfBank.)doc")
+camera's image height; thetaRef: radians, NaN = the schedule's final resting angle. Returns a PsfBank.
+PSF_AUTO: the model chosen per band of rows (the bank's model is the one chosen).)doc")
+        .def("plan",
+            [](const PsfGenerator& g, const std::shared_ptr<CameraMotion>& motion, const RollingShutter& shutter,
+               double tRef) {
+                auto m = required(motion, "motion");
+                py::gil_scoped_release release;
+                return g.plan(m, shutter, tRef);
+            },
+            py::arg("motion"), py::arg("shutter"), py::arg("tRef") = kNaN,
+            "What PSF_AUTO chooses for one frame of `motion` (a PsfPlan).")
+        .def("getAutoTolerance", &PsfGenerator::getAutoTolerance,
+             "PSF_AUTO's largest displacement error of a cheaper model, pixels (default 0.5).")
+        .def("setAutoTolerance", &PsfGenerator::setAutoTolerance, py::arg("pixels"))
         .def("getMaxKernelSize", &PsfGenerator::getMaxKernelSize,
              "Largest kernel extent allowed, pixels (default 401); a longer path is refused.")
         .def("setMaxKernelSize", &PsfGenerator::setMaxKernelSize, py::arg("pixels"))
@@ -400,6 +426,8 @@ and the results blended with the bank's weights. noiseToSignal: noise-to-signal 
     m.attr("DEBLUR_WIENER") = int(DEBLUR_WIENER);
     m.attr("DEBLUR_COLOR_FULL_RESOLUTION") = int(DEBLUR_COLOR_FULL_RESOLUTION);
     m.attr("DEBLUR_COLOR_HALF_RESOLUTION") = int(DEBLUR_COLOR_HALF_RESOLUTION);
+    m.attr("DEBLUR_PRESET_DEFAULT") = int(DEBLUR_PRESET_DEFAULT);
+    m.attr("DEBLUR_PRESET_FRAME_RATE") = int(DEBLUR_PRESET_FRAME_RATE);
     py::class_<DynamicDeblurrer, std::shared_ptr<DynamicDeblurrer>>(m, "DynamicDeblurrer", R"doc(Restores frames taken while the positioner moves: the blur of every pixel is predicted from the
 plant and the commands, then undone. The result is the global-shutter, motion-free view at θ_ref.
 One instance is not meant to be shared by threads running deblur() at the same time.)doc")
@@ -438,8 +466,13 @@ schedule: the command in force around the frame; shutter: the frame's timing (ro
 thetaRef: radians, NaN = the schedule's final resting angle. Returns restored (same shape and
 dtype; a window-IV frame comes back unchanged), or (restored, validMask) with returnMask=True
 (uint8, 255 where the frame observed the restored pixel).)doc")
-        .def("getPsfModel", &DynamicDeblurrer::getPsfModel, "PsfModel (default PSF_TILES, the most accurate)")
+        .def("getPsfModel", &DynamicDeblurrer::getPsfModel,
+             "PsfModel (default PSF_AUTO: per band of rows the cheapest model within the generator's auto tolerance)")
         .def("setPsfModel", &DynamicDeblurrer::setPsfModel, py::arg("model"))
+        .def("setPreset", &DynamicDeblurrer::setPreset, py::arg("preset"),
+             "Sets the PSF model, method, color resolution and RLParams of a DeblurPreset "
+             "(DEBLUR_PRESET_DEFAULT or DEBLUR_PRESET_FRAME_RATE) together.")
+        .def("getLastPlan", &DynamicDeblurrer::getLastPlan, "What PSF_AUTO chose for the last restored frame (PsfPlan).")
         .def("getMethod", &DynamicDeblurrer::getMethod, "DeblurMethod (DEBLUR_RICHARDSON_LUCY or DEBLUR_WIENER)")
         .def("setMethod", &DynamicDeblurrer::setMethod, py::arg("method"))
         .def("getColorResolution", &DynamicDeblurrer::getColorResolution,

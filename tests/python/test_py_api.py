@@ -259,7 +259,7 @@ def test_deblurrer(db, small_setup):
     sharp = make_scene(120, 160)
     blurred = db.renderBlurred(sharp, plant, sched, cam, shutter)
     deb = db.DynamicDeblurrer.create(plant, cam)
-    assert deb.getPsfModel() == db.PSF_TILES and deb.getMethod() == db.DEBLUR_RICHARDSON_LUCY
+    assert deb.getPsfModel() == db.PSF_AUTO and deb.getMethod() == db.DEBLUR_RICHARDSON_LUCY
     assert deb.getLastExposureWindow() == 0
     assert math.isnan(deb.getRLParams().damping)
     restored, mask = deb.deblur(blurred, sched, shutter, returnMask=True)
@@ -278,6 +278,27 @@ def test_deblurrer(db, small_setup):
     out = deb.deblur(blurred, sched, still)
     np.testing.assert_array_equal(out, blurred)
     assert not np.shares_memory(out, blurred)
+
+
+def test_deblurrer_plan_and_preset(db, small_setup):
+    plant, sched, cam, shutter = small_setup
+    blurred = db.renderBlurred(make_scene(120, 160), plant, sched, cam, shutter)
+    deb = db.DynamicDeblurrer.create(plant, cam)
+    deb.deblur(blurred, sched, shutter)
+    plan = deb.getLastPlan()
+    assert plan.model in (db.PSF_UNIFORM, db.PSF_ROWS, db.PSF_TILES) and plan.rows == 120
+    assert plan.bandStart[0] == 0 and len(plan.bandModel) == len(plan.bandStart) == len(plan.rowsError)
+    shares = [plan.rowShare(m) for m in (db.PSF_UNIFORM, db.PSF_ROWS, db.PSF_TILES)]
+    assert abs(sum(shares) - 1) < 1e-12
+    motion = db.CameraMotion.fromPlant(plant, sched)
+    assert deb.getPsfGenerator().plan(motion, shutter).bandModel == plan.bandModel
+    with pytest.raises(db.error):
+        deb.getPsfGenerator().setAutoTolerance(float("nan"))
+    with pytest.raises(db.error):
+        deb.setPreset(7)
+    deb.setPreset(db.DEBLUR_PRESET_FRAME_RATE)
+    assert deb.getRLParams().blurPrecision == db.RL_BLUR_BFLOAT16 and deb.getRLParams().tolerance > 0
+    assert deb.deblur(blurred, sched, shutter).shape == blurred.shape
 
 
 def test_deblurrer_color_at_half_resolution(db, small_setup):

@@ -24,8 +24,11 @@ struct SaccadeFrame : SaccadeScene
 {
     cv::Mat frame, frame8;  // linear float, and as a webcam delivers it: 8-bit sRGB
 
-    SaccadeFrame()
+    //! `timing`: the frame's shutter instead of SaccadeScene's (its rows must be 960).
+    explicit SaccadeFrame(const cv::dynblur::RollingShutter* timing = nullptr)
     {
+        if (timing)
+            shutter = *timing;
         // A textured linear-intensity scene.
         cv::Mat sharp(960, 1280, CV_32FC3), blurred;
         cv::randu(sharp, 0.05f, 0.95f);

@@ -19,6 +19,7 @@ using namespace cv::dynblur;
 using dynblur_perf::median;
 using dynblur_perf::medianRatio;
 using dynblur_perf::SaccadeFrame;
+using dynblur_perf::SaccadeScene;
 
 namespace {
 
@@ -110,6 +111,56 @@ void BM_FrameRatePaired(benchmark::State& state)
     state.counters["full_color_over_rows"] = overRows(4);
 }
 BENCHMARK(BM_FrameRatePaired)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(15)->Repetitions(1);
+
+/* PSF_AUTO and the frame-rate preset against the fixed models, paired per round, on the frame of a
+   window: 0 the benchmark's window III rolling frame, 1 window I rolling (starts 20.7 ms before the
+   move), 2 window III global (starts 42.9 ms after it starts; the demo's frames), 3 a frame late in
+   the settling (rolling, starts 40 ms after), whose blur is short. Each round restores it with the
+   default settings (20 iterations, full color) as PSF_AUTO, PSF_ROWS and PSF_TILES, with
+   DEBLUR_PRESET_FRAME_RATE, with the frame-rate setting of old (setFrameRate: rows, 10 iterations)
+   and with the filter2D reference. Counters: the medians (ms), the median ratios, and the share of
+   rows PSF_AUTO gave rows and tiles (the default's, then the preset's). */
+void BM_AutoPaired(benchmark::State& state)
+{
+    static const RollingShutter timings[4] = {SaccadeScene().shutter, RollingShutter(-0.0207, 0.008, 1.0 / 30 / 960, 960),
+                                              RollingShutter(0.0429, 0.008, 0, 960),
+                                              RollingShutter(0.040, 0.008, 1.0 / 30 / 960, 960)};
+    const int window = static_cast<int>(state.range(0));
+    const SaccadeFrame f(&timings[window]);
+    const int expected[4] = {EXPOSURE_III, EXPOSURE_I, EXPOSURE_III, EXPOSURE_III};
+    if (classifyExposure(f.plant, f.schedule, f.shutter) != expected[window])
+        state.SkipWithError("the frame is not in the window it stands for");
+    const auto withModel = [&](int model) {
+        Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(f.plant, f.camera);
+        deblurrer->setPsfModel(model);
+        return deblurrer;
+    };
+    Ptr<DynamicDeblurrer> automatic = withModel(PSF_AUTO), rows = withModel(PSF_ROWS), tiles = withModel(PSF_TILES),
+                          preset = withModel(PSF_AUTO), old = frameRateDeblurrer(f, PSF_ROWS);
+    preset->setPreset(DEBLUR_PRESET_FRAME_RATE);
+    const Mat kernel = dynblur_perf::uniformKernel21x1();
+    Mat restored, estimate;
+    const std::vector<std::vector<double>> ms = dynblur_perf::timePairedRounds(
+        state, {[&] { automatic->deblur(f.frame, f.schedule, f.shutter, restored); },
+                [&] { rows->deblur(f.frame, f.schedule, f.shutter, restored); },
+                [&] { tiles->deblur(f.frame, f.schedule, f.shutter, restored); },
+                [&] { preset->deblur(f.frame, f.schedule, f.shutter, restored); },
+                [&] { old->deblur(f.frame, f.schedule, f.shutter, restored); },
+                [&] { dynblur_perf::filter2DRichardsonLucy(f.frame, kernel, 10, estimate); }});
+    const char* names[6] = {"auto_ms", "rows_ms", "tiles_ms", "preset_ms", "frame_rate_ms", "filter2d_ms"};
+    for (size_t i = 0; i < 6; i++)
+        state.counters[names[i]] = median(ms[i]);
+    state.counters["auto_over_rows"] = medianRatio(ms[0], ms[1]);
+    state.counters["auto_over_tiles"] = medianRatio(ms[0], ms[2]);
+    state.counters["preset_over_frame_rate"] = medianRatio(ms[3], ms[4]);
+    state.counters["filter2d_over_preset"] = medianRatio(ms[5], ms[3]);
+    const PsfPlan plan = automatic->getLastPlan(), fast = preset->getLastPlan();
+    state.counters["auto_rows_share"] = plan.rowShare(PSF_ROWS) + plan.rowShare(PSF_UNIFORM);
+    state.counters["auto_tiles_share"] = plan.rowShare(PSF_TILES);
+    state.counters["preset_tiles_share"] = fast.rowShare(PSF_TILES);
+}
+BENCHMARK(BM_AutoPaired)->ArgName("window")->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)
+    ->UseRealTime()->Iterations(5)->Repetitions(1);
 
 /* The test command's short speed check (scripts/benchmark.sh --ci): the row-wise restoration and the
    filter2D reference alone, paired as in BM_FrameRatePaired (order alternating by round), over a few

@@ -64,6 +64,20 @@ void BM_PsfUniform(benchmark::State& s) { generateBank(s, saccadeFrame(), PSF_UN
 void BM_PsfRowsAutoWindowIII(benchmark::State& s) { generateBank(s, windowIIIFrame(), PSF_ROWS, 0, Size()); }
 void BM_PsfTilesAutoWindowIII(benchmark::State& s) { generateBank(s, windowIIIFrame(), PSF_TILES, 0, Size()); }
 void BM_PsfUniformWindowIII(benchmark::State& s) { generateBank(s, windowIIIFrame(), PSF_UNIFORM, 0, Size()); }
+void BM_PsfAutoWindowIII(benchmark::State& s) { generateBank(s, windowIIIFrame(), PSF_AUTO, 0, Size()); }
+
+//! PSF_AUTO's choice alone (PsfGenerator::plan: the tile nodes and the sampled displacements), window III frame.
+void BM_PsfPlanWindowIII(benchmark::State& state)
+{
+    const Frame& f = windowIIIFrame();
+    Ptr<PsfGenerator> gen = PsfGenerator::create(f.camera);
+    const Ptr<CameraMotion> motion = CameraMotion::fromPlant(f.plant, f.schedule);
+    for (auto _ : state)
+    {
+        PsfPlan plan = gen->plan(motion, f.shutter);
+        benchmark::DoNotOptimize(plan.bandModel.data());
+    }
+}
 
 }  // namespace
 
@@ -75,3 +89,5 @@ BENCHMARK(BM_PsfUniform)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_PsfRowsAutoWindowIII)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_PsfTilesAutoWindowIII)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_PsfUniformWindowIII)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PsfAutoWindowIII)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PsfPlanWindowIII)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -2,6 +2,7 @@
 // view-to-reference mapping of a camera rotating about a fixed mount axis (DESIGN §2).
 #include "precomp.hpp"
 
+#include "imaging/half_camera.hpp"
 #include "imaging/pinhole.hpp"
 
 #include <visp3/core/vpCameraParameters.h>
@@ -259,6 +260,21 @@ Ptr<CameraModel> CameraModel::load(const String& filename, const String& cameraN
     msg << " (perspective model with or without distortion) in ViSP camera file '" << filename << "'";
     CV_Error(Error::StsParseError, msg.str());
 }
+
+namespace detail {
+
+Ptr<CameraModel> halfResolutionCamera(const CameraModel& camera)
+{
+    const Size size = camera.getImageSize();
+    CV_Assert(size.width % 2 == 0 && size.height % 2 == 0);
+    Ptr<CameraModel> half = CameraModel::create(camera.getFx() / 2, camera.getFy() / 2, (camera.getCx() - 0.5) / 2,
+                                                (camera.getCy() - 0.5) / 2, size.width / 2, size.height / 2,
+                                                camera.getKud(), camera.getKdu());
+    half->setMountAxis(camera.getMountAxis());
+    return half;
+}
+
+}  // namespace detail
 
 }  // namespace dynblur
 }  // namespace cv

@@ -6,6 +6,7 @@
 #include "imaging/pinhole.hpp"
 #include "imaging/psf_generator.hpp"
 #include "imaging/psf_kernel.hpp"
+#include "imaging/psf_plan.hpp"
 #include "imaging/trajectory.hpp"
 #include "motion/camera_motion.hpp"
 #include "motion/shutter_check.hpp"
@@ -25,7 +26,7 @@ class PsfGeneratorImpl CV_FINAL : public PsfGenerator
 {
 public:
     PsfGeneratorImpl(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera)
-        : plant_(plant), camera_(camera), maxKernel_(401), bandRows_(0), grid_(0, 0)
+        : plant_(plant), camera_(camera), maxKernel_(401), bandRows_(0), grid_(0, 0), autoTolerance_(0.5)
     {
     }
 
@@ -59,15 +60,31 @@ public:
                        grid.width, grid.height, image.width, image.height));
         grid_ = grid;
     }
+    PsfPlan plan(const Ptr<CameraMotion>& motion, const RollingShutter& shutter, double tRef) const CV_OVERRIDE;
+    double getAutoTolerance() const CV_OVERRIDE { return autoTolerance_; }
+    void setAutoTolerance(double pixels) CV_OVERRIDE
+    {
+        if (!(pixels > 0) || !std::isfinite(pixels))
+            CV_Error_(Error::StsOutOfRange,
+                      ("PsfGenerator::setAutoTolerance: pixels=%g must be > 0 and finite (PSF_AUTO's largest "
+                       "displacement error)",
+                       pixels));
+        autoTolerance_ = pixels;
+    }
     String getDefaultName() const CV_OVERRIDE { return "dynblur.PsfGenerator"; }
 
-    //! The bank of `model` for the views of `motion` (arguments checked).
-    PsfBank bankOf(int model, const ViewMotion& motion, const RollingShutter& shutter) const;
+    /* The bank of `model` for the views of `motion` (arguments checked); with PSF_AUTO its plan
+       goes to `plan` when given (and only the plan is made when `planOnly`), and the bank's model is
+       the one chosen. */
+    PsfBank bankOf(int model, const ViewMotion& motion, const RollingShutter& shutter, PsfPlan* plan = nullptr,
+                   bool planOnly = false) const;
     //! Throws unless `model` is a PsfModel and `shutter` reads the camera's rows.
     void checkModelAndShutter(int model, const RollingShutter& shutter) const;
 
 private:
     int autoColumns(const Trajectory& tr, const Pinhole& pr, const RollingShutter& shutter) const;
+    //! PSF_TILES's node columns and rows (the grid set, or the automatic one) into `bank`.
+    void tileNodes(const Trajectory& tr, const Pinhole& pr, const RollingShutter& shutter, PsfBank& bank) const;
     std::vector<double> autoBands(const Trajectory& tr, const Pinhole& pr, const RollingShutter& shutter,
                                   const std::vector<double>& columns) const;
 
@@ -76,6 +93,7 @@ private:
     int maxKernel_;
     int bandRows_;
     Size grid_;
+    double autoTolerance_;
 };
 
 //! The view's rotation at the start, middle and end of the exposure of row position `row`: the
@@ -171,11 +189,29 @@ std::vector<double> PsfGeneratorImpl::autoBands(const Trajectory& tr, const Pinh
     return centres;
 }
 
+void PsfGeneratorImpl::tileNodes(const Trajectory& tr, const Pinhole& pr, const RollingShutter& shutter,
+                                 PsfBank& bank) const
+{
+    const Size size = camera_->getImageSize();
+    const int W = size.width, H = size.height;
+    const int nx = grid_.width > 0 ? grid_.width : autoColumns(tr, pr, shutter);
+    for (int i = 0; i < nx; i++)
+        bank.nodeCols.push_back((i + 0.5) * W / nx - 0.5);
+    if (grid_.height > 0)
+    {
+        for (int j = 0; j < grid_.height; j++)
+            bank.nodeRows.push_back((j + 0.5) * H / grid_.height - 0.5);
+    }
+    else
+        bank.nodeRows = autoBands(tr, pr, shutter, std::vector<double>{0.0, 0.5 * (W - 1), W - 1.0});
+}
+
 void PsfGeneratorImpl::checkModelAndShutter(int model, const RollingShutter& shutter) const
 {
-    if (model != PSF_UNIFORM && model != PSF_ROWS && model != PSF_TILES)
-        CV_Error_(Error::StsBadArg,
-                  ("PsfGenerator::generate: model=%d must be PSF_UNIFORM (0), PSF_ROWS (1) or PSF_TILES (2)", model));
+    if (model != PSF_UNIFORM && model != PSF_ROWS && model != PSF_TILES && model != PSF_AUTO)
+        CV_Error_(Error::StsBadArg, ("PsfGenerator::generate: model=%d must be PSF_UNIFORM (0), PSF_ROWS (1), "
+                                     "PSF_TILES (2) or PSF_AUTO (3)",
+                                     model));
     detail::checkShutter(shutter, "PsfGenerator::generate", "shutter.", camera_->getImageSize().height);
 }
 
@@ -210,7 +246,20 @@ PsfBank PsfGeneratorImpl::generate(int model, const Ptr<CameraMotion>& motion, c
     return bankOf(model, ViewMotion::of(motion, tRef, shutter), shutter);
 }
 
-PsfBank PsfGeneratorImpl::bankOf(int model, const ViewMotion& motion, const RollingShutter& shutter) const
+PsfPlan PsfGeneratorImpl::plan(const Ptr<CameraMotion>& motion, const RollingShutter& shutter, double tRef) const
+{
+    checkModelAndShutter(PSF_AUTO, shutter);
+    detail::checkMotionCovers(motion, shutter.readoutInterval(), "PsfGenerator::plan", "motion");
+    if (std::isinf(tRef))
+        CV_Error(Error::StsBadArg, "PsfGenerator::plan: tRef must be finite (seconds) or NaN (the motion's default "
+                                   "reference)");
+    PsfPlan result;
+    bankOf(PSF_AUTO, ViewMotion::of(motion, tRef, shutter), shutter, &result, true);
+    return result;
+}
+
+PsfBank PsfGeneratorImpl::bankOf(int model, const ViewMotion& motion, const RollingShutter& shutter,
+                                 PsfPlan* plan, bool planOnly) const
 {
     const Size size = camera_->getImageSize();
     Pinhole pr = detail::pinholeOf(*camera_);
@@ -220,9 +269,28 @@ PsfBank PsfGeneratorImpl::bankOf(int model, const ViewMotion& motion, const Roll
     const int W = size.width, H = size.height;
 
     PsfBank bank;
-    bank.model = model;
     bank.imageSize = size;
     const double xc = 0.5 * (W - 1), yc = 0.5 * (H - 1);
+    /* PSF_AUTO: the tile nodes, then the plan on their node rows; a band of rows takes one kernel,
+       the centre column's, in every node column. */
+    std::vector<bool> rowsOnly;
+    if (model == PSF_AUTO)
+    {
+        tileNodes(tr, pr, shutter, bank);
+        const PsfPlan chosen = detail::planPsf(tr, pr, shutter, size, bank.nodeRows, autoTolerance_);
+        if (plan)
+            *plan = chosen;
+        if (planOnly)
+            return bank;
+        model = chosen.model;
+        if (model == PSF_TILES)
+            for (int band : chosen.bandModel)
+                rowsOnly.push_back(band != PSF_TILES);
+        else
+            bank = PsfBank();  // the cheaper model's own nodes, below
+        bank.imageSize = size;
+    }
+    bank.model = model;
     if (model == PSF_UNIFORM)
     {
         bank.nodeCols.assign(1, xc);
@@ -239,19 +307,8 @@ PsfBank PsfGeneratorImpl::bankOf(int model, const ViewMotion& motion, const Roll
         else
             bank.nodeRows = autoBands(tr, pr, shutter, std::vector<double>(1, xc));
     }
-    else
-    {
-        const int nx = grid_.width > 0 ? grid_.width : autoColumns(tr, pr, shutter);
-        for (int i = 0; i < nx; i++)
-            bank.nodeCols.push_back((i + 0.5) * W / nx - 0.5);
-        if (grid_.height > 0)
-        {
-            for (int j = 0; j < grid_.height; j++)
-                bank.nodeRows.push_back((j + 0.5) * H / grid_.height - 0.5);
-        }
-        else
-            bank.nodeRows = autoBands(tr, pr, shutter, std::vector<double>{0.0, xc, W - 1.0});
-    }
+    else if (bank.nodeRows.empty())  // PSF_AUTO has placed them
+        tileNodes(tr, pr, shutter, bank);
 
     const int nx = (int)bank.nodeCols.size(), n = (int)(bank.nodeRows.size() * nx);
     bank.kernels.resize(n);
@@ -268,8 +325,11 @@ PsfBank PsfGeneratorImpl::bankOf(int model, const ViewMotion& motion, const Roll
         std::vector<Size> sizes(size_t(range.size()));
         for (int i = range.start; i < range.end; i++)
         {
+            const bool shared = !rowsOnly.empty() && rowsOnly[size_t(i / nx)];
+            if (shared && i % nx != 0)
+                continue;  // the band's kernel, copied below
             KernelNode node;
-            node.pixel = Point2d(bank.nodeCols[i % nx], bank.nodeRows[i / nx]);
+            node.pixel = Point2d(shared ? xc : bank.nodeCols[i % nx], bank.nodeRows[i / nx]);
             const Vec2d interval = shutter.intervalAt(node.pixel.y);
             node.tStart = interval[0];
             node.tEnd = interval[1];
@@ -281,21 +341,29 @@ PsfBank PsfGeneratorImpl::bankOf(int model, const ViewMotion& motion, const Roll
         for (int i = range.start; i < range.end; i++)
         {
             const Size size = sizes[size_t(i - range.start)];
+            if (size.area() == 0)
+                continue;  // a shared band's other columns
             bank.kernels[i] = stripe.colRange(start, start + size.area()).reshape(1, size.height);
             start += size.area();
         }
     }, std::min(n, 64));
+    for (int i = 0; i < n; i++)
+        if (!rowsOnly.empty() && rowsOnly[size_t(i / nx)] && i % nx != 0)
+        {
+            bank.kernels[i] = bank.kernels[i - i % nx];
+            bank.shifts[i] = bank.shifts[i - i % nx];
+        }
     return bank;
 }
 
 }  // namespace
 
 PsfBank detail::generatePsfBank(const PsfGenerator& generator, int model, const ViewMotion& motion,
-                                const RollingShutter& shutter)
+                                const RollingShutter& shutter, PsfPlan* plan)
 {
     const PsfGeneratorImpl& impl = dynamic_cast<const PsfGeneratorImpl&>(generator);
     impl.checkModelAndShutter(model, shutter);
-    return impl.bankOf(model, motion, shutter);
+    return impl.bankOf(model, motion, shutter, plan);
 }
 
 Ptr<PsfGenerator> PsfGenerator::create(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera)

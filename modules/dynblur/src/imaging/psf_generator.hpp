@@ -12,9 +12,10 @@ namespace dynblur {
 namespace detail {
 
 /** @brief The bank `generator` makes (its settings, its camera) of `model` for `motion` over the
-frame read by `shutter`, whose rows must be the camera's height; a plant is not needed. */
+frame read by `shutter`, whose rows must be the camera's height; a plant is not needed. With
+PSF_AUTO, what was chosen goes to `plan` when given. */
 PsfBank generatePsfBank(const PsfGenerator& generator, int model, const ViewMotion& motion,
-                        const RollingShutter& shutter);
+                        const RollingShutter& shutter, PsfPlan* plan = nullptr);
 
 }  // namespace detail
 }  // namespace dynblur

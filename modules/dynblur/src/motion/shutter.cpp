@@ -1,5 +1,6 @@
 #include "precomp.hpp"
 
+#include "motion/half_shutter.hpp"
 #include "motion/shutter_check.hpp"
 
 namespace cv {
@@ -110,6 +111,17 @@ int classifyExposure(const Ptr<Plant>& plant, const SwitchSchedule& schedule, co
         return movingAtEnd ? EXPOSURE_II : EXPOSURE_III;
     return EXPOSURE_I;
 }
+
+namespace detail {
+
+RollingShutter halfResolutionShutter(const RollingShutter& shutter)
+{
+    CV_Assert(shutter.rows % 2 == 0);
+    return RollingShutter(shutter.frameStart + shutter.lineDelay / 2, shutter.exposure, 2 * shutter.lineDelay,
+                          shutter.rows / 2);
+}
+
+}  // namespace detail
 
 }  // namespace dynblur
 }  // namespace cv

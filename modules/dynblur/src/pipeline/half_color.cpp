@@ -9,24 +9,6 @@ namespace cv {
 namespace dynblur {
 namespace detail {
 
-Ptr<CameraModel> halfResolutionCamera(const CameraModel& camera)
-{
-    const Size size = camera.getImageSize();
-    CV_Assert(size.width % 2 == 0 && size.height % 2 == 0);
-    Ptr<CameraModel> half = CameraModel::create(camera.getFx() / 2, camera.getFy() / 2, (camera.getCx() - 0.5) / 2,
-                                                (camera.getCy() - 0.5) / 2, size.width / 2, size.height / 2,
-                                                camera.getKud(), camera.getKdu());
-    half->setMountAxis(camera.getMountAxis());
-    return half;
-}
-
-RollingShutter halfResolutionShutter(const RollingShutter& shutter)
-{
-    CV_Assert(shutter.rows % 2 == 0);
-    return RollingShutter(shutter.frameStart + shutter.lineDelay / 2, shutter.exposure, 2 * shutter.lineDelay,
-                          shutter.rows / 2);
-}
-
 namespace {
 
 /* Row of the frame halved from its rows 2y (`top`) and 2y + 1 of 3-channel pixels: each 2×2

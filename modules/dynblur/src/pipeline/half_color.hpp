@@ -2,26 +2,12 @@
 #ifndef OPENCV_DYNBLUR_HALF_COLOR_HPP
 #define OPENCV_DYNBLUR_HALF_COLOR_HPP
 
-#include <opencv2/dynblur/camera.hpp>
-#include <opencv2/dynblur/shutter.hpp>
+#include "imaging/half_camera.hpp"
+#include "motion/half_shutter.hpp"
 
 namespace cv {
 namespace dynblur {
 namespace detail {
-
-/** @brief The camera that records `camera`'s frames halved by cv::resize with INTER_AREA: pixel
-(u', v') averages pixels 2u'..2u'+1 × 2v'..2v'+1, so its centre is at (2u' + 0.5, 2v' + 0.5) and
-u' = (u − 0.5) / 2. Focal lengths halve; the radial coefficients act on normalised coordinates
-and stay; the mount axis is copied. @param camera a camera whose image size is even. */
-CV_EXPORTS Ptr<CameraModel> halfResolutionCamera(const CameraModel& camera);
-
-/** @brief The timing of a frame halved as halfResolutionCamera's: half-size row r averages sensor
-rows 2r and 2r + 1, whose exposures start a line delay apart, so it starts half a line delay after
-row 2r, and the next half-size row two line delays later. The pair's average exposure has the
-same length (its support is a line delay longer; at a C270's 35 µs against milliseconds of
-exposure the difference is not resolved by the kernels). @param shutter the frame's timing, an
-even number of rows. */
-CV_EXPORTS RollingShutter halfResolutionShutter(const RollingShutter& shutter);
 
 /** @brief The two images the color and the luminance are restored from, in one pass over the
 frame (reading it twice would cost several times one pass): the frame

@@ -1,6 +1,6 @@
 #include "restore/arguments.hpp"
 
-#include "restore/frame_planes.hpp"
+#include "restore/rl/frame_planes.hpp"
 
 #include <cmath>
 

@@ -3,14 +3,15 @@
 #ifndef OPENCV_DYNBLUR_DECONV_OPERATOR_HPP
 #define OPENCV_DYNBLUR_DECONV_OPERATOR_HPP
 
-#include "restore/bank_geometry.hpp"
-#include "restore/bank_operator.hpp"
-#include "restore/blur_operator.hpp"
-#include "restore/displacement.hpp"
-#include "restore/packed_gather.hpp"
-#include "restore/row_arithmetic.hpp"
-#include "restore/row_bank_operator.hpp"
-#include "restore/tile_bank_operator.hpp"
-#include "restore/uniform_operator.hpp"
+#include "restore/operators/bank_geometry.hpp"
+#include "restore/operators/bank_operator.hpp"
+#include "restore/operators/bank_operator_factory.hpp"
+#include "restore/operators/blur_operator.hpp"
+#include "restore/operators/displacement.hpp"
+#include "restore/operators/packed_gather.hpp"
+#include "restore/rl/row_arithmetic.hpp"
+#include "restore/operators/row_bank_operator.hpp"
+#include "restore/operators/tile_bank_operator.hpp"
+#include "restore/operators/uniform_operator.hpp"
 
 #endif

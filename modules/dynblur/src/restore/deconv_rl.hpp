@@ -3,10 +3,11 @@
 #define OPENCV_DYNBLUR_DECONV_RL_HPP
 
 #include "restore/deconv_operator.hpp"
-#include "restore/fill_unobserved.hpp"
-#include "restore/frame_planes.hpp"
-#include "restore/restored_planes.hpp"
-#include "restore/rl_rows.hpp"
+#include "restore/rl/fill_unobserved.hpp"
+#include "restore/rl/frame_planes.hpp"
+#include "restore/rl/restored_planes.hpp"
+#include "restore/rl/rl_rows.hpp"
+#include "restore/rl/rl_terms.hpp"
 
 #include <vector>
 
@@ -29,11 +30,6 @@ struct RLWorkspace
     //! Keep the iterations' planes after a call (for the next frame) instead of freeing them before the output is written.
     bool persistent = false;
 };
-
-
-
-
-
 
 /** @brief Runs RL on every channel plane with one operator.
 
@@ -62,34 +58,6 @@ them): the frame-rate path of DynamicDeblurrer.
 @param clampToUnit clamp the output to [0, 1] as it is written (saves DynamicDeblurrer a pass). */
 void restoreVariant(const Mat& observed, const PsfBank& bank, const RLParams& params, RLWorkspace& workspace,
                     OutputArray latent, OutputArray validMask, bool clampToUnit = false);
-
-
-
-/** Half the Poisson deviance of data `b` against a model's `ab` (both ≥ 0, one unit),
-b ln(b / ab) − b + ab, which the damped ratio compares with its threshold @cite White1994Damped.
-It is ab · φ(e) with φ(e) = (1 + e) ln(1 + e) − e and the relative residual e = b / ab − 1, taken
-here in φ's [2/1] Padé form 3e² / (6 + 2e) @cite Baker1996Pade: 1.5 (b − ab)² / (2 ab + b), without
-a log. It agrees to third order in e, where the damping acts (there the exact form subtracts
-nearly equal terms), and falls short by e²/18 relative for small e: 0.06 % at e = ±0.1, 1 % at
-0.5, 2.2 % at −0.5, 25 % at b = 0 (0.75 ab for ab). A pair of zeros gives 0. */
-inline float halfPoissonDeviance(float b, float ab)
-{
-    const float difference = b - ab;
-    return 1.5f * difference * difference / (2.f * ab + b + 1e-30f);  // + 1e-30: 0 / 0 would be NaN
-}
-
-/** One channel's `value` after the luminance's change from `before` to `after`: times `gain` =
-after / before where `lit` (before above the black level), plus after − before elsewhere, kept
-within [0, upper]. The one rule of LuminanceChange::applyRow and of the half-resolution color's
-combination; both loops compute both results and select, so they vectorise. */
-inline float luminanceChanged(float value, bool lit, float gain, float after, float before, float upper)
-{
-    return std::min(std::max(lit ? value * gain : value + after - before, 0.f), upper);
-}
-
-
-//! Normaliser below which a latent pixel counts as not seen by any frame pixel.
-constexpr float kUnobserved = kernels::kUpdateUnobserved;
 
 }  // namespace detail
 }  // namespace dynblur

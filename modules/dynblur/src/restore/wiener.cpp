@@ -1,10 +1,10 @@
 #include "precomp.hpp"
 
 #include "restore/arguments.hpp"
-#include "restore/bank_geometry.hpp"
+#include "restore/operators/bank_geometry.hpp"
 #include "restore/fft_kernel.hpp"
-#include "restore/fill_unobserved.hpp"
-#include "restore/restored_planes.hpp"
+#include "restore/rl/fill_unobserved.hpp"
+#include "restore/rl/restored_planes.hpp"
 
 namespace cv {
 namespace dynblur {

@@ -35,6 +35,20 @@ enum DeblurColorResolution
     DEBLUR_COLOR_HALF_RESOLUTION = 1
 };
 
+/** @brief Settings of DynamicDeblurrer chosen together (DynamicDeblurrer::setPreset). */
+enum DeblurPreset
+{
+    /** PSF_AUTO, Richardson–Lucy, 20 iterations in full color, automatic damping (the deblurrer's
+        defaults) */
+    DEBLUR_PRESET_DEFAULT = 0,
+    /** PSF_AUTO, iterations by need: per frame, from its longest kernel L, 10 iterations up to
+        L = 32 px, else 20, and ceil(L / 6.5) of them (3 to 14) in color at half resolution
+        (DEBLUR_COLOR_HALF_RESOLUTION, when the image size is even); bfloat16 blurs
+        (RL_BLUR_BFLOAT16), automatic damping and the automatic stop (RLParams::tolerance 2e-3).
+        getRLParams() returns the long blur's iterations; setRLParams fixes them again. */
+    DEBLUR_PRESET_FRAME_RATE = 1
+};
+
 /** @brief Restores frames taken while the positioner moves: the blur of every pixel is predicted
 from the plant and the commands, then undone @cite DynblurSeed.
 
@@ -182,8 +196,18 @@ public:
     /** @param limit > 1, or +inf. */
     CV_WRAP virtual void setConsistencyLimit(double limit) = 0;
 
-    CV_WRAP virtual int getPsfModel() const = 0;            //!< PsfModel (default PSF_TILES, the most accurate)
+    /** @brief PsfModel (default PSF_AUTO: per band of rows the cheapest model within
+    getPsfGenerator()->getAutoTolerance() of the exact blur; getLastPlan says what it chose). */
+    CV_WRAP virtual int getPsfModel() const = 0;
+    /** @param model PSF_UNIFORM, PSF_ROWS, PSF_TILES or PSF_AUTO. */
     CV_WRAP virtual void setPsfModel(int model) = 0;
+    /** @brief Sets the PSF model, the method, the color resolution and the RLParams of `preset`
+    together; each stays settable afterwards.
+    @param preset DeblurPreset. */
+    CV_WRAP virtual void setPreset(int preset) = 0;
+    /** @brief What PSF_AUTO chose for the last restored frame (PsfPlan); with a fixed model, only
+    PsfPlan::model is set (empty bands). A frame returned unchanged leaves PsfPlan() (no bands). */
+    CV_WRAP virtual PsfPlan getLastPlan() const = 0;
     CV_WRAP virtual int getMethod() const = 0;              //!< DeblurMethod
     CV_WRAP virtual void setMethod(int method) = 0;
     /** @brief DeblurColorResolution (default DEBLUR_COLOR_FULL_RESOLUTION). It applies to
@@ -193,9 +217,7 @@ public:
     /** @param resolution DeblurColorResolution; DEBLUR_COLOR_HALF_RESOLUTION needs an even image size. */
     CV_WRAP virtual void setColorResolution(int resolution) = 0;
     /** @brief Restoration options; default RLParams() with automatic damping (damping = NaN: 3σ of
-    the frame's estimated noise). For frame rate with color frames use PSF_ROWS, 10 iterations,
-    colorIterations = 3, DEBLUR_COLOR_HALF_RESOLUTION and RL_BLUR_BFLOAT16 (the quality test
-    DeblurQuality.RollingShutterWindowIII* checks that setting). */
+    the frame's estimated noise). For frame rate, setPreset(DEBLUR_PRESET_FRAME_RATE). */
     CV_WRAP virtual RLParams getRLParams() const = 0;
     CV_WRAP virtual void setRLParams(const RLParams& params) = 0;
     /** @brief Exposure window of the last frame passed to deblur() (0 before the first). */

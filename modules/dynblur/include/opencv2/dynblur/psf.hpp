@@ -19,7 +19,46 @@ enum PsfModel
 {
     PSF_UNIFORM = 0,  //!< one kernel for the frame: the seed's method (image centre, centre row)
     PSF_ROWS = 1,     //!< one kernel per row band, each from its rows' own exposure interval
-    PSF_TILES = 2     //!< a grid of kernels: also varies across columns (projective rotation, distortion, axis)
+    PSF_TILES = 2,    //!< a grid of kernels: also varies across columns (projective rotation, distortion, axis)
+    /** per frame, and per band of rows, the cheapest of the three whose displacement field is within
+        PsfGenerator::getAutoTolerance of the exact one (PsfPlan says what was chosen where) */
+    PSF_AUTO = 3
+};
+
+/** @brief What PSF_AUTO chose for one frame: the operator, and per band of rows whether one kernel
+per row suffices.
+
+The choice is made from the predicted motion before any kernel is drawn. The exact displacement
+d(p, t) of a pixel p at time t (PsfGenerator's path) is evaluated on a grid of sample rows (at most
+8 rows apart, every band's node row included), 17 columns from edge to edge and 5 instants of each
+row's exposure. A row may share one kernel (PSF_ROWS) when every sampled pixel of it stays within
+the tolerance of its centre column's displacement at every instant; the frame may take one kernel
+(PSF_UNIFORM) when every sampled pixel stays within it of the frame centre's (same fraction of each
+row's exposure). The bands are PSF_TILES's node rows; a band is given rows when every sampled row
+its kernels reach (from the node row above to the one below) may share one kernel. So a model is
+never chosen where the motion makes it wrong by more than the tolerance at a sampled point: a roll
+about the optical axis moves the two ends of a row apart by about width × the roll's angle, and
+beyond tolerance / width radians every band takes tiles.
+*/
+struct CV_EXPORTS_W_SIMPLE PsfPlan
+{
+    CV_WRAP PsfPlan();
+    /** the operator the frame gets: PSF_UNIFORM, PSF_ROWS, or PSF_TILES (tile nodes in the bands
+        listed as PSF_TILES, one kernel per row, the centre column's, in the others) */
+    CV_PROP_RW int model;
+    CV_PROP_RW double tolerance;           //!< the tolerance it was chosen with, pixels
+    /** the largest distance of a sampled pixel's displacement from the frame centre's, pixels
+        (PSF_UNIFORM's error) */
+    CV_PROP_RW double uniformError;
+    CV_PROP_RW std::vector<int> bandStart;    //!< first frame row of each band, increasing from 0
+    CV_PROP_RW std::vector<int> bandModel;    //!< per band: PSF_UNIFORM, PSF_ROWS or PSF_TILES
+    /** per band: the largest distance of a sampled pixel's displacement from its row's centre
+        column's over the rows the band's kernels reach, pixels (PSF_ROWS's error there) */
+    CV_PROP_RW std::vector<double> rowsError;
+    CV_PROP_RW int rows;                      //!< frame rows
+
+    /** @brief Share of the frame's rows given `model` (PSF_UNIFORM, PSF_ROWS or PSF_TILES), in [0, 1]. */
+    CV_WRAP double rowShare(int model) const;
 };
 
 /** @brief Spatially variant blur: kernels on a grid of nodes, blended with partition-of-unity
@@ -71,7 +110,7 @@ public:
     CV_WRAP static Ptr<PsfGenerator> create(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera);
 
     /** @brief Kernels for one frame.
-    @param model PSF_UNIFORM, PSF_ROWS or PSF_TILES.
+    @param model PSF_UNIFORM, PSF_ROWS, PSF_TILES or PSF_AUTO (the bank's model is then the one chosen).
     @param schedule the command.
     @param shutter frame timing; rows must equal the camera's image height.
     @param thetaRef reference angle, radians; NaN: the schedule's final resting angle. */
@@ -89,7 +128,7 @@ public:
     PSF_ROWS only where the blur is the same along a row. A motion made by CameraMotion::fromPlant
     gives the same bank, to the bit, as generate(model, schedule, shutter, thetaRef) with that
     plant and the motion's axis as the camera's mount axis.
-    @param model PSF_UNIFORM, PSF_ROWS or PSF_TILES.
+    @param model PSF_UNIFORM, PSF_ROWS, PSF_TILES or PSF_AUTO.
     @param motion the camera's motion; its time span must cover the frame's readout.
     @param shutter frame timing (the motion's clock); rows must equal the camera's image height.
     @param tRef reference time, seconds: the view at the orientation Q(tRef) is the latent image;
@@ -97,6 +136,18 @@ public:
            mid-exposure). */
     CV_WRAP virtual PsfBank generate(int model, const Ptr<CameraMotion>& motion, const RollingShutter& shutter,
                                      double tRef = std::numeric_limits<double>::quiet_NaN()) const = 0;
+
+    /** @brief What PSF_AUTO chooses for one frame (PsfPlan), at a small fraction of the bank's cost.
+    @param motion the camera's motion; its time span must cover the frame's readout.
+    @param shutter frame timing; rows must equal the camera's image height.
+    @param tRef reference time, seconds; NaN: the motion's default reference. */
+    CV_WRAP virtual PsfPlan plan(const Ptr<CameraMotion>& motion, const RollingShutter& shutter,
+                                 double tRef = std::numeric_limits<double>::quiet_NaN()) const = 0;
+    /** @brief How far PSF_AUTO lets a cheaper model's displacement field stray from the exact one,
+    pixels (default 0.5). */
+    CV_WRAP virtual double getAutoTolerance() const = 0;
+    /** @param pixels > 0 and finite. */
+    CV_WRAP virtual void setAutoTolerance(double pixels) = 0;
 
     /** @brief Largest kernel extent allowed, pixels (default 401). A longer path is refused with
     an error that says so; raise the limit for longer exposures or faster moves. */

@@ -1,7 +1,7 @@
 #include "restore/deconv_rl.hpp"
 
-#include "restore/rl_rows.hpp"
-#include "restore/packed_gather.hpp"
+#include "restore/rl/rl_rows.hpp"
+#include "restore/operators/packed_gather.hpp"
 
 #include <opencv2/core/utility.hpp>
 

@@ -1,4 +1,4 @@
-#include "restore/row_arithmetic.hpp"
+#include "restore/rl/row_arithmetic.hpp"
 
 #include "restore/simd_clones.hpp"
 

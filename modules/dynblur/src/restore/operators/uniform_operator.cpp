@@ -1,4 +1,4 @@
-#include "restore/uniform_operator.hpp"
+#include "restore/operators/uniform_operator.hpp"
 
 #include "restore/fft_kernel.hpp"
 

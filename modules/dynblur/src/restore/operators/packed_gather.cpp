@@ -1,6 +1,6 @@
-#include "restore/packed_gather.hpp"
+#include "restore/operators/packed_gather.hpp"
 
-#include "restore/gather.hpp"
+#include "restore/operators/gather.hpp"
 #include "restore/simd_clones.hpp"
 
 #include <opencv2/core/utility.hpp>

@@ -1,6 +1,6 @@
-#include "restore/restored_planes.hpp"
+#include "restore/rl/restored_planes.hpp"
 
-#include "restore/deconv_rl.hpp"
+#include "restore/rl/rl_rows.hpp"
 
 #include <opencv2/core/utility.hpp>
 

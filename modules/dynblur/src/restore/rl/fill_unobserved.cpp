@@ -1,4 +1,4 @@
-#include "restore/fill_unobserved.hpp"
+#include "restore/rl/fill_unobserved.hpp"
 
 #include <opencv2/imgproc.hpp>
 

@@ -1,8 +1,6 @@
-#include "restore/blur_operator.hpp"
+#include "restore/operators/blur_operator.hpp"
 
-#include "restore/packed_gather.hpp"
-#include "restore/row_bank_operator.hpp"
-#include "restore/tile_bank_operator.hpp"
+#include "restore/operators/packed_gather.hpp"
 
 #include <opencv2/core/utility.hpp>
 
@@ -77,13 +75,6 @@ void BlurOperator::adjointOfOnes(Mat& latent, Mat& ones)
         adjointOfPacked(ones, latent);
     else
         adjoint(ones, latent);
-}
-
-std::unique_ptr<BlurOperator> createBankOperator(const PsfBank& bank, bool pad, bool packed)
-{
-    if (bank.nodeCols.size() == 1)
-        return std::unique_ptr<BlurOperator>(new RowBankOperator(bank, pad, packed));
-    return std::unique_ptr<BlurOperator>(new TileBankOperator(bank, pad, packed));
 }
 
 }  // namespace detail

@@ -1,4 +1,4 @@
-#include "restore/gather.hpp"
+#include "restore/operators/gather.hpp"
 
 #include "restore/kernels/kernel_table.hpp"
 

@@ -2,7 +2,7 @@
 #ifndef OPENCV_DYNBLUR_RESTORE_PACKED_GATHER_HPP
 #define OPENCV_DYNBLUR_RESTORE_PACKED_GATHER_HPP
 
-#include "restore/gather.hpp"
+#include "restore/operators/gather.hpp"
 
 #include <opencv2/core.hpp>
 

@@ -1,8 +1,6 @@
-#include "restore/frame_planes.hpp"
+#include "restore/rl/frame_planes.hpp"
 
-#include "restore/deconv_rl.hpp"
-
-#include "restore/rl_rows.hpp"
+#include "restore/rl/rl_rows.hpp"
 
 #include <opencv2/core/utility.hpp>
 

@@ -1,4 +1,4 @@
-#include "restore/bank_geometry.hpp"
+#include "restore/operators/bank_geometry.hpp"
 
 #include <opencv2/core/utility.hpp>
 

@@ -1,7 +1,7 @@
-#include "restore/bank_operator.hpp"
+#include "restore/operators/bank_operator.hpp"
 
-#include "restore/bank_geometry.hpp"
-#include "restore/row_arithmetic.hpp"
+#include "restore/operators/bank_geometry.hpp"
+#include "restore/rl/row_arithmetic.hpp"
 
 #include <opencv2/core/utility.hpp>
 

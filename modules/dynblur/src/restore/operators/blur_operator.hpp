@@ -97,10 +97,6 @@ protected:
     double spotGain_ = 1;
 };
 
-/** @brief The operator that applies `bank` fastest: RowBankOperator when the bank has one node
-column, TileBankOperator otherwise. `packed`: bfloat16 planes and weights. */
-std::unique_ptr<BlurOperator> createBankOperator(const PsfBank& bank, bool pad, bool packed = false);
-
 //! Row pairs of `rows` in parallel, each part's rows starting on an even row.
 template <typename Body>
 void forRowPairs(int rows, const Body& body)

@@ -2,8 +2,8 @@
 #ifndef OPENCV_DYNBLUR_RESTORE_BANK_OPERATOR_HPP
 #define OPENCV_DYNBLUR_RESTORE_BANK_OPERATOR_HPP
 
-#include "restore/blur_operator.hpp"
-#include "restore/bank_geometry.hpp"
+#include "restore/operators/blur_operator.hpp"
+#include "restore/operators/bank_geometry.hpp"
 
 #include <vector>
 

@@ -2,7 +2,7 @@
 #ifndef OPENCV_DYNBLUR_RESTORE_UNIFORM_OPERATOR_HPP
 #define OPENCV_DYNBLUR_RESTORE_UNIFORM_OPERATOR_HPP
 
-#include "restore/blur_operator.hpp"
+#include "restore/operators/blur_operator.hpp"
 
 #include <memory>
 

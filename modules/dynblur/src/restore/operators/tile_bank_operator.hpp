@@ -2,8 +2,8 @@
 #ifndef OPENCV_DYNBLUR_RESTORE_TILE_BANK_OPERATOR_HPP
 #define OPENCV_DYNBLUR_RESTORE_TILE_BANK_OPERATOR_HPP
 
-#include "restore/blur_operator.hpp"
-#include "restore/gather.hpp"
+#include "restore/operators/blur_operator.hpp"
+#include "restore/operators/gather.hpp"
 
 #include <vector>
 

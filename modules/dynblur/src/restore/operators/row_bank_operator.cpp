@@ -1,8 +1,8 @@
-#include "restore/row_bank_operator.hpp"
+#include "restore/operators/row_bank_operator.hpp"
 
-#include "restore/bank_geometry.hpp"
-#include "restore/gather.hpp"
-#include "restore/packed_gather.hpp"
+#include "restore/operators/bank_geometry.hpp"
+#include "restore/operators/gather.hpp"
+#include "restore/operators/packed_gather.hpp"
 
 #include <opencv2/core/utility.hpp>
 

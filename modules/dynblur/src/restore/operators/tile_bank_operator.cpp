@@ -1,9 +1,9 @@
-#include "restore/tile_bank_operator.hpp"
+#include "restore/operators/tile_bank_operator.hpp"
 
-#include "restore/bank_geometry.hpp"
-#include "restore/gather.hpp"
-#include "restore/packed_gather.hpp"
-#include "restore/row_arithmetic.hpp"
+#include "restore/operators/bank_geometry.hpp"
+#include "restore/operators/gather.hpp"
+#include "restore/operators/packed_gather.hpp"
+#include "restore/rl/row_arithmetic.hpp"
 #include "restore/kernels/gather_taps.hpp"
 
 #include <opencv2/core/utility.hpp>

@@ -40,19 +40,15 @@ public:
                                        "deblur(frame, motion, shutter, restored, tRef)");
         const Mat input = frame.getMat();
         checkFrame(input, shutter);
-        if (std::isinf(thetaRef))
-            CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: thetaRef must be finite (radians) or NaN (the "
-                                       "schedule's final resting angle)");
+        // thetaRef is checked before the refinement's work, and again on the corrected plant below.
+        detail::ViewMotion::ofPlant("DynamicDeblurrer::deblur", plant_, schedule, camera_->getMountAxis(), thetaRef);
 
         lastCorrection_ = correctMotion(input, schedule, shutter);
         const Ptr<Plant> plant = lastCorrection_.correctPlant(plant_);
         const RollingShutter corrected = lastCorrection_.correctShutter(shutter);
         lastWindow_ = classifyExposure(plant, schedule, corrected);
-        detail::ViewMotion view;
-        view.plant = plant;
-        view.schedule = schedule;
-        view.axis = camera_->getMountAxis();
-        view.thetaRef = std::isnan(thetaRef) ? plant->restingAngle(schedule.finalLevel()) : thetaRef;
+        const detail::ViewMotion view =
+            detail::ViewMotion::ofPlant("DynamicDeblurrer::deblur", plant, schedule, camera_->getMountAxis(), thetaRef);
         restoreFrame(input, view, corrected, restored, validMask);
     }
 

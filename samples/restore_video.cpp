@@ -155,16 +155,34 @@ int main(int argc, char** argv)
         std::ofstream csv(csvTemporary);
         if (!csv)
             CV_Error(Error::StsError, "--csv: cannot write '" + csvOut + "'");
-        csv << "frame,window,restored,time_offset,line_delay_scale,natural_freq_scale,damping_scale,consistency,"
+        csv << "frame,window,restored,time_offset_s,line_delay_scale,natural_freq_scale,damping_scale,consistency,"
                "reason\n";
 
         ReferencePairing pairing(plant, camera, recording.commands, calibration, 0.005);
         std::vector<Mat> sheetRows;  // the first moving frames, blurred beside restored, for a look
         Mat lastBefore, lastAfter, restored;
         std::vector<int> unrefined;  // frames that needed the still after their move and had none
-        int written = 0;
+        /* The ETA counts the moving frames still to restore at the time a moving frame has taken so far
+           (a still frame costs next to nothing), and the line is shown before each restoration, so a
+           slow frame never leaves a stale estimate on the screen. */
+        int written = 0, movingLeft = 0, movingDone = 0;
+        for (const FrameRecord& f : log)
+        {
+            const RollingShutter shutter = calibration.correctShutter(RollingShutter(f.frameStart, f.exposure, f.lineDelay, size.height));
+            const Vec2d readout = shutter.readoutInterval();
+            movingLeft += classifyExposure(correctedPlant, recording.commands.scheduleAround(readout[0], readout[1]),
+                                           shutter) != EXPOSURE_IV;
+        }
         TickMeter clock;
-        clock.start();
+        const auto progress = [&](const char* doing) {
+            const double perMoving = movingDone ? clock.getTimeSec() / movingDone : NAN;
+            std::printf("\r%d of %zu frames written%s, %d moving frame(s) left, ETA %s, %zu held for the still after "
+                        "their move   ",
+                        written, log.size(), doing, movingLeft,
+                        std::isnan(perMoving) ? "after the first moving frame" : format("%.0f s", movingLeft * perMoving).c_str(),
+                        pairing.pending());
+            std::fflush(stdout);
+        };
         const auto restoreAndWrite = [&](const std::vector<ReferencePairing::Item>& ready) {
             for (const ReferencePairing::Item& item : ready)
             {
@@ -194,7 +212,12 @@ int main(int argc, char** argv)
                     const Vec2d middle = calibration.correctShutter(item.shutter).rowInterval(item.shutter.rows / 2);
                     Mat t(1, 1, CV_64F, Scalar((middle[0] + middle[1]) / 2)), theta;
                     correctedPlant->response(item.schedule, t, theta);
+                    progress(": restoring");
+                    clock.start();
                     deblurrer->deblur(item.image, item.schedule, item.shutter, restored, theta.at<double>(0));
+                    clock.stop();
+                    movingDone++;
+                    movingLeft = std::max(0, movingLeft - 1);
                     c = deblurrer->getLastCorrection();
                     window = deblurrer->getLastExposureWindow();
                     if (noStillAfter)
@@ -216,12 +239,7 @@ int main(int argc, char** argv)
                               c.dampingScale, c.consistency, reason.c_str());
                 written++;
             }
-            clock.stop();
-            const double rate = written / std::max(1e-9, clock.getTimeSec());
-            std::printf("\rframe %d of %zu, %.1f fps, ETA %.0f s, %zu held for the still after their move   ",
-                        written, log.size(), rate, (log.size() - written) / std::max(rate, 1e-9), pairing.pending());
-            std::fflush(stdout);
-            clock.start();
+            progress("");
         };
 
         for (const FrameRecord& f : log)

@@ -46,7 +46,8 @@ template <typename Motion>
 py::object deblurFrame(DynamicDeblurrer& db, py::handle frame, const Motion& motion, const RollingShutter& shutter,
                        double reference, bool returnMask)
 {
-    MatIn f = toMat(frame, "frame");
+    bool wasDouble = false;
+    MatIn f = toFrame(frame, "frame", &wasDouble);
     cv::Mat out, mask;
     {
         py::gil_scoped_release release;
@@ -56,8 +57,8 @@ py::object deblurFrame(DynamicDeblurrer& db, py::handle frame, const Motion& mot
             db.deblur(f.mat, motion, shutter, out, reference);
     }
     if (returnMask)
-        return py::make_tuple(fromMat(out), fromMat(mask));
-    return fromMat(out);
+        return py::make_tuple(fromFrame(out, wasDouble), fromMat(mask));
+    return fromFrame(out, wasDouble);
 }
 
 std::string repr(const RLParams& p)
@@ -460,7 +461,7 @@ dtype; a window-IV frame comes back unchanged), or (restored, validMask) with re
         .def("setRefinement", &DynamicDeblurrer::setRefinement, py::arg("flags"))
         .def("setReferenceFrame",
             [](DynamicDeblurrer& db, py::handle still, double angle) {
-                MatIn s = toMat(still, "still");
+                MatIn s = toFrame(still, "still");
                 py::gil_scoped_release release;
                 db.setReferenceFrame(s.mat, angle);
             },
@@ -471,9 +472,9 @@ dtype; a window-IV frame comes back unchanged), or (restored, validMask) with re
             [](DynamicDeblurrer& db, py::handle before, py::handle after, double angleBefore, double angleAfter) {
                 MatIn b, a;
                 if (!before.is_none())
-                    b = toMat(before, "before");
+                    b = toFrame(before, "before");
                 if (!after.is_none())
-                    a = toMat(after, "after");
+                    a = toFrame(after, "after");
                 py::gil_scoped_release release;
                 db.setReferenceFrames(b.mat, a.mat, angleBefore, angleAfter);
             },

@@ -100,38 +100,59 @@ Mat labelled(const Mat& image, const std::string& text, int width)
     return small;
 }
 
-// The kernels of a bank side by side, each scaled to its peak, with the node row and shift.
-Mat psfMontage(const PsfBank& bank, int maxTiles)
+/* The kernels of a bank as a grid laid out like the frame: at most maxRows × maxCols nodes, evenly
+   picked, each kernel at its node's place, all at one zoom (so their sizes compare), each scaled to
+   its own peak, with its shift; node x and y on the axes, in pixels, and a title. */
+Mat psfMontage(const PsfBank& bank, int maxRows, int maxCols)
 {
-    const int count = static_cast<int>(bank.kernels.size());
-    const int step = std::max(1, count / maxTiles);
-    const int cell = 120;
-    std::vector<Mat> cells;
-    for (int n = 0; n < count; n += step)
+    const auto pick = [](size_t count, int most) {
+        std::vector<size_t> chosen;
+        const size_t n = std::min(count, size_t(most));
+        for (size_t i = 0; i < n; i++)
+            chosen.push_back(n == 1 ? 0 : i * (count - 1) / (n - 1));
+        return chosen;
+    };
+    const std::vector<size_t> rows = pick(bank.nodeRows.size(), maxRows), cols = pick(bank.nodeCols.size(), maxCols);
+    const Size largest = bank.maxKernelSize();
+    const int cell = 130, inner = cell - 34, left = 70, top = 86;
+    const int zoom = std::max(1, inner / std::max(1, std::max(largest.width, largest.height)));
+    const Scalar text(230, 230, 230), dim(150, 150, 150);
+    Mat montage(top + int(rows.size()) * cell + 30, left + int(cols.size()) * cell + 10, CV_8UC3, Scalar(20, 20, 20));
+    putText(montage, format("PSF bank (%s): the kernel at each node, x %dx zoomed, each scaled to its peak",
+                            bank.model == PSF_TILES ? "tiles" : bank.model == PSF_ROWS ? "row bands" : "uniform", zoom),
+            Point(10, 22), FONT_HERSHEY_SIMPLEX, 0.6, text, 1, LINE_AA);
+    putText(montage, "node x (px)", Point(left, 50), FONT_HERSHEY_SIMPLEX, 0.45, dim, 1, LINE_AA);
+    putText(montage, "node y (px)", Point(4, top - 4), FONT_HERSHEY_SIMPLEX, 0.45, dim, 1, LINE_AA);
+    putText(montage, "under each kernel: its size and the shift of its centre (dx, dy), px", Point(left, montage.rows - 10),
+            FONT_HERSHEY_SIMPLEX, 0.45, dim, 1, LINE_AA);
+    for (size_t c = 0; c < cols.size(); c++)
+        putText(montage, format("%.0f", bank.nodeCols[cols[c]]), Point(left + int(c) * cell + cell / 2 - 14, top - 6),
+                FONT_HERSHEY_SIMPLEX, 0.45, text, 1, LINE_AA);
+    for (size_t r = 0; r < rows.size(); r++)
     {
-        Mat kernel = bank.kernels[static_cast<size_t>(n)], shown;
-        double peak = 0;
-        minMaxLoc(kernel, nullptr, &peak);
-        kernel.convertTo(shown, CV_8U, 255.0 / std::max(peak, 1e-12));
-        const double zoom = std::min(1.0 * (cell - 30) / shown.rows, 1.0 * (cell - 10) / shown.cols);
-        resize(shown, shown, Size(), std::max(zoom, 1e-3), std::max(zoom, 1e-3), zoom >= 1 ? INTER_NEAREST : INTER_AREA);
-        applyColorMap(shown, shown, COLORMAP_INFERNO);
-        Mat tile(cell, cell, CV_8UC3, Scalar(30, 30, 30));
-        shown.copyTo(tile(Rect((cell - shown.cols) / 2, 22 + (cell - 30 - shown.rows) / 2, shown.cols, shown.rows)));
-        const size_t nx = bank.nodeCols.size();
-        const double x = bank.nodeCols[static_cast<size_t>(n) % nx], y = bank.nodeRows[static_cast<size_t>(n) / nx];
-        const Point shift = bank.shifts[static_cast<size_t>(n)];
-        putText(tile, format("(%.0f,%.0f) s(%d,%d)", x, y, shift.x, shift.y), Point(3, 14), FONT_HERSHEY_SIMPLEX, 0.38,
-                Scalar(230, 230, 230), 1, LINE_AA);
-        putText(tile, format("%dx%d px", kernel.cols, kernel.rows), Point(3, cell - 4), FONT_HERSHEY_SIMPLEX, 0.38,
-                Scalar(160, 160, 160), 1, LINE_AA);
-        cells.push_back(tile);
+        putText(montage, format("%.0f", bank.nodeRows[rows[r]]), Point(8, top + int(r) * cell + cell / 2),
+                FONT_HERSHEY_SIMPLEX, 0.45, text, 1, LINE_AA);
+        for (size_t c = 0; c < cols.size(); c++)
+        {
+            const size_t n = rows[r] * bank.nodeCols.size() + cols[c];
+            const Mat& kernel = bank.kernels[n];
+            Mat shown;
+            double peak = 0;
+            minMaxLoc(kernel, nullptr, &peak);
+            kernel.convertTo(shown, CV_8U, 255.0 / std::max(peak, 1e-12));
+            resize(shown, shown, Size(), zoom, zoom, INTER_NEAREST);
+            applyColorMap(shown, shown, COLORMAP_INFERNO);
+            const Rect box(left + int(c) * cell + 4, top + int(r) * cell + 4, cell - 8, inner);
+            Mat tile = montage(box);
+            tile.setTo(Scalar(45, 45, 45));
+            const Rect fit((box.width - std::min(shown.cols, box.width)) / 2, (box.height - std::min(shown.rows, box.height)) / 2,
+                           std::min(shown.cols, box.width), std::min(shown.rows, box.height));
+            shown(Rect(0, 0, fit.width, fit.height)).copyTo(tile(fit));
+            const Point shift = bank.shifts[n];
+            putText(montage, format("%dx%d (%d, %d)", kernel.cols, kernel.rows, shift.x, shift.y),
+                    Point(box.x, box.y + box.height + 16), FONT_HERSHEY_SIMPLEX, 0.4, dim, 1, LINE_AA);
+        }
     }
-    const int columns = 8;
-    const int rows = (static_cast<int>(cells.size()) + columns - 1) / columns;
-    Mat montage(rows * cell, columns * cell, CV_8UC3, Scalar(0, 0, 0));
-    for (size_t i = 0; i < cells.size(); ++i)
-        cells[i].copyTo(montage(Rect(static_cast<int>(i % columns) * cell, static_cast<int>(i / columns) * cell, cell, cell)));
     return montage;
 }
 
@@ -386,10 +407,11 @@ void runDriftedHardware(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera,
                 found.consistency, refineMs);
 
     const int cellWidth = 400;
-    std::vector<Mat> cells{labelled(frame, "drifted hardware: blurred", cellWidth),
-                           labelled(nominal, "told the nominal model", cellWidth),
-                           labelled(refined, "refined against the still frame", cellWidth),
-                           labelled(knowing, "told the truth", cellWidth)};
+    const auto db = [&](const Mat& image) { return format(", %.2f dB", maskedPsnr(truth, image, judged, 255)); };
+    std::vector<Mat> cells{labelled(frame, "drifted hardware: blurred" + db(frame), cellWidth),
+                           labelled(nominal, "told the nominal model" + db(nominal), cellWidth),
+                           labelled(refined, "refined against the still" + db(refined), cellWidth),
+                           labelled(knowing, "told the truth" + db(knowing), cellWidth)};
     Mat row;
     hconcat(cells, row);
     imwrite(outDir + "/drift_panel.png", row);
@@ -550,7 +572,7 @@ int runSynthetic(const CliArgs& args)
         hconcat(cells, row);
         panelRows.push_back(row);
         if (c.window == EXPOSURE_III && c.shutter.lineDelay > 0)
-            imwrite(outDir + "/psf_bank.png", psfMontage(variant->getLastPsfBank(), 48));
+            imwrite(outDir + "/psf_bank.png", psfMontage(variant->getLastPsfBank(), 6, 8));
     }
     runHandHeld(camera, scene, lineDelay, params, outDir, panelRows, tableRows);
     if (!panelRows.empty())

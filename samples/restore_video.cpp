@@ -165,14 +165,8 @@ int main(int argc, char** argv)
         /* The ETA counts the moving frames still to restore at the time a moving frame has taken so far
            (a still frame costs next to nothing), and the line is shown before each restoration, so a
            slow frame never leaves a stale estimate on the screen. */
-        int written = 0, movingLeft = 0, movingDone = 0;
-        for (const FrameRecord& f : log)
-        {
-            const RollingShutter shutter = calibration.correctShutter(RollingShutter(f.frameStart, f.exposure, f.lineDelay, size.height));
-            const Vec2d readout = shutter.readoutInterval();
-            movingLeft += classifyExposure(correctedPlant, recording.commands.scheduleAround(readout[0], readout[1]),
-                                           shutter) != EXPOSURE_IV;
-        }
+        int written = 0, movingDone = 0;
+        int movingLeft = movingFrames(log, recording.commands, plant, size.height, calibration);
         TickMeter clock;
         const auto progress = [&](const char* doing) {
             const double perMoving = movingDone ? clock.getTimeSec() / movingDone : NAN;

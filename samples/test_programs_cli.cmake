@@ -119,6 +119,8 @@ expect("no frame overlaps a move: the frames span 10 to 12.6[0-9]* s \\(camera c
 file(WRITE ${dir}/no_line_delay.csv "frame,frame_start,exposure\n0,0.0,0.008\n1,0.0333333,0.008\n")
 run(1 ${BIN}/dynblur_restore_video ${logs} --frames ${dir}/no_line_delay.csv --line-delay 62.5)
 expect("'line_delay' = 62.5 must be in \\[0, 0.01\\) s: seconds expected \\(is it in us" "a line delay in us")
+run(1 ${BIN}/dynblur_restore_video ${logs} --frames ${dir}/no_line_delay.csv --line-delay 0.001)
+expect("'line_delay' = 0.001 s reads the 480 rows out in 0.479 s, longer than the frame period 0.0333+ s" "a readout too long")
 run(1 ${BIN}/dynblur_restore_video --recording ${dir}/nowhere --out ${dir}/bad.avi)
 expect("--recording: the folder '[^']*nowhere' does not exist" "a missing recording folder")
 file(MAKE_DIRECTORY ${dir}/partial)

@@ -5,6 +5,8 @@
 #include "csv_fields.hpp"
 #include "plant_file.hpp"
 
+#include <opencv2/core/utils/filesystem.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -126,6 +128,22 @@ void checkFramePeriod(const std::vector<FrameRecord>& frames, const std::string&
 
 }  // namespace
 
+int movingFrames(const std::vector<FrameRecord>& frames, const CommandLog& commands,
+                 const cv::Ptr<cv::dynblur::Plant>& plant, int rows, const cv::dynblur::MotionCorrection& correction)
+{
+    const cv::Ptr<cv::dynblur::Plant> corrected = correction.correctPlant(plant);
+    int moving = 0;
+    for (const FrameRecord& f : frames)
+    {
+        const cv::dynblur::RollingShutter shutter =
+            correction.correctShutter(cv::dynblur::RollingShutter(f.frameStart, f.exposure, f.lineDelay, rows));
+        const cv::Vec2d readout = shutter.readoutInterval();
+        moving += cv::dynblur::classifyExposure(corrected, commands.scheduleAround(readout[0], readout[1]), shutter) !=
+                  cv::dynblur::EXPOSURE_IV;
+    }
+    return moving;
+}
+
 void checkFramesMeetCommands(const std::vector<FrameRecord>& frames, const CommandLog& commands,
                              const cv::Ptr<cv::dynblur::Plant>& plant, int rows)
 {
@@ -141,14 +159,8 @@ void checkFramesMeetCommands(const std::vector<FrameRecord>& frames, const Comma
                        f.frame, f.lineDelay, rows, (rows - 1) * f.lineDelay, period));
     if (std::all_of(commands.levels.begin(), commands.levels.end(), [&](int l) { return l == commands.levels[0]; }))
         return;  // no move to see
-    for (const FrameRecord& f : frames)
-    {
-        const cv::dynblur::RollingShutter shutter(f.frameStart, f.exposure, f.lineDelay, rows);
-        const cv::Vec2d readout = shutter.readoutInterval();
-        if (cv::dynblur::classifyExposure(plant, commands.scheduleAround(readout[0], readout[1]), shutter) !=
-            cv::dynblur::EXPOSURE_IV)
-            return;
-    }
+    if (movingFrames(frames, commands, plant, rows, cv::dynblur::MotionCorrection()) > 0)
+        return;
     CV_Error_(cv::Error::StsBadArg,
               ("no frame overlaps a move: the frames span %.6g to %.6g s (camera clock) and the commands %.6g to %.6g s "
                "(actuator clock); both logs are in seconds, on clocks that agree to within a frame (is one in ms, "
@@ -179,7 +191,7 @@ RecordingFolder findRecording(const std::string& folder)
         if (part.first->empty())
             missing += (missing.empty() ? "" : ", ") + std::string(part.second);
     if (!missing.empty())
-        CV_Error(cv::Error::StsError, std::ifstream(folder + "/.").good() || std::ifstream(folder).good()
+        CV_Error(cv::Error::StsError, cv::utils::fs::isDirectory(folder)
                                           ? "--recording: '" + folder + "' lacks " + missing
                                           : "--recording: the folder '" + folder + "' does not exist");
     return r;

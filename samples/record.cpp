@@ -50,8 +50,8 @@ static const char* const kUsage =
     "  --plant FILE.yml   the plant (dynblur_identify_plant), copied into the folder; plans the moves\n"
     "Actuator (one of):\n"
     "  --bus URI          drive the controller (tcp://HOST:PORT or rtu:DEVICE?baud=..&slave=..) with --moves\n"
-    "  --moves LIST       target angles, degrees, comma-separated: each planned from the last (the plant\n"
-    "                     rests at 0 first), started after --still seconds of rest\n"
+    "  --moves LIST       target angles, degrees, comma-separated: each planned from the last (the first\n"
+    "                     from the level the actuators hold), started after --still seconds of rest\n"
     "  --still S          rest before the first move, between moves and after the last, seconds (default 1):\n"
     "                     the still frames each moving frame is refined against\n"
     "  --commands FILE    a command log (t,level) a script wrote while the camera ran, on the same clock as\n"
@@ -162,16 +162,22 @@ int main(int argc, char** argv)
         // The actuator first: a bus that does not answer must not leave a half-made recording.
         Ptr<ActuatorDriver> driver;
         Ptr<SwitchPlanner> planner;
+        double startAngle = 0;  // radians
         if (args.has("bus"))
         {
             driver = ActuatorDriver::create(ActuatorBus::create(args.str("bus", "")));
             const ActuatorInfo info = driver->connect();
             planner = SwitchPlanner::create(plant.plant, std::min(plant.maxLevel, info.maxLevel), PLAN_ROBUST,
                                             std::max(0.002, info.minDwell));
-            for (double target : moves)  // every move is planned (and its reach checked) before the camera runs
-                planner->plan(0.0, target * CV_PI / 180, 0.0);
+            // The moves start where the actuators rest; each is planned (and its reach checked) before
+            // the camera runs.
+            const int restLevel = driver->status().currentLevel;
+            startAngle = plant.plant->restingAngle(restLevel);
+            for (double target : moves)
+                planner->plan(startAngle, target * CV_PI / 180, 0.0);
             commands.times = {0.0};
-            commands.levels = {0};
+            commands.levels = {restLevel};
+            std::printf("actuators at level %d (%.3g deg)\n", restLevel, startAngle * 180 / CV_PI);
         }
 
         VideoCapture capture;
@@ -194,7 +200,7 @@ int main(int argc, char** argv)
 
         std::vector<FrameRecord> log;
         const double origin = steadyNow();
-        double nextMove = still, angle = 0, lastEnd = 0;
+        double nextMove = still, angle = startAngle, lastEnd = 0;
         size_t moveIndex = 0;
         bool hostClockNoted = false;
         Mat image;

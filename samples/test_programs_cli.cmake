@@ -140,7 +140,7 @@ file(COPY ${REC}/commands.csv DESTINATION ${dir}/partial)
 run(1 ${BIN}/dynblur_restore_video --recording ${dir}/partial --out ${dir}/bad.avi)
 expect("note: no --camera and no camera.xml in the recording: using the default camera '[^']*c270_nominal.xml'"
        "the default camera is not announced")
-expect("--video: frames are 640x480 but the camera '[^']*c270_nominal.xml' is 1280x960 \\(give the camera that took the video: --camera\\)"
+expect("--recording: frames are 640x480 but the camera '[^']*c270_nominal.xml' is 1280x960 \\(give the camera that took the video: --camera\\)"
        "a camera of another size")
 run(1 ${BIN}/dynblur_restore_video --recording ${REC} --timing ${dir}/nope.yml --out ${dir}/bad.avi)
 expect("TimingCalibration::load: cannot open the timing file '[^']*nope.yml'" "a missing timing file")

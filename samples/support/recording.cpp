@@ -223,19 +223,21 @@ void OpenedRecording::open(const CliArgs& args, const std::string& defaultCamera
     r.plant = plant.empty() ? cv::dynblur::Plant::create(14.4, 0.12, CV_PI / 180) : loadPlantFile(plant).plant;
     r.timingPath = args.str("timing", folder.timing);
     const std::string video = args.str("video", folder.video);
+    r.videoOption = args.has("video") ? "--video" : "--recording";  // what the user typed
     // A missing file is named here: VideoCapture would try every backend on it (and GStreamer's
     // device probing leaks inside libusb, which the sanitizer run reports).
     if (video.find('%') == std::string::npos && !std::ifstream(video).good())
-        CV_Error(cv::Error::StsError, "--video: '" + video + "' does not exist");
+        CV_Error(cv::Error::StsError, r.videoOption + ": '" + video + "' does not exist");
     if (!r.video.open(video))
-        CV_Error(cv::Error::StsError, "--video: cannot open '" + video + "'");
+        CV_Error(cv::Error::StsError, r.videoOption + ": cannot open '" + video + "'");
     r.position = 0;
     const cv::Size size = r.camera->getImageSize();
     const int width = int(r.video.get(cv::CAP_PROP_FRAME_WIDTH)), height = int(r.video.get(cv::CAP_PROP_FRAME_HEIGHT));
     if (width > 0 && height > 0 && cv::Size(width, height) != size)
         CV_Error(cv::Error::StsBadSize,
-                 cv::format("--video: frames are %dx%d but the camera '%s' is %dx%d (give the camera that took the "
-                            "video: --camera)", width, height, r.cameraPath.c_str(), size.width, size.height));
+                 cv::format("%s: frames are %dx%d but the camera '%s' is %dx%d (give the camera that took the "
+                            "video: --camera)",
+                            r.videoOption.c_str(), width, height, r.cameraPath.c_str(), size.width, size.height));
     checkFramesMeetCommands(r.log, r.commands, r.plant, size.height);
 }
 
@@ -252,9 +254,10 @@ cv::Mat OpenedRecording::read(const FrameRecord& record)
     const cv::Size size = camera->getImageSize();
     if (image.size() != size)
         CV_Error(cv::Error::StsBadSize,
-                 cv::format("--video: frame %d is %dx%d but the camera '%s' is %dx%d (give the camera that took the "
+                 cv::format("%s: frame %d is %dx%d but the camera '%s' is %dx%d (give the camera that took the "
                             "video: --camera)",
-                            record.frame, image.cols, image.rows, cameraPath.c_str(), size.width, size.height));
+                            videoOption.c_str(), record.frame, image.cols, image.rows, cameraPath.c_str(), size.width,
+                            size.height));
     return image;
 }
 

@@ -92,6 +92,7 @@ struct OpenedRecording
     CommandLog commands;
     cv::Ptr<cv::dynblur::CameraModel> camera;  //!< default: calib/c270_nominal.xml
     std::string cameraPath;                    //!< the file it was read from
+    std::string videoOption;                   //!< "--video" or "--recording", for messages
     cv::Ptr<cv::dynblur::Plant> plant;         //!< default: the seed's 14.4 Hz, ζ 0.12, 1°/level
     std::string timingPath;                    //!< "" when none was given or found
     cv::VideoCapture video;

@@ -65,6 +65,7 @@ int main(int argc, char** argv)
     double from = 0, to = 0, hz = 14.4, zeta = 0.12, gainDeg = 1, minDwell = 0.002, start = 0;
     int maxLevel = 16;
     std::string modeName, prefix, plantPath;
+    dynblur_samples::PlantFile plantFile;
     try
     {
         const dynblur_samples::CliArgs args(argc, argv,
@@ -93,8 +94,12 @@ int main(int argc, char** argv)
         minDwell = args.num("min-dwell", minDwell);
         start = args.num("start", start);
         prefix = args.str("out", "move");
-        if (!plantPath.empty() && !args.has("max-level"))
-            maxLevel = dynblur_samples::loadPlantFile(plantPath).maxLevel;
+        if (!plantPath.empty())
+        {
+            plantFile = dynblur_samples::loadPlantFile(plantPath);
+            if (!args.has("max-level"))
+                maxLevel = plantFile.maxLevel;
+        }
     }
     catch (const std::runtime_error& e)
     {
@@ -121,15 +126,14 @@ int main(int argc, char** argv)
     double planMs = 0;
     try
     {
-        plant = plantPath.empty() ? Plant::create(hz, zeta, gainDeg * degree)
-                                  : dynblur_samples::loadPlantFile(plantPath).plant;
+        plant = plantPath.empty() ? Plant::create(hz, zeta, gainDeg * degree) : plantFile.plant;
         hz = plant->getNaturalFreqHz();
         zeta = plant->getDampingRatio();
         gainDeg = plant->getGain() / degree;
     }
     catch (const cv::Exception& e)
     {
-        return fail((plantPath.empty() ? "--hz, --zeta, --gain-deg: " : "--plant: ") + e.err);
+        return fail("--hz, --zeta, --gain-deg: " + e.err);
     }
     try
     {

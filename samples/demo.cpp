@@ -599,7 +599,7 @@ int runRealFrame(const CliArgs& args)
 {
     for (const char* required : {"schedule", "frame-start"})
         if (!args.has(required))
-            CV_Error(Error::StsBadArg, std::string("--frame needs --") + required);
+            throw std::runtime_error(std::string("--frame needs --") + required);
     const std::string framePath = args.str("frame", "");
     Mat frame = imread(framePath, IMREAD_UNCHANGED);
     if (frame.empty())

@@ -55,6 +55,9 @@ static const char* const kUsage =
     "                       (the recording ends, or another move starts) cannot be refined: as-told\n"
     "                       (default) restores it with the model as told (and --timing), unchanged writes\n"
     "                       it as recorded; the tool lists those frames either way\n"
+    "  --unobserved WHAT    where a frame never saw the restored view (content beyond its edges): recorded\n"
+    "                       (default) keeps the frame's pixels, marked paints them black, nearest repeats the\n"
+    "                       nearest observed pixel (streaks across a wide band)\n"
     "  --out FILE           restored video (default restored.avi; MJPG at the frame log's rate)\n"
     "  --csv FILE           per-frame log (default: OUT's name with .csv)\n"
     "  --help               this help\n"
@@ -98,7 +101,7 @@ int main(int argc, char** argv)
     {
         CliArgs args(argc, argv,
                      {"recording", "video", "frames", "commands", "camera", "plant", "timing", "exposure", "line-delay", "refine",
-                      "model", "out", "csv", "no-still-after"},
+                      "model", "out", "csv", "no-still-after", "unobserved"},
                      {"help"});
         if (args.has("help"))
         {
@@ -113,6 +116,12 @@ int main(int argc, char** argv)
         const std::string noStillAfterMode = args.str("no-still-after", "as-told");
         if (noStillAfterMode != "as-told" && noStillAfterMode != "unchanged")
             return usageError("--no-still-after must be as-told or unchanged");
+        const std::string unobservedName = args.str("unobserved", "recorded");
+        const int unobserved = unobservedName == "recorded" ? UNOBSERVED_RECORDED
+                               : unobservedName == "marked" ? UNOBSERVED_MARKED
+                               : unobservedName == "nearest" ? UNOBSERVED_NEAREST : -1;
+        if (unobserved < 0)
+            return usageError("--unobserved must be recorded, marked or nearest");
         videoOut = args.str("out", "restored.avi");
         csvOut = args.str("csv", pathStem(videoOut) + ".csv");
 
@@ -142,6 +151,7 @@ int main(int argc, char** argv)
             deblurrer->setColorResolution(DEBLUR_COLOR_HALF_RESOLUTION);
         }
         deblurrer->setRefinement(flags);
+        deblurrer->setUnobservedFill(unobserved);
         if (!timingPath.empty())
             deblurrer->setCalibration(calibration);
 

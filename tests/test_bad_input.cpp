@@ -491,6 +491,7 @@ TEST(BadInput, Deblurrer)
          [&] { d->deblur(frame, SwitchSchedule({0.01, 0.0}, {1, 2}), rs, out); }, {"times"}},
         {"DynamicDeblurrer::setPsfModel", "7", [&] { d->setPsfModel(7); }, {"model"}},
         {"DynamicDeblurrer::setMethod", "-1", [&] { d->setMethod(-1); }, {"method"}},
+        {"DynamicDeblurrer::setUnobservedFill", "3", [&] { d->setUnobservedFill(3); }, {"fill", "UNOBSERVED_RECORDED"}},
         {"DynamicDeblurrer::setRLParams", "iterations = 0",
          [&] {
              RLParams p;

@@ -401,6 +401,9 @@ and the results blended with the bank's weights. noiseToSignal: noise-to-signal 
     m.attr("DEBLUR_WIENER") = int(DEBLUR_WIENER);
     m.attr("DEBLUR_COLOR_FULL_RESOLUTION") = int(DEBLUR_COLOR_FULL_RESOLUTION);
     m.attr("DEBLUR_COLOR_HALF_RESOLUTION") = int(DEBLUR_COLOR_HALF_RESOLUTION);
+    m.attr("UNOBSERVED_RECORDED") = int(UNOBSERVED_RECORDED);
+    m.attr("UNOBSERVED_MARKED") = int(UNOBSERVED_MARKED);
+    m.attr("UNOBSERVED_NEAREST") = int(UNOBSERVED_NEAREST);
     py::class_<DynamicDeblurrer, std::shared_ptr<DynamicDeblurrer>>(m, "DynamicDeblurrer", R"doc(Restores frames taken while the positioner moves: the blur of every pixel is predicted from the
 plant and the commands, then undone. The result is the global-shutter, motion-free view at θ_ref.
 One instance is not meant to be shared by threads running deblur() at the same time.)doc")
@@ -448,6 +451,10 @@ dtype; a window-IV frame comes back unchanged), or (restored, validMask) with re
              "channels): DEBLUR_COLOR_FULL_RESOLUTION (default) or DEBLUR_COLOR_HALF_RESOLUTION (the frame halved, "
              "the luminance at full resolution with every iteration; needs an even image size)")
         .def("setColorResolution", &DynamicDeblurrer::setColorResolution, py::arg("resolution"))
+        .def("getUnobservedFill", &DynamicDeblurrer::getUnobservedFill,
+             "What the restored frame holds where the frame never saw the view: UNOBSERVED_RECORDED (the frame's "
+             "pixel, default), UNOBSERVED_MARKED (black) or UNOBSERVED_NEAREST (the nearest observed pixel)")
+        .def("setUnobservedFill", &DynamicDeblurrer::setUnobservedFill, py::arg("fill"))
         .def("getRLParams", &DynamicDeblurrer::getRLParams,
              "Restoration options; default RLParams() with automatic damping (NaN: 3σ of the frame's noise).")
         .def("setRLParams", &DynamicDeblurrer::setRLParams, py::arg("params"))

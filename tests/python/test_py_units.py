@@ -60,3 +60,17 @@ def test_unit_mistakes_name_argument_and_unit(db, small_setup):
     theta_deg = np.rad2deg(plant.response(sched, t))
     with pytest.raises(db.error, match="theta.*radians expected.*degrees"):
         db.Plant.identify(t, theta_deg, sched)
+
+
+def test_unobserved_pixels_keep_the_recorded_frame_by_default(db, small_setup):
+    plant, sched, cam, shutter = small_setup
+    blurred = db.renderBlurred(make_scene(120, 160), plant, sched, cam, shutter)
+    deblurrer = db.DynamicDeblurrer.create(plant, cam)
+    assert deblurrer.getUnobservedFill() == db.UNOBSERVED_RECORDED
+    restored, valid = deblurrer.deblur(blurred, sched, shutter, returnMask=True)
+    unobserved = valid == 0
+    assert unobserved.sum() > 160, "no unobserved band: the test proves nothing"
+    np.testing.assert_array_equal(restored[unobserved], blurred[unobserved])
+    deblurrer.setUnobservedFill(db.UNOBSERVED_MARKED)
+    marked = deblurrer.deblur(blurred, sched, shutter)
+    assert np.all(marked[unobserved] == 0)

@@ -7,7 +7,7 @@
 // With --frame: restores one real frame from its schedule, camera and plant files.
 #include "frame_timing.hpp"
 #include "image_metrics.hpp"
-#include "option_check.hpp"
+#include "cli_args.hpp"
 #include "plant_file.hpp"
 #include "plot.hpp"
 #include "scene.hpp"
@@ -27,21 +27,29 @@ using namespace dynblur_samples;
 
 namespace {
 
-const char* const kKeys =
-    "{help h usage ? |        | print this help }"
-    "{out            | demo_out | folder for the pictures and the restored frames }"
-    "{image          |        | scene image (any size; scaled to fill the view) instead of the generated scene }"
-    "{iterations     | 20     | Richardson-Lucy iterations }"
-    "{mode           | robust | planner mode: robust (tolerates a 10% error in the natural frequency; ~45 ms) or fast (~15 ms) }"
-    "{model          | tiles  | spatially variant PSF model: tiles or rows }"
-    "{frame          |        | real mode: the blurred frame to restore }"
-    "{schedule       |        | real mode: switching schedule file (SwitchSchedule::save format) }"
-    "{camera         |        | camera XML (ViSP format); default: the nominal C270 at 1280x960 }"
-    "{plant          |        | plant file (YAML: naturalFreqHz, dampingRatio, gain, maxLevel); default: the seed's }"
-    "{frame-start    |        | real mode: start of row 0's exposure, seconds, on the schedule's clock }"
-    "{exposure       | 0.008  | exposure of one row, seconds }"
-    "{line-delay     | 34.7e-6 | rolling-shutter line delay, seconds (0: global shutter) }"
-    "{theta-ref      |        | reference angle, radians (default: the schedule's final angle) }";
+const char* const kUsage =
+    "dynblur_demo: restore frames blurred by a robotic camera's own motion, with the blur predicted from the\n"
+    "plant dynamics and the commands. Without --frame it runs the synthetic demo (10 deg saccade, rolling\n"
+    "shutter windows I-III and a global shutter). Options take --name value or --name=value.\n"
+    "\n"
+    "  --out DIR            folder for the pictures and the restored frames (default demo_out)\n"
+    "  --image FILE         scene image (any size; scaled to fill the view) instead of the generated scene\n"
+    "  --iterations N       Richardson-Lucy iterations (default 20)\n"
+    "  --mode NAME          planner mode: robust (tolerates a 10% error in the natural frequency, default) or fast\n"
+    "  --model NAME         spatially variant PSF model: tiles (default) or rows\n"
+    "  --camera FILE.xml    camera (ViSP format); default: the nominal C270 at 1280x960\n"
+    "  --plant FILE.yml     plant file (naturalFreqHz, dampingRatio, gain, maxLevel); default: the seed's\n"
+    "  --exposure S         exposure of one row, seconds (default 0.008)\n"
+    "  --line-delay S       rolling-shutter line delay, seconds (default 34.7e-6; 0: global shutter)\n"
+    "Real-frame mode:\n"
+    "  --frame FILE         the blurred frame to restore\n"
+    "  --schedule FILE.yml  its switching schedule (dynblur_plan writes one; SwitchSchedule::save format)\n"
+    "  --frame-start S      start of row 0's exposure, seconds, on the schedule's clock\n"
+    "  --timing FILE.yml    the recording's calibration (dynblur_calibrate_timing): clock offset, line delay\n"
+    "                       and plant corrections applied to the model\n"
+    "  --theta-ref RAD      reference angle, radians (default: the schedule's final angle)\n"
+    "  --help               this help\n"
+    "Exit status: 0 done, 1 a file or value the demo cannot use (the message says why), 2 bad usage.\n";
 
 const double kDeg = CV_PI / 180.0;
 
@@ -92,38 +100,59 @@ Mat labelled(const Mat& image, const std::string& text, int width)
     return small;
 }
 
-// The kernels of a bank side by side, each scaled to its peak, with the node row and shift.
-Mat psfMontage(const PsfBank& bank, int maxTiles)
+/* The kernels of a bank as a grid laid out like the frame: at most maxRows × maxCols nodes, evenly
+   picked, each kernel at its node's place, all at one zoom (so their sizes compare), each scaled to
+   its own peak, with its shift; node x and y on the axes, in pixels, and a title. */
+Mat psfMontage(const PsfBank& bank, int maxRows, int maxCols)
 {
-    const int count = static_cast<int>(bank.kernels.size());
-    const int step = std::max(1, count / maxTiles);
-    const int cell = 120;
-    std::vector<Mat> cells;
-    for (int n = 0; n < count; n += step)
+    const auto pick = [](size_t count, int most) {
+        std::vector<size_t> chosen;
+        const size_t n = std::min(count, size_t(most));
+        for (size_t i = 0; i < n; i++)
+            chosen.push_back(n == 1 ? 0 : i * (count - 1) / (n - 1));
+        return chosen;
+    };
+    const std::vector<size_t> rows = pick(bank.nodeRows.size(), maxRows), cols = pick(bank.nodeCols.size(), maxCols);
+    const Size largest = bank.maxKernelSize();
+    const int cell = 130, inner = cell - 34, left = 70, top = 86;
+    const int zoom = std::max(1, inner / std::max(1, std::max(largest.width, largest.height)));
+    const Scalar text(230, 230, 230), dim(150, 150, 150);
+    Mat montage(top + int(rows.size()) * cell + 30, left + int(cols.size()) * cell + 10, CV_8UC3, Scalar(20, 20, 20));
+    putText(montage, format("PSF bank (%s): the kernel at each node, x %dx zoomed, each scaled to its peak",
+                            bank.model == PSF_TILES ? "tiles" : bank.model == PSF_ROWS ? "row bands" : "uniform", zoom),
+            Point(10, 22), FONT_HERSHEY_SIMPLEX, 0.6, text, 1, LINE_AA);
+    putText(montage, "node x (px)", Point(left, 50), FONT_HERSHEY_SIMPLEX, 0.45, dim, 1, LINE_AA);
+    putText(montage, "node y (px)", Point(4, top - 4), FONT_HERSHEY_SIMPLEX, 0.45, dim, 1, LINE_AA);
+    putText(montage, "under each kernel: its size and the shift of its centre (dx, dy), px", Point(left, montage.rows - 10),
+            FONT_HERSHEY_SIMPLEX, 0.45, dim, 1, LINE_AA);
+    for (size_t c = 0; c < cols.size(); c++)
+        putText(montage, format("%.0f", bank.nodeCols[cols[c]]), Point(left + int(c) * cell + cell / 2 - 14, top - 6),
+                FONT_HERSHEY_SIMPLEX, 0.45, text, 1, LINE_AA);
+    for (size_t r = 0; r < rows.size(); r++)
     {
-        Mat kernel = bank.kernels[static_cast<size_t>(n)], shown;
-        double peak = 0;
-        minMaxLoc(kernel, nullptr, &peak);
-        kernel.convertTo(shown, CV_8U, 255.0 / std::max(peak, 1e-12));
-        const double zoom = std::min(1.0 * (cell - 30) / shown.rows, 1.0 * (cell - 10) / shown.cols);
-        resize(shown, shown, Size(), std::max(zoom, 1e-3), std::max(zoom, 1e-3), zoom >= 1 ? INTER_NEAREST : INTER_AREA);
-        applyColorMap(shown, shown, COLORMAP_INFERNO);
-        Mat tile(cell, cell, CV_8UC3, Scalar(30, 30, 30));
-        shown.copyTo(tile(Rect((cell - shown.cols) / 2, 22 + (cell - 30 - shown.rows) / 2, shown.cols, shown.rows)));
-        const size_t nx = bank.nodeCols.size();
-        const double x = bank.nodeCols[static_cast<size_t>(n) % nx], y = bank.nodeRows[static_cast<size_t>(n) / nx];
-        const Point shift = bank.shifts[static_cast<size_t>(n)];
-        putText(tile, format("(%.0f,%.0f) s(%d,%d)", x, y, shift.x, shift.y), Point(3, 14), FONT_HERSHEY_SIMPLEX, 0.38,
-                Scalar(230, 230, 230), 1, LINE_AA);
-        putText(tile, format("%dx%d px", kernel.cols, kernel.rows), Point(3, cell - 4), FONT_HERSHEY_SIMPLEX, 0.38,
-                Scalar(160, 160, 160), 1, LINE_AA);
-        cells.push_back(tile);
+        putText(montage, format("%.0f", bank.nodeRows[rows[r]]), Point(8, top + int(r) * cell + cell / 2),
+                FONT_HERSHEY_SIMPLEX, 0.45, text, 1, LINE_AA);
+        for (size_t c = 0; c < cols.size(); c++)
+        {
+            const size_t n = rows[r] * bank.nodeCols.size() + cols[c];
+            const Mat& kernel = bank.kernels[n];
+            Mat shown;
+            double peak = 0;
+            minMaxLoc(kernel, nullptr, &peak);
+            kernel.convertTo(shown, CV_8U, 255.0 / std::max(peak, 1e-12));
+            resize(shown, shown, Size(), zoom, zoom, INTER_NEAREST);
+            applyColorMap(shown, shown, COLORMAP_INFERNO);
+            const Rect box(left + int(c) * cell + 4, top + int(r) * cell + 4, cell - 8, inner);
+            Mat tile = montage(box);
+            tile.setTo(Scalar(45, 45, 45));
+            const Rect fit((box.width - std::min(shown.cols, box.width)) / 2, (box.height - std::min(shown.rows, box.height)) / 2,
+                           std::min(shown.cols, box.width), std::min(shown.rows, box.height));
+            shown(Rect(0, 0, fit.width, fit.height)).copyTo(tile(fit));
+            const Point shift = bank.shifts[n];
+            putText(montage, format("%dx%d (%d, %d)", kernel.cols, kernel.rows, shift.x, shift.y),
+                    Point(box.x, box.y + box.height + 16), FONT_HERSHEY_SIMPLEX, 0.4, dim, 1, LINE_AA);
+        }
     }
-    const int columns = 8;
-    const int rows = (static_cast<int>(cells.size()) + columns - 1) / columns;
-    Mat montage(rows * cell, columns * cell, CV_8UC3, Scalar(0, 0, 0));
-    for (size_t i = 0; i < cells.size(); ++i)
-        cells[i].copyTo(montage(Rect(static_cast<int>(i % columns) * cell, static_cast<int>(i / columns) * cell, cell, cell)));
     return montage;
 }
 
@@ -378,10 +407,11 @@ void runDriftedHardware(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera,
                 found.consistency, refineMs);
 
     const int cellWidth = 400;
-    std::vector<Mat> cells{labelled(frame, "drifted hardware: blurred", cellWidth),
-                           labelled(nominal, "told the nominal model", cellWidth),
-                           labelled(refined, "refined against the still frame", cellWidth),
-                           labelled(knowing, "told the truth", cellWidth)};
+    const auto db = [&](const Mat& image) { return format(", %.2f dB", maskedPsnr(truth, image, judged, 255)); };
+    std::vector<Mat> cells{labelled(frame, "drifted hardware: blurred" + db(frame), cellWidth),
+                           labelled(nominal, "told the nominal model" + db(nominal), cellWidth),
+                           labelled(refined, "refined against the still" + db(refined), cellWidth),
+                           labelled(knowing, "told the truth" + db(knowing), cellWidth)};
     Mat row;
     hconcat(cells, row);
     imwrite(outDir + "/drift_panel.png", row);
@@ -421,23 +451,23 @@ void runDriftedHardware(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera,
     imwrite(outDir + "/drift_objective.png", objective);
 }
 
-int runSynthetic(const CommandLineParser& args)
+int runSynthetic(const CliArgs& args)
 {
-    const std::string outDir = args.get<std::string>("out");
+    const std::string outDir = args.str("out", "demo_out");
     utils::fs::createDirectories(outDir);
-    const int iterations = args.get<int>("iterations");
-    const int model = psfModelFromName(args.get<std::string>("model"));
-    const double exposure = args.get<double>("exposure"), lineDelay = args.get<double>("line-delay");
+    const int iterations = args.integer("iterations", 20);
+    const int model = psfModelFromName(args.str("model", "tiles"));
+    const double exposure = args.num("exposure", 0.008), lineDelay = args.num("line-delay", 34.7e-6);
 
     PlantFile plantFile;
     plantFile.plant = Plant::create(14.4, 0.12, kDeg);
     if (args.has("plant"))
-        plantFile = loadPlantFile(args.get<std::string>("plant"));
+        plantFile = loadPlantFile(args.str("plant", ""));
     const Ptr<Plant> plant = plantFile.plant;
-    const Ptr<CameraModel> camera = args.has("camera") ? CameraModel::load(args.get<std::string>("camera")) : defaultCamera();
+    const Ptr<CameraModel> camera = args.has("camera") ? CameraModel::load(args.str("camera", "")) : defaultCamera();
     const Size frameSize = camera->getImageSize();
 
-    const std::string modeName = args.get<std::string>("mode");
+    const std::string modeName = args.str("mode", "robust");
     if (modeName != "robust" && modeName != "fast")
         CV_Error(Error::StsBadArg, "--mode must be robust or fast (got '" + modeName + "')");
     std::printf("[demo] planning a 10 deg saccade, %s mode (plant %.1f Hz, zeta %.2f, %.2f deg/level, max level %d)\n",
@@ -457,7 +487,7 @@ int runSynthetic(const CommandLineParser& args)
     Mat scene;
     if (args.has("image"))
     {
-        const std::string imagePath = args.get<std::string>("image");
+        const std::string imagePath = args.str("image", "");
         Mat image = imread(imagePath, IMREAD_COLOR);
         if (image.empty())
             CV_Error(Error::StsError, "cannot read --image '" + imagePath + "'");
@@ -536,13 +566,13 @@ int runSynthetic(const CommandLineParser& args)
         std::vector<Mat> cells{labelled(frame, c.name + ": blurred", cellWidth),
                                labelled(shadeUnobserved(restoredUniform, valid), "uniform PSF (seed)", cellWidth),
                                labelled(shadeUnobserved(restoredVariant, valid),
-                                        std::string("spatially variant (") + args.get<std::string>("model") + ")", cellWidth),
+                                        std::string("spatially variant (") + args.str("model", "tiles") + ")", cellWidth),
                                labelled(truth, "truth (view at theta_ref)", cellWidth)};
         Mat row;
         hconcat(cells, row);
         panelRows.push_back(row);
         if (c.window == EXPOSURE_III && c.shutter.lineDelay > 0)
-            imwrite(outDir + "/psf_bank.png", psfMontage(variant->getLastPsfBank(), 48));
+            imwrite(outDir + "/psf_bank.png", psfMontage(variant->getLastPsfBank(), 6, 8));
     }
     runHandHeld(camera, scene, lineDelay, params, outDir, panelRows, tableRows);
     if (!panelRows.empty())
@@ -565,26 +595,33 @@ int runSynthetic(const CommandLineParser& args)
     return 0;
 }
 
-int runRealFrame(const CommandLineParser& args)
+int runRealFrame(const CliArgs& args)
 {
     for (const char* required : {"schedule", "frame-start"})
         if (!args.has(required))
-            CV_Error(Error::StsBadArg, std::string("--frame needs --") + required);
-    const std::string framePath = args.get<std::string>("frame");
+            throw std::runtime_error(std::string("--frame needs --") + required);
+    const std::string framePath = args.str("frame", "");
     Mat frame = imread(framePath, IMREAD_UNCHANGED);
     if (frame.empty())
         CV_Error(Error::StsError, "cannot read --frame '" + framePath + "'");
-    const SwitchSchedule schedule = SwitchSchedule::load(args.get<std::string>("schedule"));
-    const Ptr<CameraModel> camera = args.has("camera") ? CameraModel::load(args.get<std::string>("camera")) : defaultCamera();
-    const Ptr<Plant> plant = args.has("plant") ? loadPlantFile(args.get<std::string>("plant")).plant : Plant::create(14.4, 0.12, kDeg);
-    const RollingShutter shutter(args.get<double>("frame-start"), args.get<double>("exposure"),
-                                 args.get<double>("line-delay"), frame.rows);
-    const double thetaRef = args.has("theta-ref") ? args.get<double>("theta-ref") : std::numeric_limits<double>::quiet_NaN();
+    const SwitchSchedule schedule = SwitchSchedule::load(args.str("schedule", ""));
+    // A default is said aloud: a frame restored with another camera's or plant's model comes out wrong.
+    if (!args.has("camera"))
+        std::fprintf(stderr, "note: no --camera: using the nominal C270 at 1280x960 (fx 1230 px)\n");
+    if (!args.has("plant"))
+        std::fprintf(stderr, "note: no --plant: using the seed's plant (14.4 Hz, zeta 0.12, 1 deg per level)\n");
+    const Ptr<CameraModel> camera = args.has("camera") ? CameraModel::load(args.str("camera", "")) : defaultCamera();
+    const Ptr<Plant> plant = args.has("plant") ? loadPlantFile(args.str("plant", "")).plant : Plant::create(14.4, 0.12, kDeg);
+    const RollingShutter shutter(args.num("frame-start", NAN), args.num("exposure", 0.008),
+                                 args.num("line-delay", 34.7e-6), frame.rows);
+    const double thetaRef = args.num("theta-ref", NAN);  // NaN: the schedule's final angle
 
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
-    deblurrer->setPsfModel(psfModelFromName(args.get<std::string>("model")));
+    if (args.has("timing"))  // a single frame has no still to refine against: the calibration as told
+        deblurrer->setCalibration(TimingCalibration::load(args.str("timing", "")).correction);
+    deblurrer->setPsfModel(psfModelFromName(args.str("model", "tiles")));
     RLParams params = deblurrer->getRLParams();
-    params.iterations = args.get<int>("iterations");
+    params.iterations = args.integer("iterations", 20);
     deblurrer->setRLParams(params);
     std::printf("[demo] restoring %s (%dx%d, %d channels)...\n", framePath.c_str(), frame.cols, frame.rows, frame.channels());
     Mat restored, valid;
@@ -592,7 +629,7 @@ int runRealFrame(const CommandLineParser& args)
     timer.start();
     deblurrer->deblur(frame, schedule, shutter, restored, thetaRef, valid);
     timer.stop();
-    const std::string outDir = args.get<std::string>("out");
+    const std::string outDir = args.str("out", "demo_out");
     utils::fs::createDirectories(outDir);
     imwrite(outDir + "/restored.png", restored);
     imwrite(outDir + "/valid_mask.png", valid);
@@ -608,29 +645,27 @@ int runRealFrame(const CommandLineParser& args)
 
 int main(int argc, char** argv)
 {
-    CommandLineParser args(argc, argv, kKeys);
-    args.about("dynblur_demo: restore frames blurred by a robotic camera's own motion, with the blur predicted "
-               "from the plant dynamics and the commands.\nWithout --frame it runs the synthetic demo "
-               "(10 deg saccade, rolling shutter windows I-III and a global shutter).");
-    if (args.has("help"))
-    {
-        args.printMessage();
-        return 0;
-    }
-    const std::string unknown = unknownOption(argc, argv, kKeys);
-    if (!unknown.empty())
-    {
-        std::fprintf(stderr, "dynblur_demo: error: %s\n", unknown.c_str());
-        return 2;
-    }
-    if (!args.check())
-    {
-        args.printErrors();
-        return 2;
-    }
     try
     {
+        const CliArgs args(argc, argv,
+                           {"out", "image", "iterations", "mode", "model", "frame", "schedule", "camera", "plant",
+                            "frame-start", "exposure", "line-delay", "theta-ref", "timing"},
+                           {"help"});
+        if (args.has("help"))
+        {
+            std::cout << kUsage;
+            return 0;
+        }
+        if (!args.has("frame"))
+            for (const char* realOnly : {"schedule", "frame-start", "timing", "theta-ref"})
+                if (args.has(realOnly))
+                    throw std::runtime_error(std::string("--") + realOnly + " belongs to the real-frame mode: give --frame");
         return args.has("frame") ? runRealFrame(args) : runSynthetic(args);
+    }
+    catch (const std::runtime_error& e)
+    {
+        std::fprintf(stderr, "dynblur_demo: error: %s\n(see dynblur_demo --help)\n", e.what());
+        return 2;
     }
     catch (const cv::Exception& e)
     {

@@ -119,7 +119,7 @@ def main(argv=None):
     def show(img):
         return db.linearToSrgb(np.clip(img, 0, 1).astype(np.float32))
 
-    fig, axes = plt.subplots(1, 4, figsize=(16, 3.6))
+    fig, axes = plt.subplots(1, 4, figsize=(16, 4.4))
     panels = [("blurred", blurred), ("uniform PSF", results["uniform"][0]),
               ("spatially variant", results["variant"][0]), ("truth", truth)]
     for ax, (title, img) in zip(axes, panels):
@@ -128,7 +128,7 @@ def main(argv=None):
         ax.set_title(label)
         ax.axis("off")
     fig.tight_layout()
-    fig.savefig(out / "panel.png", dpi=100)
+    fig.savefig(out / "panel.png", dpi=100, bbox_inches="tight")  # two-line titles stay whole
     plt.close(fig)
 
     t = np.linspace(-0.01, 0.08, 2000)
@@ -146,7 +146,7 @@ def main(argv=None):
     ax.set_title("10° saccade and the frame's row exposure intervals (window III)")
     ax.legend(loc="lower right")
     fig.tight_layout()
-    fig.savefig(out / "trajectory.png", dpi=100)
+    fig.savefig(out / "trajectory.png", dpi=100, bbox_inches="tight")
     plt.close(fig)
     print(f"wrote {out / 'panel.png'} and {out / 'trajectory.png'}")
 

@@ -1,8 +1,10 @@
 // dynblur_plan: plans one point-to-point move as an integer-level switching schedule, prints it,
-// and writes the predicted trajectory (PREFIX.csv) and a plot of it (PREFIX.png).
+// and writes the schedule (PREFIX.yml, which dynblur_actuator_ctl --upload and the demo's --schedule
+// read), the predicted trajectory (PREFIX.csv) and a plot of it (PREFIX.png).
 //
-//     dynblur_plan --deg --from=0 --to=10 --mode=robust --out=move10
-#include "option_check.hpp"
+//     dynblur_plan --deg --from 0 --to 10 --mode robust --plant plant.yml --out move
+#include "cli_args.hpp"  // samples/support
+#include "plant_file.hpp"
 #include "plot.hpp"
 
 #include <opencv2/core/utility.hpp>
@@ -19,54 +21,93 @@
 using namespace cv;
 using namespace cv::dynblur;
 
-static const char* const kKeys =
-    "{help h usage ? |        | print this help                                              }"
-    "{from           | 0      | start angle, radians (degrees with --deg)                    }"
-    "{to             | <none> | target angle, radians (degrees with --deg)                   }"
-    "{deg            |        | read --from and --to in degrees                              }"
-    "{mode           | fast   | fast (shortest settle) or robust (tolerates +-10% error in wn) }"
-    "{hz             | 14.4   | plant natural frequency, Hz                                  }"
-    "{zeta           | 0.12   | plant damping ratio                                          }"
-    "{gain-deg       | 1      | plant static gain, degrees per level (one cell)              }"
-    "{max-level      | 16     | largest |level|, cells                                       }"
-    "{min-dwell      | 0.002  | shortest time between two switches, seconds                  }"
-    "{start          | 0      | time of the first switch, seconds                            }"
-    "{out            | plan   | output prefix: writes PREFIX.csv and PREFIX.png              }";
+static const char* const kUsage =
+    "Usage: dynblur_plan --to ANGLE [options]\n"
+    "Plans a vibration-free move of the piezo-driven camera positioner. Options take --name value or\n"
+    "--name=value, e.g. --deg --from -5 --to 5 --mode robust.\n"
+    "\n"
+    "  --from ANGLE      start angle, radians (degrees with --deg); default 0\n"
+    "  --to ANGLE        target angle, radians (degrees with --deg)\n"
+    "  --deg             read --from and --to in degrees\n"
+    "  --mode NAME       fast (shortest settle, default) or robust (tolerates +-10% error in wn)\n"
+    "  --plant FILE.yml  the plant (dynblur_identify_plant writes it; its maxLevel too); otherwise:\n"
+    "  --hz HZ           plant natural frequency, Hz (default 14.4)\n"
+    "  --zeta Z          plant damping ratio (default 0.12)\n"
+    "  --gain-deg G      plant static gain, degrees per level (one cell; default 1)\n"
+    "  --max-level N     largest |level|, cells (default 16, or the plant file's)\n"
+    "  --min-dwell S     shortest time between two switches, seconds (default 0.002)\n"
+    "  --start S         time of the first switch, seconds (default 0)\n"
+    "  --step            a plain step (one switch to the target level at --start), the response\n"
+    "                    dynblur_identify_plant fits, instead of a vibration-free move\n"
+    "  --out PREFIX      writes PREFIX.yml (the schedule), PREFIX.csv and PREFIX.png (default move)\n"
+    "  --help            this help\n"
+    "Exit status: 0 planned, 2 bad usage or a move that cannot be planned (the message says why).\n";
 
 static int fail(const std::string& message)
 {
-    std::cerr << "error: " << message << "\n";
+    std::cerr << "error: " << message << "\n(see dynblur_plan --help)\n";
     return 2;
+}
+
+//! The planner names its arguments (fromAngle, toAngle); the user typed --from and --to.
+static std::string inOptionNames(std::string message, bool degrees)
+{
+    for (const auto& names : {std::make_pair(std::string("fromAngle"), std::string("--from")),
+                              std::make_pair(std::string("toAngle"), std::string("--to"))})
+        for (size_t at = message.find(names.first); at != std::string::npos; at = message.find(names.first, at))
+            message.replace(at, names.first.size(), names.second);
+    return message + (degrees ? " (--from and --to were read in degrees)" : " (--from and --to are radians; --deg reads degrees)");
 }
 
 int main(int argc, char** argv)
 {
-    CommandLineParser parser(argc, argv, kKeys);
-    parser.about("Plans a vibration-free move of the piezo-driven camera positioner (dynblur).\n"
-                 "Options take the form --name=value, e.g. --deg --from=-5 --to=5 --mode=robust");
-    if (parser.has("help"))
+    bool degrees = false, step = false;
+    double from = 0, to = 0, hz = 14.4, zeta = 0.12, gainDeg = 1, minDwell = 0.002, start = 0;
+    int maxLevel = 16;
+    std::string modeName, prefix, plantPath;
+    dynblur_samples::PlantFile plantFile;
+    try
     {
-        parser.printMessage();
-        return 0;
+        const dynblur_samples::CliArgs args(argc, argv,
+                                            {"from", "to", "mode", "plant", "hz", "zeta", "gain-deg", "max-level",
+                                             "min-dwell", "start", "out"},
+                                            {"help", "deg", "step"});
+        if (args.has("help"))
+        {
+            std::cout << kUsage;
+            return 0;
+        }
+        if (!args.has("to"))
+            return fail("--to is required (the target angle)");
+        if (args.has("plant") && (args.has("hz") || args.has("zeta") || args.has("gain-deg")))
+            return fail("--plant gives the plant: leave out --hz, --zeta and --gain-deg");
+        degrees = args.has("deg");
+        step = args.has("step");
+        from = args.num("from", 0);
+        to = args.num("to", 0);
+        modeName = args.str("mode", "fast");
+        plantPath = args.str("plant", "");
+        hz = args.num("hz", hz);
+        zeta = args.num("zeta", zeta);
+        gainDeg = args.num("gain-deg", gainDeg);
+        maxLevel = args.integer("max-level", maxLevel);
+        minDwell = args.num("min-dwell", minDwell);
+        start = args.num("start", start);
+        prefix = args.str("out", "move");
+        if (!plantPath.empty())
+        {
+            plantFile = dynblur_samples::loadPlantFile(plantPath);
+            if (!args.has("max-level"))
+                maxLevel = plantFile.maxLevel;
+        }
     }
-    const std::string unknown = dynblur_samples::unknownOption(argc, argv, kKeys);
-    if (!unknown.empty())
-        return fail(unknown);
-    const bool degrees = parser.has("deg");
-    double from = parser.get<double>("from");
-    double to = parser.get<double>("to");
-    const std::string modeName = parser.get<std::string>("mode");
-    const double hz = parser.get<double>("hz");
-    const double zeta = parser.get<double>("zeta");
-    const double gainDeg = parser.get<double>("gain-deg");
-    const int maxLevel = parser.get<int>("max-level");
-    const double minDwell = parser.get<double>("min-dwell");
-    const double start = parser.get<double>("start");
-    const std::string prefix = parser.get<std::string>("out");
-    if (!parser.check())
+    catch (const std::runtime_error& e)
     {
-        parser.printErrors();
-        return 2;
+        return fail(e.what());
+    }
+    catch (const cv::Exception& e)
+    {
+        return fail("--plant: " + e.err);
     }
     if (modeName != "fast" && modeName != "robust")
         return fail("--mode must be 'fast' or 'robust', not '" + modeName + "'");
@@ -85,23 +126,42 @@ int main(int argc, char** argv)
     double planMs = 0;
     try
     {
-        plant = Plant::create(hz, zeta, gainDeg * degree);
+        plant = plantPath.empty() ? Plant::create(hz, zeta, gainDeg * degree) : plantFile.plant;
+        hz = plant->getNaturalFreqHz();
+        zeta = plant->getDampingRatio();
+        gainDeg = plant->getGain() / degree;
+    }
+    catch (const cv::Exception& e)
+    {
+        return fail("--hz, --zeta, --gain-deg: " + e.err);
+    }
+    try
+    {
         planner = SwitchPlanner::create(plant, maxLevel, modeName == "robust" ? PLAN_ROBUST : PLAN_FAST, minDwell);
         const auto begin = std::chrono::steady_clock::now();
         schedule = planner->plan(from, to, start);
+        if (step && !schedule.times.empty())
+            schedule = SwitchSchedule({start}, {schedule.finalLevel()}, schedule.initialLevel);
         planMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
     }
     catch (const cv::Exception& e)
     {
-        return fail(e.err);
+        return fail(inOptionNames(e.err, degrees));
     }
+    // A move asked for that rounds to no level at all is a unit mistake (radians for degrees, or a
+    // gain per level far too large), not "nothing to do".
+    if (schedule.finalLevel() == schedule.initialLevel && std::abs(to - from) > 0.25 * std::abs(plant->getGain()))
+        return fail(format("the move from --from %g to --to %g %s rounds to zero levels of %g deg each: is the unit "
+                           "right (--deg reads degrees), and the gain (degrees per level)?",
+                           degrees ? from / degree : from, degrees ? to / degree : to, degrees ? "deg" : "rad",
+                           gainDeg));
 
     // --- The schedule and its predicted figures.
     const double gain = plant->getGain();
     const int move = schedule.finalLevel() - schedule.initialLevel;
-    std::printf("move: level %d -> %d (%.3f -> %.3f deg), %s mode, planned in %.1f ms\n", schedule.initialLevel,
+    std::printf("move: level %d -> %d (%.3f -> %.3f deg), %s, planned in %.1f ms\n", schedule.initialLevel,
                 schedule.finalLevel(), gain * schedule.initialLevel / degree, gain * schedule.finalLevel() / degree,
-                modeName.c_str(), planMs);
+                step ? "step (not vibration-free)" : (modeName + " mode").c_str(), planMs);
     std::printf("plant: %.3f Hz, zeta %.3f, %.4f deg/level; max level %d, min dwell %.2f ms\n", hz, zeta, gainDeg,
                 maxLevel, minDwell * 1e3);
     if (move == 0)
@@ -112,10 +172,16 @@ int main(int argc, char** argv)
     std::printf("%10s %8s\n", "t (ms)", "level");
     for (size_t i = 0; i < schedule.times.size(); ++i)
         std::printf("%10.3f %8d\n", schedule.times[i] * 1e3, schedule.levels[i]);
-    std::printf("settle time (+-%.0f%% band): %.2f ms\n", planner->getSettleBand() * 100, schedule.settleTime * 1e3);
-    std::printf("peak velocity: %.1f deg/s\n", schedule.peakVelocity / degree);
-    std::printf("residual vibration: %.3g %% of the move\n", schedule.residualVibration * 100);
-    if (modeName == "robust")
+    if (step)
+        std::printf("residual vibration: %.3g %% of the move (a step rings: the response to identify)\n",
+                    residualVibration(schedule, hz, zeta) * 100);
+    else
+    {
+        std::printf("settle time (+-%.0f%% band): %.2f ms\n", planner->getSettleBand() * 100, schedule.settleTime * 1e3);
+        std::printf("peak velocity: %.1f deg/s\n", schedule.peakVelocity / degree);
+        std::printf("residual vibration: %.3g %% of the move\n", schedule.residualVibration * 100);
+    }
+    if (modeName == "robust" && !step)
     {
         double worst = 0;
         const double range = planner->getRobustRange();
@@ -134,17 +200,26 @@ int main(int argc, char** argv)
     plant->response(schedule, t, theta);
     plant->velocity(schedule, t, omega);
 
+    const std::string scheduleName = prefix + ".yml";
+    try
+    {
+        schedule.save(scheduleName);
+    }
+    catch (const cv::Exception& e)
+    {
+        return fail("--out: " + e.err);
+    }
     const std::string csvName = prefix + ".csv";
     std::ofstream csv(csvName);
     if (!csv)
-        return fail("cannot write " + csvName);
-    csv << "t,theta,omega,u\n";
+        return fail("--out: cannot write " + csvName);
+    csv << "t_s,theta_rad,omega_rad_per_s,level\n";
     csv.precision(10);
     for (size_t i = 0; i < t.size(); ++i)
         csv << t[i] << ',' << theta.at<double>(static_cast<int>(i)) << ',' << omega.at<double>(static_cast<int>(i))
             << ',' << schedule.levelAt(t[i]) << '\n';
     if (!csv)
-        return fail("cannot write " + csvName);
+        return fail("--out: cannot write " + csvName);
 
     // --- Plot: angle with the settle band, velocity, command levels; time in ms from the start.
     std::vector<double> timeMs(t.size()), thetaDeg(t.size()), omegaDeg(t.size()), level(t.size());
@@ -159,9 +234,11 @@ int main(int argc, char** argv)
     const double bandDeg = planner->getSettleBand() * std::abs(gain * move) / degree;
     const double settleMs = schedule.settleTime * 1e3;
 
-    dynblur_plot::Figure figure(1000, format("%s move %.2f -> %.2f deg: settles in %.1f ms, peak %.0f deg/s",
-                                             modeName.c_str(), gain * schedule.initialLevel / degree, targetDeg,
-                                             settleMs, schedule.peakVelocity / degree));
+    dynblur_plot::Figure figure(1000, step ? format("step %.2f -> %.2f deg (for plant identification)",
+                                                   gain * schedule.initialLevel / degree, targetDeg)
+                                           : format("%s move %.2f -> %.2f deg: settles in %.1f ms, peak %.0f deg/s",
+                                                    modeName.c_str(), gain * schedule.initialLevel / degree, targetDeg,
+                                                    settleMs, schedule.peakVelocity / degree));
     const std::string bandLabel = format("+-%.0f%% band", planner->getSettleBand() * 100);
     figure.addPanel("angle", "theta (deg)")
         .xSpan(0, settleMs, "settling", Scalar(235, 206, 135), 0.18)
@@ -178,7 +255,8 @@ int main(int argc, char** argv)
     figure.xLabel("time from the first switch (ms)");
     const std::string pngName = prefix + ".png";
     if (!figure.save(pngName))
-        return fail("cannot write " + pngName);
-    std::printf("wrote %s and %s\n", csvName.c_str(), pngName.c_str());
+        return fail("--out: cannot write " + pngName);
+    std::printf("wrote %s (the schedule: dynblur_actuator_ctl --upload, dynblur_demo --schedule), %s and %s\n",
+                scheduleName.c_str(), csvName.c_str(), pngName.c_str());
     return 0;
 }

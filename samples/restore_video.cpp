@@ -56,6 +56,9 @@ static const char* const kUsage =
     "                       (the recording ends, or another move starts) cannot be refined: as-told\n"
     "                       (default) restores it with the model as told (and --timing), unchanged writes\n"
     "                       it as recorded; the tool lists those frames either way\n"
+    "  --unobserved WHAT    where a frame never saw the restored view (content beyond its edges): recorded\n"
+    "                       (default) keeps the frame's pixels, marked paints them black, nearest repeats the\n"
+    "                       nearest observed pixel (streaks across a wide band)\n"
     "  --out FILE           restored video (default restored.avi; MJPG at the frame log's rate)\n"
     "  --csv FILE           per-frame log (default: OUT's name with .csv)\n"
     "  --help               this help\n"
@@ -186,7 +189,7 @@ int main(int argc, char** argv)
     try
     {
         std::set<std::string> valued{"recording", "video", "frames", "commands", "camera", "plant", "timing",
-                                     "exposure", "line-delay", "refine", "model", "out", "csv", "no-still-after"};
+                                     "exposure", "line-delay", "refine", "model", "out", "csv", "no-still-after", "unobserved"};
         valued.insert(gyroOptionNames().begin(), gyroOptionNames().end());
         CliArgs args(argc, argv, valued, {"help"});
         if (args.has("help"))
@@ -206,6 +209,12 @@ int main(int argc, char** argv)
         const std::string noStillAfterMode = args.str("no-still-after", "as-told");
         if (noStillAfterMode != "as-told" && noStillAfterMode != "unchanged")
             return usageError("--no-still-after must be as-told or unchanged");
+        const std::string unobservedName = args.str("unobserved", "recorded");
+        const int unobserved = unobservedName == "recorded" ? UNOBSERVED_RECORDED
+                               : unobservedName == "marked" ? UNOBSERVED_MARKED
+                               : unobservedName == "nearest" ? UNOBSERVED_NEAREST : -1;
+        if (unobserved < 0)
+            return usageError("--unobserved must be recorded, marked or nearest");
         videoOut = args.str("out", "restored.avi");
         csvOut = args.str("csv", pathStem(videoOut) + ".csv");
 
@@ -226,6 +235,7 @@ int main(int argc, char** argv)
         if (model == "rows")
             useFrameRateSetting(*deblurrer);
         deblurrer->setRefinement(flags);
+        deblurrer->setUnobservedFill(unobserved);
         if (!timingPath.empty())
             deblurrer->setCalibration(calibration);
 
@@ -239,16 +249,28 @@ int main(int argc, char** argv)
         std::ofstream csv(csvTemporary);
         if (!csv)
             CV_Error(Error::StsError, "--csv: cannot write '" + csvOut + "'");
-        csv << "frame,window,restored,time_offset,line_delay_scale,natural_freq_scale,damping_scale,consistency,"
+        csv << "frame,window,restored,time_offset_s,line_delay_scale,natural_freq_scale,damping_scale,consistency,"
                "reason\n";
 
         ReferencePairing pairing(plant, camera, recording.commands, calibration, 0.005);
         std::vector<Mat> sheetRows;  // the first moving frames, blurred beside restored, for a look
         Mat lastBefore, lastAfter, restored;
         std::vector<int> unrefined;  // frames that needed the still after their move and had none
-        int written = 0;
+        /* The ETA counts the moving frames still to restore at the time a moving frame has taken so far
+           (a still frame costs next to nothing), and the line is shown before each restoration, so a
+           slow frame never leaves a stale estimate on the screen. */
+        int written = 0, movingDone = 0;
+        int movingLeft = movingFrames(log, recording.commands, plant, size.height, calibration);
         TickMeter clock;
-        clock.start();
+        const auto progress = [&](const char* doing) {
+            const double perMoving = movingDone ? clock.getTimeSec() / movingDone : NAN;
+            std::printf("\r%d of %zu frames written%s, %d moving frame(s) left, ETA %s, %zu held for the still after "
+                        "their move   ",
+                        written, log.size(), doing, movingLeft,
+                        std::isnan(perMoving) ? "after the first moving frame" : format("%.0f s", movingLeft * perMoving).c_str(),
+                        pairing.pending());
+            std::fflush(stdout);
+        };
         const auto restoreAndWrite = [&](const std::vector<ReferencePairing::Item>& ready) {
             for (const ReferencePairing::Item& item : ready)
             {
@@ -278,7 +300,12 @@ int main(int argc, char** argv)
                     const Vec2d middle = calibration.correctShutter(item.shutter).rowInterval(item.shutter.rows / 2);
                     Mat t(1, 1, CV_64F, Scalar((middle[0] + middle[1]) / 2)), theta;
                     correctedPlant->response(item.schedule, t, theta);
+                    progress(": restoring");
+                    clock.start();
                     deblurrer->deblur(item.image, item.schedule, item.shutter, restored, theta.at<double>(0));
+                    clock.stop();
+                    movingDone++;
+                    movingLeft = std::max(0, movingLeft - 1);
                     c = deblurrer->getLastCorrection();
                     window = deblurrer->getLastExposureWindow();
                     if (noStillAfter)
@@ -300,12 +327,7 @@ int main(int argc, char** argv)
                               c.dampingScale, c.consistency, reason.c_str());
                 written++;
             }
-            clock.stop();
-            const double rate = written / std::max(1e-9, clock.getTimeSec());
-            std::printf("\rframe %d of %zu, %.1f fps, ETA %.0f s, %zu held for the still after their move   ",
-                        written, log.size(), rate, (log.size() - written) / std::max(rate, 1e-9), pairing.pending());
-            std::fflush(stdout);
-            clock.start();
+            progress("");
         };
 
         for (const FrameRecord& f : log)

@@ -491,6 +491,7 @@ TEST(BadInput, Deblurrer)
          [&] { d->deblur(frame, SwitchSchedule({0.01, 0.0}, {1, 2}), rs, out); }, {"times"}},
         {"DynamicDeblurrer::setPsfModel", "7", [&] { d->setPsfModel(7); }, {"model"}},
         {"DynamicDeblurrer::setMethod", "-1", [&] { d->setMethod(-1); }, {"method"}},
+        {"DynamicDeblurrer::setUnobservedFill", "3", [&] { d->setUnobservedFill(3); }, {"fill", "UNOBSERVED_RECORDED"}},
         {"DynamicDeblurrer::setRLParams", "iterations = 0",
          [&] {
              RLParams p;
@@ -658,4 +659,47 @@ TEST(BadInput, SampleFiles)
                {"CliArgs", "an integer that is not one",
                 [&] { args({"ctl", "--timeout", "1.5"}).integer("timeout", 1); }, {"timeout"}}},
               true);
+}
+
+// The likely unit mistakes: each refused at once (not minutes of kernels later), with a message that
+// names the argument and suggests the unit.
+TEST(BadInput, UnitMistakes)
+{
+    const Ptr<Plant> plant = Plant::create(14.4, 0.12, kDeg);
+    const Ptr<CameraModel> cam = CameraModel::create(120, 120, 31.5, 23.5, 64, 48);
+    const Ptr<DynamicDeblurrer> d = DynamicDeblurrer::create(plant, cam);
+    const Mat frame(48, 64, CV_32F, Scalar(0.5));
+    Mat out;
+    refuseAll({
+        {"DynamicDeblurrer::deblur", "exposure = 8 (ms)",
+         [&] { d->deblur(frame, saccade(), RollingShutter(0.005, 8, 4e-4, 48), out); }, {"exposure", "seconds", "ms"}},
+        {"DynamicDeblurrer::deblur", "lineDelay = 62.5 (us)",
+         [&] { d->deblur(frame, saccade(), RollingShutter(0.005, 0.008, 62.5, 48), out); }, {"lineDelay", "seconds", "62.5e-6"}},
+        {"renderBlurred", "exposure = 8 (ms)",
+         [&] { renderBlurred(frame, plant, saccade(), cam, RollingShutter(0.005, 8, 4e-4, 48), out); }, {"exposure", "ms"}},
+        {"Plant::create", "gain = 1 (rad per level, meant 1 deg)", [] { Plant::create(14.4, 0.12, 1.0); },
+         {"gain", "radians per level", "degrees"}},
+        {"Plant::identify", "theta in degrees",
+         [&] {
+             const SwitchSchedule step({0.01}, {10}, 0);
+             std::vector<double> t, theta;
+             for (int i = 0; i < 200; i++)
+             {
+                 t.push_back(i * 1e-3);
+                 Mat th;
+                 plant->response(step, Mat(1, 1, CV_64F, Scalar(t.back())), th);
+                 theta.push_back(th.at<double>(0) / kDeg);
+             }
+             Plant::identify(t, theta, step);
+         },
+         {"theta", "radians expected", "degrees"}},
+        {"Plant::create", "naturalFreqHz = 5000", [] { Plant::create(5000, 0.12, kDeg); }, {"naturalFreqHz", "Hz"}},
+        {"SwitchPlanner::plan", "toAngle = 10 (deg)", [&] { SwitchPlanner::create(plant, 16)->plan(0.0, 10.0); },
+         {"toAngle", "radians expected", "0.1745"}},
+        {"DynamicDeblurrer::deblur", "thetaRef = 10 (deg)", [&] { d->deblur(frame, saccade(), RollingShutter(0.005, 0.008, 4e-4, 48), out, 10.0); },
+         {"thetaRef", "radians expected"}},
+        {"renderBlurred", "thetaRef = 10 (deg)",
+         [&] { renderBlurred(frame, plant, saccade(), cam, RollingShutter(0.005, 0.008, 4e-4, 48), out, 10.0); },
+         {"thetaRef", "radians expected"}},
+    });
 }

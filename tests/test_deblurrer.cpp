@@ -394,6 +394,42 @@ TEST(DeblurChannels, AlphaPassesThroughAndColorMatchesTheThreeChannelResult)
     EXPECT_EQ(restoredGrey.type(), CV_8UC1);
 }
 
+/* Where the frame never saw the view (rows whose content lay beyond the frame's edge at the
+   reference angle), the restored frame keeps the recorded pixels by default, paints them black when
+   marked, and repeats the nearest observed ones on request; elsewhere the three agree, and restoring
+   in place keeps the recorded pixels too. */
+TEST(DeblurUnobserved, RecordedByDefaultMarkedOrNearestOnRequest)
+{
+    Ptr<Plant> plant = Plant::create(14.4, 0.12, kDeg);
+    Ptr<CameraModel> camera = CameraModel::create(300.0, 300.0, 79.5, 59.5, 160, 120);
+    const SwitchSchedule schedule({0.0, 0.0127, 0.0296}, {16, 4, 10});
+    const RollingShutter shutter(0.0, 0.008, 1.0 / 30 / 120, 120);
+    Mat frame(120, 160, CV_8UC3);
+    randu(frame, 0, 256);
+    Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
+    RLParams params = deblurrer->getRLParams();
+    params.iterations = 4;
+    deblurrer->setRLParams(params);
+    EXPECT_EQ(deblurrer->getUnobservedFill(), UNOBSERVED_RECORDED);
+    Mat recorded, marked, nearest, valid;
+    deblurrer->deblur(frame, schedule, shutter, recorded, std::numeric_limits<double>::quiet_NaN(), valid);
+    const Mat unobserved = valid == 0;
+    ASSERT_GT(countNonZero(unobserved), 160) << "no unobserved band: the test proves nothing";
+    EXPECT_EQ(norm(recorded, frame, NORM_INF, unobserved), 0.0);
+    deblurrer->setUnobservedFill(UNOBSERVED_MARKED);
+    deblurrer->deblur(frame, schedule, shutter, marked);
+    EXPECT_EQ(norm(marked, NORM_INF, unobserved), 0.0);
+    EXPECT_EQ(norm(marked, recorded, NORM_INF, valid), 0.0);
+    deblurrer->setUnobservedFill(UNOBSERVED_NEAREST);
+    deblurrer->deblur(frame, schedule, shutter, nearest);
+    EXPECT_GT(norm(nearest, frame, NORM_INF, unobserved), 0.0);
+    EXPECT_EQ(norm(nearest, recorded, NORM_INF, valid), 0.0);
+    deblurrer->setUnobservedFill(UNOBSERVED_RECORDED);
+    Mat inPlace = frame.clone();
+    deblurrer->deblur(inPlace, schedule, shutter, inPlace);
+    EXPECT_EQ(norm(inPlace, recorded, NORM_INF), 0.0);
+}
+
 /* A linear frame is restored into [0, 1] by either method, one channel or three, although the
    restoration itself overshoots on it (random texture, sharp at every pixel): RL's output is
    clamped as it is written, Wiener's after. */

@@ -82,5 +82,7 @@ TEST(ParameterFile, ErrorsNameTheSourceTheLineAndWhatIsAllowed)
     dynblur_test::expectErrorNaming([&] { f.integer("d"); }, "is not an integer in [-2147483648, 2147483647]");
     dynblur_test::expectErrorNaming([&] { f.real("e"); }, "f.yml has no entry 'e'");
     dynblur_test::expectErrorNaming([] { ParameterFile::load("/nonexistent/p.yml", "plant file"); },
-                                    "cannot open plant file '/nonexistent/p.yml'");
+                                    "cannot open the plant file '/nonexistent/p.yml'");
+    dynblur_test::expectErrorNaming([] { TimingCalibration::load("nope.yml"); },
+                                    "TimingCalibration::load: cannot open the timing file 'nope.yml'");
 }

@@ -119,7 +119,7 @@ TEST(CalibPlant, MalformedLogsNameTheLine)
               std::string::npos);
     EXPECT_NE(errorOf([] { parseResponseLog("t,theta\n0,nan\n", "a.csv"); }).find("a.csv:2:"), std::string::npos);
     EXPECT_NE(errorOf([] { parseResponseLog("# only a comment\n", "a.csv"); }).find("an empty log"), std::string::npos);
-    EXPECT_NE(errorOf([] { readResponseLog(tempPath("absent.csv")); }).find("cannot open response log"),
+    EXPECT_NE(errorOf([] { readResponseLog(tempPath("absent.csv")); }).find("cannot open the response log"),
               std::string::npos);
 }
 

@@ -46,7 +46,8 @@ template <typename Motion>
 py::object deblurFrame(DynamicDeblurrer& db, py::handle frame, const Motion& motion, const RollingShutter& shutter,
                        double reference, bool returnMask)
 {
-    MatIn f = toMat(frame, "frame");
+    bool wasDouble = false;
+    MatIn f = toFrame(frame, "frame", &wasDouble);
     cv::Mat out, mask;
     {
         py::gil_scoped_release release;
@@ -56,8 +57,8 @@ py::object deblurFrame(DynamicDeblurrer& db, py::handle frame, const Motion& mot
             db.deblur(f.mat, motion, shutter, out, reference);
     }
     if (returnMask)
-        return py::make_tuple(fromMat(out), fromMat(mask));
-    return fromMat(out);
+        return py::make_tuple(fromFrame(out, wasDouble), fromMat(mask));
+    return fromFrame(out, wasDouble);
 }
 
 std::string repr(const RLParams& p)
@@ -428,6 +429,9 @@ and the results blended with the bank's weights. noiseToSignal: noise-to-signal 
     m.attr("DEBLUR_COLOR_HALF_RESOLUTION") = int(DEBLUR_COLOR_HALF_RESOLUTION);
     m.attr("DEBLUR_PRESET_DEFAULT") = int(DEBLUR_PRESET_DEFAULT);
     m.attr("DEBLUR_PRESET_FRAME_RATE") = int(DEBLUR_PRESET_FRAME_RATE);
+    m.attr("UNOBSERVED_RECORDED") = int(UNOBSERVED_RECORDED);
+    m.attr("UNOBSERVED_MARKED") = int(UNOBSERVED_MARKED);
+    m.attr("UNOBSERVED_NEAREST") = int(UNOBSERVED_NEAREST);
     py::class_<DynamicDeblurrer, std::shared_ptr<DynamicDeblurrer>>(m, "DynamicDeblurrer", R"doc(Restores frames taken while the positioner moves: the blur of every pixel is predicted from the
 plant and the commands, then undone. The result is the global-shutter, motion-free view at θ_ref.
 One instance is not meant to be shared by threads running deblur() at the same time.)doc")
@@ -480,6 +484,10 @@ dtype; a window-IV frame comes back unchanged), or (restored, validMask) with re
              "channels): DEBLUR_COLOR_FULL_RESOLUTION (default) or DEBLUR_COLOR_HALF_RESOLUTION (the frame halved, "
              "the luminance at full resolution with every iteration; needs an even image size)")
         .def("setColorResolution", &DynamicDeblurrer::setColorResolution, py::arg("resolution"))
+        .def("getUnobservedFill", &DynamicDeblurrer::getUnobservedFill,
+             "What the restored frame holds where the frame never saw the view: UNOBSERVED_RECORDED (the frame's "
+             "pixel, default), UNOBSERVED_MARKED (black) or UNOBSERVED_NEAREST (the nearest observed pixel)")
+        .def("setUnobservedFill", &DynamicDeblurrer::setUnobservedFill, py::arg("fill"))
         .def("getRLParams", &DynamicDeblurrer::getRLParams,
              "Restoration options; default RLParams() with automatic damping (NaN: 3σ of the frame's noise).")
         .def("setRLParams", &DynamicDeblurrer::setRLParams, py::arg("params"))
@@ -493,7 +501,7 @@ dtype; a window-IV frame comes back unchanged), or (restored, validMask) with re
         .def("setRefinement", &DynamicDeblurrer::setRefinement, py::arg("flags"))
         .def("setReferenceFrame",
             [](DynamicDeblurrer& db, py::handle still, double angle) {
-                MatIn s = toMat(still, "still");
+                MatIn s = toFrame(still, "still");
                 py::gil_scoped_release release;
                 db.setReferenceFrame(s.mat, angle);
             },
@@ -513,9 +521,9 @@ middle row's mid-exposure of stillShutter (the frames' clock, moved by the refin
             [](DynamicDeblurrer& db, py::handle before, py::handle after, double angleBefore, double angleAfter) {
                 MatIn b, a;
                 if (!before.is_none())
-                    b = toMat(before, "before");
+                    b = toFrame(before, "before");
                 if (!after.is_none())
-                    a = toMat(after, "after");
+                    a = toFrame(after, "after");
                 py::gil_scoped_release release;
                 db.setReferenceFrames(b.mat, a.mat, angleBefore, angleAfter);
             },

@@ -33,7 +33,7 @@ std::vector<cv::Mat> toMats(py::handle list, const char* name)
     for (py::handle item : py::iter(list))
     {
         const std::string itemName = std::string(name) + "[" + std::to_string(index++) + "]";
-        mats.push_back(toMat(item, itemName.c_str(), true).mat);
+        mats.push_back(toFrame(item, itemName.c_str()).mat.clone());
     }
     return mats;
 }
@@ -148,7 +148,7 @@ capture time (the mid-exposure of its shutter in referenceShutters). Returns a T
         [](const std::shared_ptr<Plant>& plant, const std::shared_ptr<CameraModel>& camera, py::handle reference,
            py::handle frame, const SwitchSchedule& schedule, const RollingShutter& shutter,
            const std::vector<MotionCorrection>& candidates, double referenceAngle, int maxWidth) {
-            MatIn still = toMat(reference, "reference"), blurred = toMat(frame, "frame");
+            MatIn still = toFrame(reference, "reference"), blurred = toFrame(frame, "frame");
             py::gil_scoped_release release;
             return motionConsistency(required(plant, "plant"), required(camera, "camera"), still.mat, blurred.mat,
                                      schedule, shutter, candidates, referenceAngle, maxWidth);
@@ -162,7 +162,7 @@ capture time (the mid-exposure of its shutter in referenceShutters). Returns a T
         [](const std::shared_ptr<Plant>& plant, const std::shared_ptr<CameraModel>& camera, py::handle frame,
            const SwitchSchedule& schedule, const RollingShutter& shutter,
            const std::vector<MotionCorrection>& candidates, int maxWidth) {
-            MatIn blurred = toMat(frame, "frame");
+            MatIn blurred = toFrame(frame, "frame");
             py::gil_scoped_release release;
             return blindMotionConsistency(required(plant, "plant"), required(camera, "camera"), blurred.mat, schedule,
                                           shutter, candidates, maxWidth);

@@ -127,6 +127,35 @@ MatIn toMat(py::handle obj, const char* name, bool copy)
     return in;
 }
 
+MatIn toFrame(py::handle obj, const char* name, bool* wasDouble)
+{
+    MatIn in = toMat(obj, name);
+    const int depth = in.mat.depth();
+    if (wasDouble)
+        *wasDouble = depth == CV_64F;
+    if (depth == CV_64F)
+    {
+        cv::Mat single;
+        in.mat.convertTo(single, CV_32F);
+        in.mat = single;
+        in.owner = py::none();
+    }
+    else if (depth != CV_8U && depth != CV_32F)
+        throw py::value_error(std::string("argument '") + name + "': dtype " +
+                              py::str(py::array::ensure(obj).dtype()).cast<std::string>() +
+                              " is not a frame's (use uint8 for sRGB, float32 or float64 for linear values in [0, 1])");
+    return in;
+}
+
+py::array fromFrame(const cv::Mat& m, bool asDouble)
+{
+    if (!asDouble || m.depth() != CV_32F)
+        return fromMat(m);
+    cv::Mat wide;
+    m.convertTo(wide, CV_64F);
+    return fromMat(wide);
+}
+
 py::array fromMat(const cv::Mat& src)
 {
     cv::Mat m = src;

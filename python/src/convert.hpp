@@ -32,6 +32,14 @@ float32, float64 (bool is taken as uint8). Throws ValueError naming `name` other
 @param copy the Mat owns a copy of the data (for values stored beyond the call). */
 MatIn toMat(py::handle obj, const char* name, bool copy = false);
 
+/** @brief A camera frame for the restoration: uint8 (sRGB) and float32 (linear, in [0, 1]) as they
+are, float64 converted to float32 (`wasDouble` tells), any other dtype a ValueError naming `name` and
+the dtypes allowed. The frame's values are checked by the C++ call. */
+MatIn toFrame(py::handle obj, const char* name, bool* wasDouble = nullptr);
+
+/** @brief A restored frame in its input's type: float64 when the input was (`asDouble`), else as is. */
+py::array fromFrame(const cv::Mat& m, bool asDouble);
+
 /** @brief A numpy array with the Mat's data: H×W for one channel, H×W×C otherwise. The array keeps
 the Mat alive; a Mat over memory OpenCV does not own (or non-continuous) is cloned. */
 py::array fromMat(const cv::Mat& m);

@@ -1,4 +1,4 @@
-// A small command-line reader for the actuator-bus and calibration programs: "--name value" or
+// The one command-line reader of every program (samples/, calib/): "--name value" or
 // "--name=value", flags without a value, positional arguments where a program takes them, unknown
 // names refused (a typo must not drive the actuators or calibrate with a default).
 #ifndef DYNBLUR_SAMPLES_CLI_ARGS_HPP

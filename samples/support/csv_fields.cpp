@@ -82,7 +82,7 @@ std::string readTextFile(const std::string& path, const std::string& what)
 {
     std::ifstream in(path, std::ios::binary);
     if (!in)
-        CV_Error(cv::Error::StsError, "cannot open " + what + " '" + path + "'");
+        CV_Error(cv::Error::StsError, "cannot open the " + what + " '" + path + "'");
     std::ostringstream text;
     text << in.rdbuf();
     if (in.bad())

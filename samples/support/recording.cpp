@@ -5,6 +5,8 @@
 #include "csv_fields.hpp"
 #include "plant_file.hpp"
 
+#include <opencv2/core/utils/filesystem.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -102,7 +104,70 @@ void writeText(const std::string& path, const std::string& text)
     renameIntoPlace(temporary, path);
 }
 
+/* The frame period (the median step of frame_start per frame) bounds the exposure; a period over a
+   second is frame_start in milliseconds. */
+void checkFramePeriod(const std::vector<FrameRecord>& frames, const std::string& source)
+{
+    if (frames.size() < 2)
+        return;
+    std::vector<double> steps;
+    for (size_t i = 1; i < frames.size(); i++)
+        steps.push_back((frames[i].frameStart - frames[i - 1].frameStart) / (frames[i].frame - frames[i - 1].frame));
+    std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+    const double period = steps[steps.size() / 2];
+    if (period > 1.0)
+        CV_Error_(cv::Error::StsOutOfRange,
+                  ("%s: 'frame_start' steps by %g per frame, a frame period over 1 s: seconds expected (is it in ms? "
+                   "33.3 ms is 0.0333)", source.c_str(), period));
+    for (const FrameRecord& f : frames)
+        if (f.exposure > period)
+            CV_Error_(cv::Error::StsOutOfRange,
+                      ("%s: frame %d: 'exposure' = %g s is longer than the frame period %g s: seconds expected (is it "
+                       "in ms? 8 ms is 0.008)", source.c_str(), f.frame, f.exposure, period));
+}
+
 }  // namespace
+
+int movingFrames(const std::vector<FrameRecord>& frames, const CommandLog& commands,
+                 const cv::Ptr<cv::dynblur::Plant>& plant, int rows, const cv::dynblur::MotionCorrection& correction)
+{
+    const cv::Ptr<cv::dynblur::Plant> corrected = correction.correctPlant(plant);
+    int moving = 0;
+    for (const FrameRecord& f : frames)
+    {
+        const cv::dynblur::RollingShutter shutter =
+            correction.correctShutter(cv::dynblur::RollingShutter(f.frameStart, f.exposure, f.lineDelay, rows));
+        const cv::Vec2d readout = shutter.readoutInterval();
+        moving += cv::dynblur::classifyExposure(corrected, commands.scheduleAround(readout[0], readout[1]), shutter) !=
+                  cv::dynblur::EXPOSURE_IV;
+    }
+    return moving;
+}
+
+void checkFramesMeetCommands(const std::vector<FrameRecord>& frames, const CommandLog& commands,
+                             const cv::Ptr<cv::dynblur::Plant>& plant, int rows)
+{
+    const FrameRecord& last = frames.back();
+    const double period = frames.size() > 1 ? (last.frameStart - frames.front().frameStart) /
+                                                  std::max(1, last.frame - frames.front().frame)
+                                            : HUGE_VAL;
+    for (const FrameRecord& f : frames)
+        if ((rows - 1) * f.lineDelay > period * 1.01)  // a sensor reads out within its frame period
+            CV_Error_(cv::Error::StsOutOfRange,
+                      ("--frames: frame %d: 'line_delay' = %g s reads the %d rows out in %g s, longer than the frame "
+                       "period %g s: seconds expected (is it in us? 62.5 us is 62.5e-6)",
+                       f.frame, f.lineDelay, rows, (rows - 1) * f.lineDelay, period));
+    if (std::all_of(commands.levels.begin(), commands.levels.end(), [&](int l) { return l == commands.levels[0]; }))
+        return;  // no move to see
+    if (movingFrames(frames, commands, plant, rows, cv::dynblur::MotionCorrection()) > 0)
+        return;
+    CV_Error_(cv::Error::StsBadArg,
+              ("no frame overlaps a move: the frames span %.6g to %.6g s (camera clock) and the commands %.6g to %.6g s "
+               "(actuator clock); both logs are in seconds, on clocks that agree to within a frame (is one in ms, "
+               "or on another epoch?)",
+               frames.front().frameStart, last.frameStart + last.exposure + (rows - 1) * last.lineDelay,
+               commands.times.front(), commands.times.back()));
+}
 
 RecordingFolder findRecording(const std::string& folder)
 {
@@ -119,9 +184,16 @@ RecordingFolder findRecording(const std::string& folder)
     r.camera = present("camera.xml");
     r.plant = present("plant.yml");
     r.timing = present("timing.yml");
-    if (r.video.empty() || r.frames.empty() || r.commands.empty())
-        CV_Error(cv::Error::StsError, "'" + folder + "' is not a recording folder: it needs frames.avi (or "
-                                      "frame_0000.png ...), frames.csv and commands.csv");
+    std::string missing;
+    for (const auto& part : {std::make_pair(&r.video, "frames.avi or frame_0000.png... (the frames)"),
+                             std::make_pair(&r.frames, "frames.csv (the frame log)"),
+                             std::make_pair(&r.commands, "commands.csv (the command log)")})
+        if (part.first->empty())
+            missing += (missing.empty() ? "" : ", ") + std::string(part.second);
+    if (!missing.empty())
+        CV_Error(cv::Error::StsError, cv::utils::fs::isDirectory(folder)
+                                          ? "--recording: '" + folder + "' lacks " + missing
+                                          : "--recording: the folder '" + folder + "' does not exist");
     return r;
 }
 
@@ -135,19 +207,38 @@ void OpenedRecording::open(const CliArgs& args, const std::string& defaultCamera
     const RecordingFolder folder = args.has("recording") ? findRecording(args.str("recording", "")) : RecordingFolder();
     r.log = readFrameLog(args.str("frames", folder.frames), args.num("exposure", NAN), args.num("line-delay", NAN));
     r.commands = readCommandLog(args.str("commands", folder.commands));
-    const std::string camera = args.str("camera", folder.camera);
-    r.camera = cv::dynblur::CameraModel::load(camera.empty() ? defaultCameraPath : camera);
+    // A default is said aloud: a recording without its camera or plant is restored with the wrong blur.
+    r.cameraPath = args.str("camera", folder.camera);
+    if (r.cameraPath.empty())
+    {
+        r.cameraPath = defaultCameraPath;
+        std::fprintf(stderr, "note: no --camera%s: using the default camera '%s'\n",
+                     args.has("recording") ? " and no camera.xml in the recording" : "", defaultCameraPath.c_str());
+    }
+    r.camera = cv::dynblur::CameraModel::load(r.cameraPath);
     const std::string plant = args.str("plant", folder.plant);
+    if (plant.empty())
+        std::fprintf(stderr, "note: no --plant%s: using the seed's plant (14.4 Hz, zeta 0.12, 1 deg per level)\n",
+                     args.has("recording") ? " and no plant.yml in the recording" : "");
     r.plant = plant.empty() ? cv::dynblur::Plant::create(14.4, 0.12, CV_PI / 180) : loadPlantFile(plant).plant;
     r.timingPath = args.str("timing", folder.timing);
     const std::string video = args.str("video", folder.video);
+    r.videoOption = args.has("video") ? "--video" : "--recording";  // what the user typed
     // A missing file is named here: VideoCapture would try every backend on it (and GStreamer's
     // device probing leaks inside libusb, which the sanitizer run reports).
     if (video.find('%') == std::string::npos && !std::ifstream(video).good())
-        CV_Error(cv::Error::StsError, "--video: '" + video + "' does not exist");
+        CV_Error(cv::Error::StsError, r.videoOption + ": '" + video + "' does not exist");
     if (!r.video.open(video))
-        CV_Error(cv::Error::StsError, "--video: cannot open '" + video + "'");
+        CV_Error(cv::Error::StsError, r.videoOption + ": cannot open '" + video + "'");
     r.position = 0;
+    const cv::Size size = r.camera->getImageSize();
+    const int width = int(r.video.get(cv::CAP_PROP_FRAME_WIDTH)), height = int(r.video.get(cv::CAP_PROP_FRAME_HEIGHT));
+    if (width > 0 && height > 0 && cv::Size(width, height) != size)
+        CV_Error(cv::Error::StsBadSize,
+                 cv::format("%s: frames are %dx%d but the camera '%s' is %dx%d (give the camera that took the "
+                            "video: --camera)",
+                            r.videoOption.c_str(), width, height, r.cameraPath.c_str(), size.width, size.height));
+    checkFramesMeetCommands(r.log, r.commands, r.plant, size.height);
 }
 
 cv::Mat OpenedRecording::read(const FrameRecord& record)
@@ -162,8 +253,11 @@ cv::Mat OpenedRecording::read(const FrameRecord& record)
     }
     const cv::Size size = camera->getImageSize();
     if (image.size() != size)
-        CV_Error(cv::Error::StsBadSize, cv::format("--video: frame %d is %dx%d but the camera is %dx%d", record.frame,
-                                                   image.cols, image.rows, size.width, size.height));
+        CV_Error(cv::Error::StsBadSize,
+                 cv::format("%s: frame %d is %dx%d but the camera '%s' is %dx%d (give the camera that took the "
+                            "video: --camera)",
+                            videoOption.c_str(), record.frame, image.cols, image.rows, cameraPath.c_str(), size.width,
+                            size.height));
     return image;
 }
 
@@ -212,13 +306,18 @@ std::vector<FrameRecord> parseFrameLog(const std::string& text, const std::strin
         if (!frames.empty() && f.frameStart <= frames.back().frameStart)
             parseError(source, t.lines[r], "'frame_start' must increase from line to line");
         if (!(f.exposure > 0 && f.exposure < 10))
-            parseError(source, t.lines[r], "'exposure' must be in (0, 10) s");
+            parseError(source, t.lines[r],
+                       cv::format("'exposure' = %g must be in (0, 10) s: seconds expected (is it in ms? 8 ms is 0.008)",
+                                  f.exposure));
         if (!(f.lineDelay >= 0 && f.lineDelay < 0.01))
-            parseError(source, t.lines[r], "'line_delay' must be in [0, 0.01) s");
+            parseError(source, t.lines[r],
+                       cv::format("'line_delay' = %g must be in [0, 0.01) s: seconds expected (is it in us? 62.5 us is "
+                                  "62.5e-6)", f.lineDelay));
         frames.push_back(f);
     }
     if (frames.empty())
         CV_Error(cv::Error::StsParseError, source + ": no frames");
+    checkFramePeriod(frames, source);
     return frames;
 }
 

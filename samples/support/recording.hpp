@@ -41,7 +41,8 @@ struct FrameRecord
 /** Parses a frame log: columns frame and frame_start, and exposure and line_delay unless
 `exposure` and `lineDelay` (seconds) give them for every frame (NaN: the column is required).
 Throws cv::Exception naming the line for a missing column, a non-number, a frame index or start
-that does not increase, or an exposure or line delay out of range. */
+that does not increase, or an exposure or line delay out of range, and naming the unit for a frame
+period over 1 s (frame_start in ms) or an exposure longer than the frame period. */
 std::vector<FrameRecord> parseFrameLog(const std::string& text, const std::string& source, double exposure,
                                        double lineDelay);
 std::vector<FrameRecord> readFrameLog(const std::string& path, double exposure, double lineDelay);
@@ -67,17 +68,31 @@ CommandLog readCommandLog(const std::string& path);
 //! Writes a command log atomically.
 void writeCommandLog(const std::string& path, const CommandLog& log);
 
+/** The frames of the log that see the plant move under `commands` (exposure windows I–III), read
+out by `rows` rows, with the model corrected by `correction`. */
+int movingFrames(const std::vector<FrameRecord>& frames, const CommandLog& commands,
+                 const cv::Ptr<cv::dynblur::Plant>& plant, int rows, const cv::dynblur::MotionCorrection& correction);
+
+/** Throws cv::Exception for a recording whose logs cannot belong together: a frame read out (`rows`
+rows) in longer than the frame period, or a command log that moves the plant while no frame sees
+a move (both logs' time spans in the message: one in ms, or on another epoch). */
+void checkFramesMeetCommands(const std::vector<FrameRecord>& frames, const CommandLog& commands,
+                             const cv::Ptr<cv::dynblur::Plant>& plant, int rows);
+
 class CliArgs;
 
 /** @brief A recording opened by a program: its logs, camera and nominal plant, from `--recording DIR`
 and/or `--video`, `--frames`, `--commands`, `--camera`, `--plant`, `--timing`, `--exposure`,
-`--line-delay` (an option given beside --recording wins). Throws cv::Exception naming what is
-missing, malformed or cannot be opened. */
+`--line-delay` (an option given beside --recording wins). A default camera or plant is announced on
+stderr. Throws cv::Exception naming what is missing, malformed or cannot be opened, and for logs
+that cannot belong together (checkFramesMeetCommands). */
 struct OpenedRecording
 {
     std::vector<FrameRecord> log;
     CommandLog commands;
     cv::Ptr<cv::dynblur::CameraModel> camera;  //!< default: calib/c270_nominal.xml
+    std::string cameraPath;                    //!< the file it was read from
+    std::string videoOption;                   //!< "--video" or "--recording", for messages
     cv::Ptr<cv::dynblur::Plant> plant;         //!< default: the seed's 14.4 Hz, ζ 0.12, 1°/level
     std::string timingPath;                    //!< "" when none was given or found
     cv::VideoCapture video;

@@ -474,15 +474,10 @@ void renderBlurred(InputArray _sharp, const Ptr<Plant>& plant, const SwitchSched
     const Mat sharp = _sharp.getMat();
     CV_Assert(plant && "renderBlurred: plant must not be null");
     checkRenderFrame(sharp, camera, shutter, maxStepPx, borderMode);
-    if (std::isinf(thetaRef))
-        CV_Error(Error::StsBadArg, "renderBlurred: thetaRef must be finite (radians) or NaN (final resting angle)");
     if (!(schedule.times.empty() && schedule.levels.empty()))
         schedule.validate();
-    detail::ViewMotion motion;
-    motion.plant = plant;
-    motion.schedule = schedule;
-    motion.axis = camera->getMountAxis();
-    motion.thetaRef = std::isnan(thetaRef) ? plant->restingAngle(schedule.finalLevel()) : thetaRef;
+    const detail::ViewMotion motion =
+        detail::ViewMotion::ofPlant("renderBlurred", plant, schedule, camera->getMountAxis(), thetaRef);
     renderFrame(sharp, motion, camera, shutter, blurred, maxStepPx, borderMode);
 }
 

@@ -33,6 +33,13 @@ struct ViewMotion
         tRef (seconds; NaN: CameraMotion::referenceOrientation's default): the one-axis form for a
         plant's motion, the general one otherwise. */
     static ViewMotion of(const Ptr<CameraMotion>& motion, double tRef, const RollingShutter& shutter);
+
+    /** The one-axis view motion of `plant` under `schedule` about `axis`, relative to thetaRef
+        (radians; NaN: the schedule's final resting angle). Throws naming thetaRef, in the message of
+        `where`, when it is infinite or more than a quarter turn from every angle the schedule holds
+        (degrees given as radians: the view would turn behind the camera). */
+    static ViewMotion ofPlant(const char* where, const Ptr<Plant>& plant, const SwitchSchedule& schedule,
+                              const Vec3d& axis, double thetaRef);
 };
 
 //! The view's rotation relative to the reference over the frame readout, shared by all nodes of a

@@ -535,7 +535,13 @@ ParameterFile ParameterFile::load(const String& filename, const String& what)
 {
     std::ifstream in(filename.c_str(), std::ios::binary);
     if (!in)
-        CV_Error(Error::StsError, "cannot open " + what + " '" + filename + "'");
+    {
+        // "Where: the timing file" reads "Where: cannot open the timing file 'name'".
+        const size_t colon = what.rfind(": ");
+        const String where = colon == String::npos ? String() : what.substr(0, colon + 2);
+        const String noun = colon == String::npos ? what : what.substr(colon + 2);
+        CV_Error(Error::StsError, where + "cannot open the " + noun + " '" + filename + "'");
+    }
     std::string text;
     char chunk[65536];
     while (in.read(chunk, sizeof(chunk)) || in.gcount() > 0)

@@ -317,7 +317,7 @@ private:
         if (!(std::isfinite(angle) && std::abs(angle) < limit))
             CV_Error(Error::StsOutOfRange,
                      format("%s = %g rad is outside the reachable range (-%g, %g) rad "
-                            "(levels [-%d, %d] of %g rad each)",
+                            "(levels [-%d, %d] of %g rad each; radians expected: 10 deg is 0.1745)",
                             argName, angle, limit, limit, maxLevel_, maxLevel_, std::abs(gain)));
         const int level = cvRound(angle / gain);
         return std::max(-maxLevel_, std::min(maxLevel_, level));

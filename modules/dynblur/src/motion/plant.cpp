@@ -44,16 +44,35 @@ double* allocateTimeOutput(InputArray t, OutputArray out, std::vector<double>& t
     return result.ptr<double>();
 }
 
-static void checkLinearParameters(double naturalFreqHz, double dampingRatio, double gain)
+static const double kMaxNaturalFreqHz = 1000.0;
+static const double kMaxGainRadPerLevel = CV_PI / 12;
+
+static void checkFrequencyAndDamping(double naturalFreqHz, double dampingRatio)
 {
     if (!(std::isfinite(naturalFreqHz) && naturalFreqHz > 0))
         CV_Error(Error::StsOutOfRange,
                  format("naturalFreqHz = %g must be finite and > 0 (Hz)", naturalFreqHz));
+    // A camera positioner resonates at Hz to hundreds of Hz, and turns by a fraction of a degree to a
+    // few degrees per level; values far outside are unit mistakes (kHz, rad/s, degrees as radians).
+    if (naturalFreqHz > kMaxNaturalFreqHz)
+        CV_Error(Error::StsOutOfRange,
+                 format("naturalFreqHz = %g Hz is implausible for a camera positioner (at most %g Hz): ωn/2π in Hz "
+                        "expected (the seed's is 14.4)", naturalFreqHz, kMaxNaturalFreqHz));
     if (!(std::isfinite(dampingRatio) && dampingRatio > 0 && dampingRatio < 1))
         CV_Error(Error::StsOutOfRange,
                  format("dampingRatio = %g must lie in the open interval (0, 1)", dampingRatio));
+}
+
+static void checkLinearParameters(double naturalFreqHz, double dampingRatio, double gain)
+{
+    checkFrequencyAndDamping(naturalFreqHz, dampingRatio);
     if (!(std::isfinite(gain) && gain != 0))
         CV_Error(Error::StsOutOfRange, format("gain = %g must be finite and non-zero (radians per level)", gain));
+    if (std::abs(gain) > kMaxGainRadPerLevel)
+        CV_Error(Error::StsOutOfRange,
+                 format("gain = %g rad per level (%.1f deg) is implausible (at most %.4f rad = 15 deg per level): "
+                        "radians per level expected (is it in degrees? 1 deg is 0.01745)",
+                        gain, gain * 180 / CV_PI, kMaxGainRadPerLevel));
 }
 
 // Unit-step response of the normalised second-order plant and its derivative, for a step at
@@ -159,7 +178,7 @@ Ptr<Plant> Plant::create(double naturalFreqHz, double dampingRatio, double gain)
 
 double residualVibration(const SwitchSchedule& schedule, double naturalFreqHz, double dampingRatio)
 {
-    checkLinearParameters(naturalFreqHz, dampingRatio, 1.0);
+    checkFrequencyAndDamping(naturalFreqHz, dampingRatio);
     schedule.validate();
     const SecondOrder model(naturalFreqHz, dampingRatio);
     const double lastTime = schedule.times.back();
@@ -328,6 +347,13 @@ Ptr<Plant> Plant::identify(InputArray t, InputArray theta, const SwitchSchedule&
     const double range = measured.maxCoeff() - measured.minCoeff();
     if (!(range > 0))
         CV_Error(Error::StsBadArg, "Plant::identify: 'theta' is constant: the log shows no motion");
+    // A positioner's step spans a few degrees; a range beyond a quarter turn, or a gain per level
+    // beyond Plant::create's, is an angle logged in degrees.
+    const double perLevel = range / std::abs(netMove);
+    if (range > CV_PI / 2 || perLevel > kMaxGainRadPerLevel)
+        CV_Error(Error::StsOutOfRange,
+                 format("Plant::identify: 'theta' spans %g over a move of %d levels (%g per level): radians expected "
+                        "(is it logged in degrees? 10 deg is 0.1745)", range, std::abs(netMove), perLevel));
 
     // Initial delay: when the measured angle first leaves its starting value, against the first
     // switch. The noise level is estimated from the first samples' spread.

@@ -6,6 +6,9 @@
 namespace cv {
 namespace dynblur {
 
+//! The longest exposure, and the longest readout, a frame is believed to take (seconds).
+static const double kMaxFrameSeconds = 1.0;
+
 RollingShutter::RollingShutter(double frameStart_, double exposure_, double lineDelay_, int rows_)
     : frameStart(frameStart_), exposure(exposure_), lineDelay(lineDelay_), rows(rows_)
 {
@@ -25,6 +28,18 @@ void detail::checkShutter(const RollingShutter& shutter, const char* where, cons
                         shutter.lineDelay));
     if (shutter.rows <= 0)
         CV_Error(Error::StsOutOfRange, format("%s: %srows = %d must be > 0", where, prefix, shutter.rows));
+    // A camera frame is exposed and read out within a second; more is a unit mistake (milliseconds or
+    // microseconds where seconds are meant), which would otherwise cost minutes of kernels per frame.
+    if (shutter.exposure > kMaxFrameSeconds)
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: %sexposure = %g s is longer than %g s: seconds expected (is it in ms? 8 ms is 0.008)",
+                        where, prefix, shutter.exposure, kMaxFrameSeconds));
+    if ((shutter.rows - 1) * shutter.lineDelay > kMaxFrameSeconds)
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: %slineDelay = %g s reads %d rows out in %g s, longer than %g s: seconds expected "
+                        "(is it in us? 62.5 us is 62.5e-6)",
+                        where, prefix, shutter.lineDelay, shutter.rows, (shutter.rows - 1) * shutter.lineDelay,
+                        kMaxFrameSeconds));
     if (imageRows > 0 && shutter.rows != imageRows)
         CV_Error(Error::StsBadArg, format("%s: %srows = %d must equal the image's height %d", where, prefix,
                                           shutter.rows, imageRows));

@@ -41,19 +41,15 @@ public:
                                        "deblur(frame, motion, shutter, restored, tRef)");
         const Mat input = frame.getMat();
         checkFrame(input, shutter);
-        if (std::isinf(thetaRef))
-            CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: thetaRef must be finite (radians) or NaN (the "
-                                       "schedule's final resting angle)");
+        // thetaRef is checked before the refinement's work, and again on the corrected plant below.
+        detail::ViewMotion::ofPlant("DynamicDeblurrer::deblur", plant_, schedule, camera_->getMountAxis(), thetaRef);
 
         lastCorrection_ = correctMotion(input, schedule, shutter);
         const Ptr<Plant> plant = lastCorrection_.correctPlant(plant_);
         const RollingShutter corrected = lastCorrection_.correctShutter(shutter);
         lastWindow_ = classifyExposure(plant, schedule, corrected);
-        detail::ViewMotion view;
-        view.plant = plant;
-        view.schedule = schedule;
-        view.axis = camera_->getMountAxis();
-        view.thetaRef = std::isnan(thetaRef) ? plant->restingAngle(schedule.finalLevel()) : thetaRef;
+        const detail::ViewMotion view =
+            detail::ViewMotion::ofPlant("DynamicDeblurrer::deblur", plant, schedule, camera_->getMountAxis(), thetaRef);
         restoreFrame(input, view, corrected, restored, validMask);
     }
 
@@ -219,6 +215,15 @@ public:
                             size.width, size.height));
         colorResolution_ = resolution;
     }
+    int getUnobservedFill() const CV_OVERRIDE { return unobservedFill_; }
+    void setUnobservedFill(int fill) CV_OVERRIDE
+    {
+        if (fill != UNOBSERVED_RECORDED && fill != UNOBSERVED_MARKED && fill != UNOBSERVED_NEAREST)
+            CV_Error(Error::StsOutOfRange,
+                     format("DynamicDeblurrer::setUnobservedFill: fill = %d must be UNOBSERVED_RECORDED (0), "
+                            "UNOBSERVED_MARKED (1) or UNOBSERVED_NEAREST (2)", fill));
+        unobservedFill_ = fill;
+    }
     RLParams getRLParams() const CV_OVERRIDE { return params_; }
     void setRLParams(const RLParams& params) CV_OVERRIDE
     {
@@ -270,11 +275,28 @@ private:
            read of the frame, so restoring in place works) when it is linear, or 8-bit with the
            color at half resolution (encoded as it is written); others go through latent_. */
         const bool direct = alpha.empty() && (input.depth() == CV_32F || halfColor);
+        // Restoring in place overwrites the frame: the recorded pixels are kept for the fill first.
+        const bool inPlace = restored.isMat() && !restored.empty() && restored.getMat().data == input.data;
+        const Mat recorded = unobservedFill_ == UNOBSERVED_RECORDED && inPlace ? input.clone() : input;
         const Mat latent = restore(linear, view, shutter, halfColor, direct, input.depth(), restored);
         if (!direct)
             encode(latent, input.depth(), alpha, restored);
+        fillUnobserved(recorded, restored.getMat());
         if (validMask.needed())
             mask_.copyTo(validMask);
+    }
+
+    //! The pixels the frame never saw (mask_ 0), as setUnobservedFill says; the restoration left
+    //! them filled from the nearest observed pixels.
+    void fillUnobserved(const Mat& recorded, Mat restored) const
+    {
+        if (unobservedFill_ == UNOBSERVED_NEAREST || countNonZero(mask_) == int(mask_.total()))
+            return;
+        const Mat unobserved = mask_ == 0;
+        if (unobservedFill_ == UNOBSERVED_RECORDED)
+            recorded.copyTo(restored, unobserved);
+        else
+            restored.setTo(Scalar(0, 0, 0, recorded.depth() == CV_8U ? 255 : 1), unobserved);
     }
 
     bool colorAtHalfResolution(int channels) const
@@ -709,6 +731,7 @@ private:
     static constexpr double kFrameRateTolerance = 2e-3;
     int method_ = DEBLUR_RICHARDSON_LUCY;
     int colorResolution_ = DEBLUR_COLOR_FULL_RESOLUTION;
+    int unobservedFill_ = UNOBSERVED_RECORDED;  // never streaks of the nearest pixel across a band
     Ptr<CameraModel> halfCamera_;  // created when first needed
     Ptr<PsfGenerator> halfGenerator_;
     /* Blind refinement scans the time offset this far around the model as told, seconds (the

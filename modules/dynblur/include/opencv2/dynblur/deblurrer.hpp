@@ -49,6 +49,15 @@ enum DeblurPreset
     DEBLUR_PRESET_FRAME_RATE = 1
 };
 
+/** @brief What DynamicDeblurrer writes where the frame never saw the restored view (content beyond
+the frame's edges at the reference angle; the validMask's 0 pixels). */
+enum UnobservedFill
+{
+    UNOBSERVED_RECORDED = 0,  //!< the frame's own pixel there, as recorded (default)
+    UNOBSERVED_MARKED = 1,    //!< black (alpha, if any, opaque): visibly unrestored
+    UNOBSERVED_NEAREST = 2    //!< the nearest observed pixel: smooth at a seam, streaks across a wide band
+};
+
 /** @brief Restores frames taken while the positioner moves: the blur of every pixel is predicted
 from the plant and the commands, then undone @cite DynblurSeed.
 
@@ -84,7 +93,8 @@ public:
     @param restored output, same size, type and channels as frame. A frame in window IV comes
            back unchanged.
     @param thetaRef reference angle, radians; NaN: the schedule's final resting angle.
-    @param validMask optional output, CV_8U, 255 where the frame observed the restored pixel. */
+    @param validMask optional output, CV_8U, 255 where the frame observed the restored pixel (the
+           others hold what setUnobservedFill says). */
     CV_WRAP virtual void deblur(InputArray frame, const SwitchSchedule& schedule, const RollingShutter& shutter,
                                 OutputArray restored, double thetaRef = std::numeric_limits<double>::quiet_NaN(),
                                 OutputArray validMask = noArray()) = 0;
@@ -216,6 +226,11 @@ public:
     CV_WRAP virtual int getColorResolution() const = 0;
     /** @param resolution DeblurColorResolution; DEBLUR_COLOR_HALF_RESOLUTION needs an even image size. */
     CV_WRAP virtual void setColorResolution(int resolution) = 0;
+    /** @brief UnobservedFill: what the restored frame holds where the frame never saw the view
+    (default UNOBSERVED_RECORDED). */
+    CV_WRAP virtual int getUnobservedFill() const = 0;
+    /** @param fill UnobservedFill. */
+    CV_WRAP virtual void setUnobservedFill(int fill) = 0;
     /** @brief Restoration options; default RLParams() with automatic damping (damping = NaN: 3σ of
     the frame's estimated noise). For frame rate, setPreset(DEBLUR_PRESET_FRAME_RATE). */
     CV_WRAP virtual RLParams getRLParams() const = 0;

@@ -40,7 +40,8 @@ class CV_EXPORTS ParameterFile
 public:
     /** @brief Reads and parses a file.
     @param filename path of the file.
-    @param what what the file is, for the messages (e.g. "schedule file"). */
+    @param what what the file is, for the messages (e.g. "schedule file", or "Where: schedule file"
+    for "Where: cannot open the schedule file 'name'"). */
     static ParameterFile load(const String& filename, const String& what);
     /** @brief Parses text. @param text the file's content. @param source names it in messages. */
     static ParameterFile parse(const std::string& text, const String& source);

@@ -27,9 +27,9 @@ class CV_EXPORTS_W Plant : public Algorithm
 {
 public:
     /** @brief The linear second-order plant, evaluated in closed form.
-    @param naturalFreqHz natural frequency ωn/2π, Hz, > 0 (seed: 14.4).
+    @param naturalFreqHz natural frequency ωn/2π, Hz, in (0, 1000] (seed: 14.4).
     @param dampingRatio damping ratio ζ, in (0, 1) (seed: 0.12).
-    @param gain static gain, radians per level, non-zero (seed: 1° = π/180). */
+    @param gain static gain, radians per level, non-zero, |gain| ≤ π/12 (15° per level; seed: 1° = π/180). */
     CV_WRAP static Ptr<Plant> create(double naturalFreqHz = 14.4, double dampingRatio = 0.12,
                                      double gain = CV_PI / 180.0);
 

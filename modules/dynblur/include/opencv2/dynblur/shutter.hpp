@@ -17,8 +17,9 @@ Row r integrates over [frameStart + r·lineDelay, frameStart + r·lineDelay + ex
 struct CV_EXPORTS_W_SIMPLE RollingShutter
 {
     /** @param frameStart start of row 0's exposure, seconds.
-        @param exposure exposure of each row, seconds, ≥ 0.
-        @param lineDelay delay between the starts of two consecutive rows, seconds, ≥ 0.
+        @param exposure exposure of each row, seconds, in [0, 1] (more is taken for milliseconds).
+        @param lineDelay delay between the starts of two consecutive rows, seconds, ≥ 0, with the
+        readout (rows − 1)·lineDelay at most 1 s (more is taken for microseconds).
         @param rows number of sensor rows, > 0. */
     CV_WRAP RollingShutter(double frameStart = 0.0, double exposure = 0.008, double lineDelay = 0.0,
                            int rows = 1);
@@ -41,7 +42,8 @@ struct CV_EXPORTS_W_SIMPLE RollingShutter
     Range rowsOverlapping(double start, double end) const;
     /** @brief Start of the first row's exposure and end of the last one's, seconds. */
     CV_WRAP Vec2d readoutInterval() const;
-    /** @brief Throws cv::Exception naming the field when a value is out of range. */
+    /** @brief Throws cv::Exception naming the field when a value is out of range (an exposure or a
+    readout over 1 s with a hint at the unit). */
     CV_WRAP void validate() const;
 };
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The main job: builds the project (installing what it needs) and runs the deblurring demo.
 # Extra arguments go to the demo (see ./run_demo.sh --help).
 set -euo pipefail

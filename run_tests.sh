@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Runs every test: builds the project (installing what it needs), runs the C++ suite through
 # CTest, installs the build into a temporary prefix and builds and runs an application against it
 # (scripts/install_check.sh: find_package and pkg-config), then the Python checks with pytest in the

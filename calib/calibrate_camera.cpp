@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // dynblur_calibrate_camera: camera intrinsics from chessboard images, solved with ViSP.
 //
 //     dynblur_calibrate_camera --board 9x6 --square 0.025 --out cam.xml '../shared/data/left*.jpg'

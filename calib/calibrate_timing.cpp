@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // dynblur_calibrate_timing: the offset between the camera's clock and the actuator's, the line delay
 // and (optionally) the plant's wn and zeta, from a recording (frames, frame log, command log; formats
 // in docs/recording-format.md), by calibrateTiming over frames taken during moves, each against the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Shared by the CLI test scripts: run(EXPECTED_EXIT_CODE command args...) runs a command, shows its
 # output, fails unless it exits with EXPECTED_EXIT_CODE, and leaves the output in `last_output`.
 function(run expected)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // dynblur_calibrate_timing --gyro: calibrateTiming on a gyro log's motion, frames paired with the
 // frames the log shows held still (gyro_timing.hpp).
 #include "gyro_timing.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // dynblur_calibrate_timing --gyro: the gyro log's clock offset, the line delay and the gyro bias of a
 // hand-held recording (gyro_timing.cpp), and --simulate-gyro.
 #ifndef DYNBLUR_CALIB_GYRO_TIMING_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // dynblur_identify_plant: natural frequency, damping ratio and gain of the camera positioner from a
 // logged step response (format: samples/support/response_log.hpp, calib/README.md).
 //

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # CTest script: run dynblur_calibrate_camera on the 13 real views and check its files.
 # -DTOOL=dynblur_calibrate_camera -DDATA=folder with left01..14.jpg (the configure-time default)
 # -DWORK=scratch folder. DYNBLUR_TEST_DATA in the environment of the test run wins over DATA.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # CTest script: simulate a recording whose clock runs late, calibrate its timing with the CLI, check
 # the exit codes, the timing file and the plot, restore the recording with dynblur_restore_video;
 # and both programs' refusals of bad logs and videos.

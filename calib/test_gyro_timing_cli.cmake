@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # CTest script: render a hand-held recording with its gyro log (5 ms ahead of the camera, line delay
 # 3 % longer than the frame log says, 0.5 deg/s bias), calibrate it with dynblur_calibrate_timing
 # --gyro, check the timing file and the plot, restore it with dynblur_restore_video --gyro; and both

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # CTest script: simulate a log, identify it with the CLI, check the exit codes and the plant file.
 # -DTOOL=dynblur_identify_plant -DSIM=(same tool, --simulate) -DWORK=scratch folder
 file(REMOVE_RECURSE ${WORK}/plant)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # `cmake --install <build> [--prefix P]`: the public headers, the shared library, a CMake package
 # (find_package(dynblur) → imported target dynblur::dynblur) and a pkg-config file (dynblur.pc).
 # Included by the top-level CMakeLists.txt after modules/dynblur defined opencv_dynblur; not used

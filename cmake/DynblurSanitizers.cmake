@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Sanitizer and fuzzing builds (docs/reliability.md). Included by the top-level CMakeLists.txt after the
 # dependencies are found, before any target is defined, so every target of the tree gets the flags.
 #

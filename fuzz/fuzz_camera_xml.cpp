@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Fuzzes CameraModel::load, the reader of ViSP camera XML files (calibration output, --camera of the
 // demo): the first <camera> name scan of camera.cpp, then ViSP's vpXmlParserCamera, then the
 // intrinsics checks. A camera that loads must give finite mappings for pixels in its image.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shared by the libFuzzer targets of fuzz/: the file-based parsers read a path, so each input is
 // written to a scratch file first; a cv::Exception is the documented way to refuse bad input, and
 // anything else escaping (another exception type, a crash, a sanitizer report, a hang) is a bug.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Fuzzes the actuator driver's handling of the controller's Modbus replies (src/bus/bus.cpp through
 // libmodbus, src/bus/bus_driver.cpp): a fake controller on a real loopback TCP socket answers each request
 // of the driver's connect/upload/start/status/wait/stop sequence as the input says: a well-formed

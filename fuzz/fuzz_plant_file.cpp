@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Fuzzes loadPlantFile (samples/support/plant_file.cpp), the reader of the plant YAML the
 // calibration tool writes and the demo, the simulator and the servoing sample read (--plant): OpenCV's
 // FileStorage parser, then the field checks and Plant::create. A plant that loads must simulate.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Fuzzes the recording's two CSV readers (samples/support/recording.cpp): the frame log and the
 // command log, and what the timing calibration and the video restorer do with a command log they
 // accepted (the schedule around an instant). The input is read as both logs.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Fuzzes the response-log CSV reader (samples/support/response_log.cpp) and what
 // dynblur_identify_plant does with a log it accepted: the motion check, the schedule from the level
 // column, and Plant::identify (on logs of at most kMaxIdentifySamples samples, to keep the fuzzer

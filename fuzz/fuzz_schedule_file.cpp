@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Fuzzes SwitchSchedule::load, the reader of schedule files (YAML/XML/JSON through FileStorage):
 // dynblur_actuator_ctl --upload, dynblur_identify_plant --schedule and the demo's --schedule. A
 // schedule that loads goes where those programs send it: the actuator driver's host-side check and

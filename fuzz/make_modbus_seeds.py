@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Writes the seed corpus of fuzz_modbus_reply (fuzz/corpus/modbus_reply/): scripts for the fake
 controller of fuzz_modbus_reply.cpp, one reply per request of the driver's sequence
 connect / upload / start / status / waitUntilDone(0) / stop. Run it after changing that format:

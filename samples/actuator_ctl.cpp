@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // dynblur_actuator_ctl: drives the actuator controller from the command line with
 // cv::dynblur::ActuatorDriver: connect, upload a schedule (checked against the safety limits,
 // read back and verified), start it and print when it started on the host's clock.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // dynblur_actuator_sim: a stand-in for the actuator controller. Serves the register map of
 // docs/actuator-bus.md over Modbus TCP on 127.0.0.1 and Modbus RTU on a pseudo-terminal, runs the
 // plant in real time while a schedule runs and logs θ(t) to CSV (t,theta,level).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // dynblur_demo — the project's main job.
 //
 // With no arguments: plans a 10° saccade on the seed's positioner, renders what a C270-like

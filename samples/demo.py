@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """dynblur demo in Python: a small version of samples/demo.cpp drawn with matplotlib.
 
 Plans a 10° saccade on the seed's positioner (14.4 Hz, ζ = 0.12, 1°/level, 16 levels), renders

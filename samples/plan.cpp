@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // dynblur_plan: plans one point-to-point move as an integer-level switching schedule, prints it,
 // and writes the schedule (PREFIX.yml, which dynblur_actuator_ctl --upload and the demo's --schedule
 // read), the predicted trajectory (PREFIX.csv) and a plot of it (PREFIX.png).

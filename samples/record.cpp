@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // dynblur_record: records what the other programs read (docs/recording-format.md): the frames of a
 // camera with their timestamps, and the actuator's commands on the same clock, into one folder.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // dynblur_restore_video: restores a recording (frames, frame log, command log; docs/recording-format.md)
 // frame by frame, streaming: each frame taken during a move is refined against the stills on both
 // sides of its move (the deblurrer chooses the one that saw its moving rows) and restored; still

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # CTest script: the programs chain (dynblur_plan's schedule read by dynblur_actuator_ctl and the
 # demo; dynblur_record's folder read by the restorer), take --name value and --name=value, and refuse
 # each likely unit mistake with a message naming the option and the unit, at once (the test's

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # CTest script: the rehearsal of docs/your-rig.md, run as the document writes it (the block between
 # its <!-- rehearsal --> markers, in order, under bash -e), on the simulated rig: the actuator
 # simulator, a virtual camera, the chessboard views of the test data. Then checks what each step

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // dynblur_visual_servo — the system's story in one loop: a camera on the tilt positioner looks at a
 // textured plane carrying a target (a column of three AprilTags 36h11) that starts 8° off the image
 // centre (--scenario step), or that jumps to a new place 3..6° away every few cycles (--scenario

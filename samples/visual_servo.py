@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """dynblur visual servoing in Python: the twin of dynblur_visual_servo (samples/visual_servo.cpp).
 
 A camera on the tilt positioner looks at a textured plane carrying a target, a column of three

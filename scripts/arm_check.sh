@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The restoration kernels' test, on aarch64 under qemu and natively on each x86 instruction set.
 #
 # What: every modules/dynblur/src/restore/kernels/test/*.cpp is a self-contained program (its own

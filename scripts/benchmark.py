@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Speed figures of the frame-rate restoration, all measured in one run.
 
 Runs the C++ benchmark program (Google Benchmark, JSON), then the peers in Python on a 1280x960

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The speed benchmark (docs/performance.md): builds the project (scripts/setup.sh), prepares the Python
 # environment (scripts/python_env.sh), then runs scripts/benchmark.py, which runs the C++ benchmark
 # program and the Python peers in one run, prints every target with its verdict and writes

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Old and new library, alternating in one process: the frame-rate setting's restoration (the frame
 # and settings of the frame-rate benchmark, modules/dynblur/perf/perf_baseline.hpp) timed with two
 # revisions of libopencv_dynblur in paired rounds, and their restored images compared bitwise.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Contrib check: builds the module inside OpenCV 4.6's own source tree, as opencv_contrib users build
 # extra modules, and runs a program linked to the result.
 #

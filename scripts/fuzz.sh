@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # libFuzzer targets (docs/reliability.md): builds fuzz/ with clang in build-fuzz/ (DYNBLUR_BUILD_FUZZ=ON: the
 # library and samples/support, samples/simulation compiled with ASan + UBSan + coverage), runs every file of
 # fuzz/corpus/<target>/ and fuzz/regressions/<target>/ once (CTest), then fuzzes each target for a

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Install check: installs the already-built build folder into a temporary prefix and builds the
 # out-of-tree application tests/install/ against it twice, with find_package(dynblur)
 # (CMAKE_PREFIX_PATH) and with pkg-config (PKG_CONFIG_PATH), then runs both programs. Fails if a

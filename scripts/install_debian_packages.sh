@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Installs those of the Debian packages named on the command line that are not installed yet:
 # apt-get update, then apt-get install, quiet and non-interactive, through sudo only when not root.
 # Used by scripts/setup.sh, scripts/arm_check.sh and scripts/compare_revisions.sh.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Creates (once) the project-local virtual environment .venv with what the Python checks need,
 # installs the project's Python package into it (pip install ., scikit-build-core builds the C++
 # module and the pybind11 extension in build-wheel/), and prints its python's path.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Sanitizer run (docs/reliability.md): builds the library, the samples and the C++ tests with AddressSanitizer +
 # UndefinedBehaviorSanitizer in build-asan/ (DYNBLUR_SANITIZE=ON) and runs the GoogleTest suite and
 # the CLI tests through CTest. A sanitizer report aborts the test that triggered it, so the run

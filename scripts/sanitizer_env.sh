@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Sourced by scripts/sanitize.sh and scripts/fuzz.sh: how the sanitizer runtimes behave.
 #   halt_on_error / abort_on_error: the first report ends the program with a failure.
 #   detect_leaks: LeakSanitizer at exit; sanitizer/lsan.supp lists the external leaks ignored, each

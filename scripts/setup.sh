@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Installs what the build needs (Debian packages) and configures + builds the project in build/.
 # Idempotent: a second run only rebuilds what changed.
 set -euo pipefail

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shared by the refinement tests: frames blurred by a truth that differs from what the deblurrer is
 // told (drifts), the still frames beside them, and the wrong schedules an inconsistent frame is told.
 #ifndef DYNBLUR_TEST_REFINEMENT_CASES_HPP

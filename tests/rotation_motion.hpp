@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Test support: camera motions known in closed form, for the tests of rotation blur.
 #ifndef DYNBLUR_TEST_ROTATION_MOTION_HPP
 #define DYNBLUR_TEST_ROTATION_MOTION_HPP

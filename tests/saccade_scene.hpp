@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shared by the quality tests: a 10-degree saccade seen by a C270-like webcam at half resolution,
 // rendered with the physical forward model and sensor noise.
 #ifndef DYNBLUR_TEST_SACCADE_SCENE_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Test support: a natural image seen by a 640×480 camera held by a shaking hand (rotation tests).
 #ifndef DYNBLUR_TEST_SHAKE_SCENE_HPP
 #define DYNBLUR_TEST_SHAKE_SCENE_HPP

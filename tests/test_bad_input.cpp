@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Bad inputs on every public entry point (docs/reliability.md): empty, wrong type / channels / depth, wrong
 // size, NaN/Inf pixels and parameters, negative / zero / huge sizes, non-normalised or negative
 // kernels, truncated or garbage files. Each must be refused with a cv::Exception (or the documented

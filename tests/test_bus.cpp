@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Actuator bus: ActuatorDriver against the simulator (in-process over loopback TCP and a
 // pseudo-terminal, and the real dynblur_actuator_sim program once), with every fault.
 #include "actuator_sim.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Driver soak (docs/reliability.md): thousands of upload / start / stop cycles of ActuatorDriver against the
 // in-process simulator over loopback Modbus TCP, while the simulator injects random faults from a
 // seeded generator: requests dropped, replies dropped after execution, replies delayed beyond the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Camera calibration with ViSP on OpenCV's 13 real chessboard views, cross-checked against
 // cv::calibrateCamera on the same corners; the default camera file; bad inputs.
 #include "test_common.hpp"

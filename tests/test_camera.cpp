@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CameraModel: ViSP distortion formulas, ViSP XML files, the rotation mapping and its sign.
 #include "test_common.hpp"
 

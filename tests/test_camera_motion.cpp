@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CameraMotion from samples: the gyroscope integrator against exact and dense references, the
 // orientation spline against a known motion, fromPlant against its own velocity, and bad input.
 #include "test_common.hpp"

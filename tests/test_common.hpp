@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shared by the GoogleTest files: where the test data lives, and small image metrics.
 #ifndef DYNBLUR_TEST_COMMON_HPP
 #define DYNBLUR_TEST_COMMON_HPP

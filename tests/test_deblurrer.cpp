@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // DynamicDeblurrer: the quality figures on frames from renderBlurred with sensor noise,
 // and its argument checks.
 #include "test_common.hpp"

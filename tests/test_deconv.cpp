@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Accuracy of deconv.hpp: the FFT RL against a direct reference, the bank operator's adjoint,
 // the forward model against filter2D, spatially variant RL (rows with large shifts, tiles),
 // boundary handling, Wiener, regularisation, and argument checks.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // GyroLog: gcsv and plain CSV gyro logs into camera axes, the axis strings, the bias from still
 // intervals, and every kind of bad log refused with the file, line and field named.
 #include "test_common.hpp"

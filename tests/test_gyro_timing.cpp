@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The clock offset, line delay and gyro bias of a measured motion, refined from the frames against
 // still frames: per frame (DynamicDeblurrer) and over a recording (calibrateTiming).
 #include "image_metrics.hpp"

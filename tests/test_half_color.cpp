@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // DynamicDeblurrer's color phase at half resolution (DEBLUR_COLOR_HALF_RESOLUTION): the half-size
 // camera and shutter, the fused upsampling, and what the deblurrer makes of them. Its quality
 // figures are in DeblurQuality (test_deblurrer.cpp).

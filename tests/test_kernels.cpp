@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The gather kernels of every instruction set this CPU runs against their plain C++ reference, and
 // the dispatch that picks them (cv::setUseOptimized(false) selects the reference).
 #include "test_common.hpp"

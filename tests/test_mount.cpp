@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Mount: a chain of plant-driven axes (a pan-tilt head). Its orientation and body rates against
 // numerical derivatives, pointing and its inverse, one axis against fromPlant, a pan-tilt move
 // restored, and bad input.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ParameterFile: the flat YAML / XML / JSON reader of schedule and plant files.
 #include "test_common.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SwitchPlanner: integer-level schedules with free switching instants (DESIGN §2, planner.hpp).
 // Every figure the issue requires is computed here, never copied from a run.
 #include "test_common.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Plant: closed form, CVODE agreement, residual vibration, identification, schedule files.
 #include "test_common.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Plant identification from logged responses: the CSV log format (samples/support/response_log.hpp)
 // and Plant::identify on simulated noisy logs whose start time is unknown.
 #include "test_common.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // PsfBank / PsfGenerator, cross-checked against the independent forward model renderBlurred.
 #include "test_common.hpp"
 

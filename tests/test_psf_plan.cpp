@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // PSF_AUTO: the plan (PsfPlan) chooses per band of rows the cheapest model within the tolerance, and
 // never one the motion makes wrong: checked against a dense tile bank on a roll, a shake and a saccade.
 #include "test_common.hpp"

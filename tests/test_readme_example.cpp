@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The C++ example of README.md ("Using it from C++"), compiled and run here so the README cannot
 // drift from the API: the two functions below are the README's two code blocks, line for line.
 #include "scene.hpp"

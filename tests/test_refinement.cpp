@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Refinement of the predicted motion (refinement.hpp, DynamicDeblurrer::setReferenceFrame): frames
 // blurred by a truth that differs from what the deblurrer is told.
 #include "test_common.hpp"

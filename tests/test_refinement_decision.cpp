@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Refinement's decision (DynamicDeblurrer with a reference frame): a frame that no correction explains
 // (a wrong schedule, something moving, a still that does not match) is never returned worse than it
 // came; a fit stopped at a search bound is never applied.

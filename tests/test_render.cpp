@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // renderBlurred (the physical forward model), sensor noise and the sRGB transfer functions.
 #include "test_common.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Restoration bounds (docs/reliability.md): richardsonLucy, richardsonLucyVariant, wienerDeconvolve and
 // DynamicDeblurrer::deblur on adversarial but valid inputs (zeros, constant, a single bright pixel,
 // saturated, checkerboards, noise, values ~1e-30 and ~1e30, 1-row / 1-column / 1x1 images; delta,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Blur of any camera rotation (CameraMotion): the one-axis path through fromPlant, and 3-axis
 // motions through the PSF generator and the forward model.
 #include "rotation_motion.hpp"

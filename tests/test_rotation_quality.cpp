@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Restoration of frames blurred by a 3-axis hand-held shake (CameraMotion): the spatially variant
 // pipeline against the seed's single PSF and against a dense operator close to the exact blur.
 #include "image_metrics.hpp"

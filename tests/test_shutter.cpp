@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // RollingShutter timing and the exposure windows I-IV, with a rolling and a global shutter.
 #include "test_common.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The visual-servoing loop (samples/simulation/visual_servo.cpp, the dynblur_visual_servo program):
 // convergence from 8° off; tracking a target (a column of three AprilTags) that jumps 3..6° each way,
 // with its detection raw vs restored in the frames taken while moving; and the loop over the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """dynblur: dynamics-based motion deblurring for a robotic camera (Python bindings of cv::dynblur).
 
 The blur of a frame taken while the camera positioner moves is predicted from the plant's

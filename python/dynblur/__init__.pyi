@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Type stub of the dynblur package (the pybind11 extension dynblur._dynblur re-exported).
 from typing import Callable, Sequence, overload, Literal
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Bindings of calibration.hpp: the ViSP chessboard calibration as a library call from Python.
 #include "bindings.hpp"
 

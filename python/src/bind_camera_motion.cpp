@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Bindings of camera_motion.hpp, mount.hpp and gyro_log.hpp.
 #include "bindings.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Bindings of camera.hpp, render.hpp, psf.hpp, deconv.hpp and deblurrer.hpp.
 #include "bindings.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Bindings of plant.hpp, planner.hpp and shutter.hpp.
 #include "bindings.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Bindings of refinement.hpp: MotionCorrection, TimingCalibration, calibrateTiming, motionConsistency,
 // blindMotionConsistency.
 #include "bindings.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shared by the binding translation units of the dynblur extension.
 #pragma once
 

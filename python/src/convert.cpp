@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // numpy ⇄ cv::Mat conversion (see convert.hpp for the rules).
 #include "convert.hpp"
 

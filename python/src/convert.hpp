@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // numpy ⇄ cv::Mat and small OpenCV value types ⇄ Python, for the dynblur extension.
 //
 // Inputs: any array-like becomes a cv::Mat header over a C-contiguous, aligned, native-endian

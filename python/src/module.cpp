@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The extension module dynblur._dynblur: cv::dynblur for Python (see python/README.md).
 #include "bindings.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "actuator_sim.hpp"
 
 #include <modbus/modbus.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The actuator controller simulator: serves the register map of docs/actuator-bus.md over Modbus
 // TCP (127.0.0.1 only) and Modbus RTU on a pseudo-terminal, runs the plant in real time while a
 // schedule runs, logs θ(t) as CSV (t,theta,level) and injects faults for tests. Used by the

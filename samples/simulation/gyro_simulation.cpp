@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A rendered hand-held recording with its gyro log (gyro_simulation.hpp).
 #include "gyro_simulation.hpp"
 

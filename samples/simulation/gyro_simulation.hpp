@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A hand-held recording with a gyro log, rendered: what dynblur_calibrate_timing --simulate-gyro writes
 // for its command-line test and for users to try the gyro path without a camera.
 #ifndef DYNBLUR_SAMPLES_GYRO_SIMULATION_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "scene.hpp"
 
 #include <opencv2/imgproc.hpp>

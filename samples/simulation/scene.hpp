@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A generated test scene, so the demo needs no image file: textures at many scales (text, edges,
 // fine stripes, a Siemens star, smooth gradients), the kinds of detail motion blur destroys.
 #ifndef DYNBLUR_SAMPLES_SCENE_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "visual_servo.hpp"
 
 #include "frame_timing.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The closed loop of the visual-servoing sample, shared by samples/visual_servo.cpp and
 // tests/test_visual_servo.cpp: a textured plane carrying a target (a column of AprilTags 36h11,
 // ids 0..2), a camera on the tilt positioner, a rolling-shutter sensor rendered with renderBlurred +

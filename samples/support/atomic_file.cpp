@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "atomic_file.hpp"
 
 #include <opencv2/core.hpp>

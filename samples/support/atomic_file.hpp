@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Writing output files so that none is ever half-written: write to a temporary name beside the
 // target, then rename it into place (a rename within one folder is atomic).
 #ifndef DYNBLUR_SAMPLES_ATOMIC_FILE_HPP

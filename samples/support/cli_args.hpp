@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The one command-line reader of every program (samples/, calib/): "--name value" or
 // "--name=value", flags without a value, positional arguments where a program takes them, unknown
 // names refused (a typo must not drive the actuators or calibrate with a default).

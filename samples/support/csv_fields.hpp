@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Reading the CSV logs the programs take (response logs, recordings' frame and command logs): a
 // header line naming the columns, then one record per line; fields separated by ',', ';', tab or
 // runs of spaces.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Choosing when a frame is taken so that it falls in a given exposure window.
 #ifndef DYNBLUR_SAMPLES_FRAME_TIMING_HPP
 #define DYNBLUR_SAMPLES_FRAME_TIMING_HPP

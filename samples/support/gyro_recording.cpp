@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A recording whose motion is a gyro log: its files opened and checked, its frames read.
 #include "gyro_recording.hpp"
 

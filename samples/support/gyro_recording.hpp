@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A recording whose motion is a gyro log (docs/recording-format.md, "Gyro log"): the frames, their
 // frame log, the camera and the log, as dynblur_restore_video --gyro and dynblur_calibrate_timing
 // --gyro open them, and the frames that serve as stills.

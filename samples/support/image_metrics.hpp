@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Image quality over a region: PSNR and SSIM restricted to a mask, so restorations are judged
 // only where the frame observed the scene. Used by the demo and by the quality tests.
 #ifndef DYNBLUR_SAMPLES_IMAGE_METRICS_HPP

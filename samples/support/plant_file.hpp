@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The plant file the calibration tools write and the programs read (YAML or any cv::FileStorage
 // format): naturalFreqHz, dampingRatio, gain (radians per level), maxLevel.
 #ifndef DYNBLUR_SAMPLES_PLANT_FILE_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A small PNG line-plot utility on OpenCV drawing (cv::line, cv::putText, cv::imwrite), shared by
 // the samples and calibration tools: a figure of stacked panels sharing the x axis, each with
 // ticks, tick labels, axis labels, a title, several colored series with a legend, and shaded

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A recording of the camera positioner at work, as the timing calibration (and a video restorer)
 // reads it: the frames (a video or an image sequence, read with cv::VideoCapture), a frame log that
 // says when each frame was exposed on the camera's clock, and a command log of the actuator's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The logged step-response format shared by the plant identification tool (calib/identify_plant.cpp)
 // and the actuator-bus simulator: a CSV text file with a header line naming the columns, then one
 // sample per line.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Linked into every kernel test that scripts/arm_check.sh builds, compiled with that build's flags:
 // fails the build if the universal intrinsics did not get the vector width the build was made for
 // (DYNBLUR_EXPECT_SIMD_WIDTH, bytes), and before main() runs one v_fma on v_float32 and prints which

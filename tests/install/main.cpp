@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // An application using the installed dynblur package: plans a 5° saccade, renders the frame a
 // rolling-shutter camera takes while the mount settles (window III), restores it and checks that
 // the restoration is closer to the sharp view than the blurred frame. Exit status 0 only then.

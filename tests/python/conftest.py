@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Shared fixtures of the Python binding tests (test_py_*.py): a small camera, plant and scene."""
 import importlib
 import os

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Interoperability: the C++ actuator driver speaks plain Modbus TCP.
 
 An independent implementation of the register map of docs/actuator-bus.md, written here on top of

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """CameraMotion and GyroLog from Python: numpy shapes in, 3×3 rotations out, bad input refused."""
 import math
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The Python API of dynblur: the README example verbatim, every bound class and function."""
 import math
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Camera calibration from Python: the same ViSP calibration as the C++ tool, on the shared views."""
 import glob
 import os

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """numpy ⇄ cv::Mat conversion: every depth, 1–4 channels, strides, ownership, rejections."""
 import numpy as np
 import pytest

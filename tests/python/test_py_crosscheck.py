@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Cross-checks of the bindings against scipy and scikit-image.
 
 Plant.response vs scipy.signal.lsim (zero-order hold, exact for a staircase on the sample grid),

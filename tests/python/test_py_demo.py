@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """samples/demo.py runs (small frame, few iterations, Agg backend) and writes its figures."""
 import os
 import pathlib

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """A gyro log's clock from Python: the bias flag and field, a recording's calibrateTiming on a
 CameraMotion, a frame refined against a still placed by its capture time, and bad input named."""
 import numpy as np

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Refinement of the predicted motion from Python: the issue's API names, a clock offset found
 against a reference frame, a calibration over frames, and bad input named."""
 import math

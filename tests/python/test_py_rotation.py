@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Any camera rotation from Python: a gyroscope's 3-axis motion through the forward model, the PSF
 generator, the exposure windows and the deblurrer, which then needs no plant."""
 import numpy as np

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The GIL is released during long calls: another Python thread runs meanwhile, and two threads
 restoring frames at once get the same results as one after the other."""
 import threading

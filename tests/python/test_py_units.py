@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Frames of any numeric type a user has (float64 from numpy, uint8 from cv2.imread) come back in
 their own type, or are refused with a ValueError naming them; the likely unit mistakes get a message
 that names the argument and the unit."""

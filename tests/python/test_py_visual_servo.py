@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """samples/visual_servo.py, the Python twin of dynblur_visual_servo: it converges from 8° off within
 the C++ sample's two cycles, restoration never loses the target a raw frame showed, and it writes
 its outputs; --help and bad options."""

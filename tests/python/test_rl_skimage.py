@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Cross-check: cv::dynblur::richardsonLucy agrees with scikit-image's richardson_lucy.
 
 scikit-image (0.19+) runs ``richardson_lucy(image, psf, num_iter, clip, filter_epsilon)`` from a

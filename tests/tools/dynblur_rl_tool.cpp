@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Runs cv::dynblur::richardsonLucy on raw float32 files, so tests/python/test_rl_skimage.py can
 // compare it with scikit-image's richardson_lucy on exactly the same input.
 //

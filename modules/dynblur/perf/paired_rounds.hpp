@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Timing several workloads against each other on a machine whose speed drifts by ±20 % over
 // minutes: each round runs every workload once, in an order that rotates from round to round, so a
 // ratio taken within a round sees nearly the same machine, and the figures are medians over rounds.

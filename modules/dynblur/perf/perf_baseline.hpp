@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The speed targets (docs/performance.md): the frame the frame-rate benchmarks restore, the frame-rate
 // setting they time, and the reference, Richardson–Lucy written plainly with cv::filter2D.
 #ifndef DYNBLUR_PERF_BASELINE_HPP

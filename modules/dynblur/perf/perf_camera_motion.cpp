@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The cost of a 3-axis camera motion: the frame-rate setting and the default on a 1280x960 RGB
 // rolling-shutter frame shaken about all three axes, against the same settings on the one-axis
 // saccade frame of perf_deblurrer.cpp, in paired rounds (docs/performance.md).

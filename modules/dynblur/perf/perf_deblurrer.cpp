@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The whole pipeline on one C270-sized frame: DynamicDeblurrer::deblur (exposure window, PSF bank,
 // 10 RL iterations, bfloat16 blurs) for each PSF model, on a 1280x960 RGB rolling-shutter frame in
 // window III of a 10° saccade; and the speed targets' ratios, from rounds that time the row-wise and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Speed of deconv.hpp on a 1280×960 RGB CV_32F frame, 10 RL iterations: uniform FFTW RL, the
 // row-variant bank (bands of 8 rows, ~31×3 kernels, displacements up to 200 px), a 4×3 tile
 // bank, and a baseline RL written with cv::filter2D for scale.

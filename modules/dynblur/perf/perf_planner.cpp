@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // How long SwitchPlanner::plan takes: a first (uncached) search per move, and a cached repeat.
 #include <benchmark/benchmark.h>
 #include <opencv2/dynblur.hpp>

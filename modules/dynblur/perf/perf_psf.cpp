@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // PSF bank generation for a 1280x960 rolling-shutter frame (30 fps readout, 8 ms exposure) during a
 // 10° saccade. Two frames: the hand-made three-switch saccade starting with the frame (window I/II,
 // paths up to 187 px), and the window-III frame of perf_deblurrer.cpp (robust plan, frame 12 ms

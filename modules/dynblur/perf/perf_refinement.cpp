@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The cost of refining the predicted motion against a reference frame, paired with the restoration
 // it precedes, on a 1280x960 RGB rolling-shutter frame in window III of a 10° saccade whose camera
 // clock runs 1 ms late. The targets (docs/refinement.md): refining all four parameters costs at most one default

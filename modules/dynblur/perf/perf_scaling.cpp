@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // How the frame-rate restoration's cost grows: DynamicDeblurrer with the row-wise model (the
 // PSF_ROWS bank a C270-like camera sees in window III of a 10° saccade, scaled with the image)
 // in its frame-rate setting (the luminance at full resolution, 3 color iterations at half

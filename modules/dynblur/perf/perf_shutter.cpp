@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // How long classifyExposure takes for one 1280x960 rolling-shutter frame (30 fps readout, 8 ms
 // exposure) of the robust 10° saccade, with the frame placed in each exposure window.
 #include <benchmark/benchmark.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #ifndef OPENCV_DYNBLUR_PRECOMP_HPP
 #define OPENCV_DYNBLUR_PRECOMP_HPP
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """cv2.dynblur: the `dynblur` package seen from OpenCV's namespace.
 
 opencv-python's loader imports every package folder inside cv2/ as cv2.<name>; this one makes

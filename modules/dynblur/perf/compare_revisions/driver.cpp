@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // scripts/compare_revisions.sh's timing program: the frame-rate setting's restoration by two
 // revisions of the library, alternating in one process.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One revision's side of scripts/compare_revisions.sh: compiled once per revision, against that
 // revision's public headers, into its own shared object linked to that revision's library (a copy
 // whose soname names the side, see the script). The driver dlopens one shim per side and reaches it

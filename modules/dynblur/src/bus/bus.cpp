@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ActuatorBus: a bounded-time Modbus TCP / RTU link through libmodbus.
 #include "precomp.hpp"
 #include "opencv2/dynblur/bus.hpp"

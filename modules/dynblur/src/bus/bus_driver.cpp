@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ActuatorDriver: safety checks, upload with read-back, start with clock mapping.
 #include "precomp.hpp"
 #include "opencv2/dynblur/bus.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: a rotation about a unit axis, without cv::Rodrigues's allocations.
 #ifndef OPENCV_DYNBLUR_IMAGING_AXIS_ROTATION_HPP
 #define OPENCV_DYNBLUR_IMAGING_AXIS_ROTATION_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Chessboard calibration of the camera intrinsics: OpenCV finds the corners, ViSP's vpCalibration
 // solves (per-view virtual visual servoing, then all views with the one-term radial distortion).
 #include "precomp.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CameraModel: pinhole intrinsics with ViSP's one-term radial distortion, ViSP XML I/O and the
 // view-to-reference mapping of a camera rotating about a fixed mount axis (DESIGN §2).
 #include "precomp.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the cubic polynomials of a trajectory's knot intervals and of a kernel's path.
 #ifndef OPENCV_DYNBLUR_IMAGING_CUBIC_HPP
 #define OPENCV_DYNBLUR_IMAGING_CUBIC_HPP

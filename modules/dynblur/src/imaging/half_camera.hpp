@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the camera of a frame halved (DEBLUR_COLOR_HALF_RESOLUTION, the refinement's pyramid).
 #ifndef OPENCV_DYNBLUR_IMAGING_HALF_CAMERA_HPP
 #define OPENCV_DYNBLUR_IMAGING_HALF_CAMERA_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The pinhole projection's out-of-line part: the mount rotation and a camera model's pinhole.
 #include "precomp.hpp"
 

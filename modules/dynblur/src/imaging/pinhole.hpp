@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the pinhole projection with ViSP's one-term radial distortion and the mapping of a
 // camera rotated about its mount axis, shared by CameraModel and the PSF generator.
 #ifndef OPENCV_DYNBLUR_IMAGING_PINHOLE_HPP

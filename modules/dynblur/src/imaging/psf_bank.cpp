@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // PsfBank: the kernels of one frame, their nodes and displacements, and their checks.
 #include "precomp.hpp"
 

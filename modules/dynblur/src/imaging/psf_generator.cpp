@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // PsfGenerator: blur kernels predicted from the plant's trajectory and the shutter timing (seed
 // equations 4–7, generalised to rolling shutters and to column variation): where the nodes go, and
 // one kernel per node.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: a PsfGenerator's bank for a view motion in either form (one axis or any rotation), for
 // pipelines that resolve the motion and its reference themselves (DynamicDeblurrer).
 #ifndef OPENCV_DYNBLUR_IMAGING_PSF_GENERATOR_HPP

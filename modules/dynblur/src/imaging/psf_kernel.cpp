@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One blur kernel: a node's path over its exposure, integrated exactly into bilinear weights.
 #include "precomp.hpp"
 

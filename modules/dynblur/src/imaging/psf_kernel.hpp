@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: one blur kernel, the path of a pixel over its row's exposure rasterised by dwell time.
 #ifndef OPENCV_DYNBLUR_IMAGING_PSF_KERNEL_HPP
 #define OPENCV_DYNBLUR_IMAGING_PSF_KERNEL_HPP

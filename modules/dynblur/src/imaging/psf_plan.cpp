@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // PsfPlan: PSF_AUTO's choice of the cheapest operator whose displacement field stays within a
 // tolerance of the exact one, per frame and per band of rows.
 #include "precomp.hpp"

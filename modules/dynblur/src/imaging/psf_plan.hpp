@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: PSF_AUTO's choice of operator per frame and per band of rows (PsfPlan), from the motion.
 #ifndef OPENCV_DYNBLUR_IMAGING_PSF_PLAN_HPP
 #define OPENCV_DYNBLUR_IMAGING_PSF_PLAN_HPP

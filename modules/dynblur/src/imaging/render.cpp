@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The physical forward model (DESIGN §2): a rolling-shutter frame recorded while the positioner
 // moves, by time integration of warped views. Ground truth for PsfGenerator: it shares no code
 // with the PSF generator (it warps images; the generator splats paths).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A sensor's noise on a linear frame: photon shot noise, dark current and read noise in electrons.
 #include "precomp.hpp"
 

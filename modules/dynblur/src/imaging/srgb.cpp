@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The sRGB transfer curve (IEC 61966-2-1): exact conversions both ways and the table-driven 8-bit
 // encoder and decoder the restoration's color path uses.
 #include "precomp.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the sRGB curve's table and row encoder, for passes that decode or encode 8-bit frames in their own rows.
 #ifndef OPENCV_DYNBLUR_IMAGING_SRGB_HPP
 #define OPENCV_DYNBLUR_IMAGING_SRGB_HPP

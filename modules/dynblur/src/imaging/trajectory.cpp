@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The plant's trajectory over a frame's readout: exact samples at knots, Hermite cubics between.
 #include "precomp.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the plant's trajectory over one frame's readout, sampled at knots and interpolated.
 #ifndef OPENCV_DYNBLUR_IMAGING_TRAJECTORY_HPP
 #define OPENCV_DYNBLUR_IMAGING_TRAJECTORY_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // GyroLog: Gyroflow's gcsv and plain CSV gyro logs read into camera axes, and the bias from still
 // intervals. Written from the gcsv format's public description (docs.gyroflow.xyz, "GCSV format").
 #include "precomp.hpp"

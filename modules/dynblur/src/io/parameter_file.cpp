@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ParameterFile: a non-recursive reader of flat YAML / XML / JSON parameter files (see the header
 // for why cv::FileStorage's readers are not used on them).
 #include "precomp.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CameraMotion: the plant's motion about one axis (fromPlant), and the checks every motion shares.
 #include "precomp.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the plant's CameraMotion (fromPlant), which pipelines recognise to take the one-axis path.
 #ifndef OPENCV_DYNBLUR_MOTION_CAMERA_MOTION_HPP
 #define OPENCV_DYNBLUR_MOTION_CAMERA_MOTION_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A measured motion corrected by a MotionCorrection: its gyro bias removed about a reference time.
 #include "precomp.hpp"
 

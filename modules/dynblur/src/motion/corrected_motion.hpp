@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: a measured motion as a MotionCorrection corrects it (clock offset, gyro bias), seen from a
 // reference time: what refinement fits and what DynamicDeblurrer restores with.
 #ifndef OPENCV_DYNBLUR_MOTION_CORRECTED_MOTION_HPP

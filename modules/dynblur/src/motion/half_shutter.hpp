@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the timing of a frame halved (DEBLUR_COLOR_HALF_RESOLUTION, the refinement's pyramid).
 #ifndef OPENCV_DYNBLUR_MOTION_HALF_SHUTTER_HPP
 #define OPENCV_DYNBLUR_MOTION_HALF_SHUTTER_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Mount: a chain of plant-driven axes, its orientation, pointing and the camera motion of one
 // schedule per axis.
 #include "precomp.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SwitchPlanner: integer-level switching schedules with free switching instants that cancel the
 // residual vibration of the lightly damped plant (DESIGN §2, "Residual vibration of a schedule").
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CameraMotion from samples: gyroscope rates integrated on SO(3) (fromAngularVelocity) and
 // orientations interpolated by a C¹ cubic on SO(3) (fromOrientations).
 #include "precomp.hpp"

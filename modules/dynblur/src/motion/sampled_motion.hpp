@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the sample-time rule every sampled motion and gyro log shares.
 #ifndef OPENCV_DYNBLUR_MOTION_SAMPLED_MOTION_HPP
 #define OPENCV_DYNBLUR_MOTION_SAMPLED_MOTION_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SwitchSchedule: the staircase command, its checks and its file form.
 #include "precomp.hpp"
 

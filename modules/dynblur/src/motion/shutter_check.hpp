@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the one check of a RollingShutter's fields, shared by its validate() and the functions
 // that take a shutter for a camera's frame.
 #ifndef OPENCV_DYNBLUR_MOTION_SHUTTER_CHECK_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: rotations as unit quaternions (w, x, y, z) and rotation vectors, the exponential and
 // logarithm of SO(3) and its right Jacobian, for the sampled motions (sampled_motion.cpp).
 //

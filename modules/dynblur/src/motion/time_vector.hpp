@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the time arguments of the plant's evaluations, read and allocated alike for every one.
 #ifndef OPENCV_DYNBLUR_MOTION_TIME_VECTOR_HPP
 #define OPENCV_DYNBLUR_MOTION_TIME_VECTOR_HPP

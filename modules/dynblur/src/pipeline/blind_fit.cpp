@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /* Blind refinement: the time offset that makes the frame's own second-order statistics consistent
    with its predicted blur.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the time offset of a frame without a reference frame (blind refinement, refinement.hpp).
 #ifndef OPENCV_DYNBLUR_BLIND_FIT_HPP
 #define OPENCV_DYNBLUR_BLIND_FIT_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The fit's images: a frame's linear luminance and its halvings, with the camera and shutter of each.
 #include "precomp.hpp"
 

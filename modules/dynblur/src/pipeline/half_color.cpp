@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "precomp.hpp"
 
 #include "restore/deconv_rl.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: DynamicDeblurrer's color phase at half resolution (DEBLUR_COLOR_HALF_RESOLUTION).
 #ifndef OPENCV_DYNBLUR_HALF_COLOR_HPP
 #define OPENCV_DYNBLUR_HALF_COLOR_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Fitting a MotionCorrection: the reference carried through the predicted blur, compared with the frame.
 #include "precomp.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: fitting a MotionCorrection to frames against still reference frames (refinement.hpp).
 #ifndef OPENCV_DYNBLUR_MOTION_FIT_HPP
 #define OPENCV_DYNBLUR_MOTION_FIT_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // MotionCorrection, TimingCalibration and the calls that estimate them (refinement.hpp).
 #include "precomp.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the checks of the restoration's arguments, each error naming the argument and what it must be.
 #ifndef OPENCV_DYNBLUR_RESTORE_ARGUMENTS_HPP
 #define OPENCV_DYNBLUR_RESTORE_ARGUMENTS_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the Richardson–Lucy iteration shared by richardsonLucy and richardsonLucyVariant.
 #ifndef OPENCV_DYNBLUR_DECONV_RL_HPP
 #define OPENCV_DYNBLUR_DECONV_RL_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "restore/fft_kernel.hpp"
 
 #include <opencv2/core/utility.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: FFTW-backed convolution with one kernel (single precision, threaded, plans cached).
 // FFTW stays out of the public headers; only this file and fft_kernel.cpp see it.
 #ifndef OPENCV_DYNBLUR_FFT_KERNEL_HPP

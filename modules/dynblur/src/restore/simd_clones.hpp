@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The element-wise row loops are compiled for the build's baseline; where GCC targets x86-64 they
 // are cloned for AVX2 and AVX-512 as well, and the CPU picks at load time.
 #ifndef OPENCV_DYNBLUR_RESTORE_SIMD_CLONES_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /* Included before any OpenCV header by the library's per-instruction-set kernel files
    (kernels_avx2.cpp, kernels_avx512.cpp) and force-included (-include) by scripts/arm_check.sh into
    every kernel test it builds. Outside OpenCV's own build (__OPENCV_BUILD undefined), opencv2/core/cv_cpu_dispatch.h

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The gather kernels in plain C++: what every vector kernel is held to (tests), what runs with
 // cv::setUseOptimized(false), and the columns a vector kernel leaves over.
 #ifndef OPENCV_DYNBLUR_RESTORE_KERNELS_GATHER_REFERENCE_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /* The gather kernels in OpenCV's universal intrinsics, written once and compiled once per
    instruction set: a file that includes this header first defines DYNBLUR_KERNELS_ISA, the
    namespace its build goes in (the vector width differs between builds, so their inline functions

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The terms the gather kernels sum, and how a gather's sums go into its output: plain structs, no
 // OpenCV, so the kernels' test builds for any CPU from the headers alone.
 #ifndef OPENCV_DYNBLUR_RESTORE_KERNELS_GATHER_TAPS_HPP

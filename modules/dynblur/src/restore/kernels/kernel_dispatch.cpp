@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The one place that chooses the gather kernels.
 #include "restore/kernels/kernel_table.hpp"
 #include "restore/kernels/gather_reference.hpp"

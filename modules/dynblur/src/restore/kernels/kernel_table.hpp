@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The restoration kernels (the gathers of the bank operators and the RL update of a row), one table
 // per instruction set, chosen per call from the CPU, cv::useOptimized() and the tests' override.
 #ifndef OPENCV_DYNBLUR_RESTORE_KERNELS_KERNEL_TABLE_HPP

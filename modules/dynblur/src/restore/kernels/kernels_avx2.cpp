@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /* The kernels in AVX2 and FMA, built with -mavx2 -mfma on x86-64 (CMakeLists.txt). Outside
    OpenCV's own build its headers take no more than SSE2 from the compiler, so
    cv_isa_from_compiler.hpp sets the instruction set's macros first; CV_CPU_DISPATCH_MODE puts

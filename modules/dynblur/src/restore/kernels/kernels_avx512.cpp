@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /* The kernels in AVX-512 (F, CD, VL, BW, DQ: OpenCV's "SKX" level) and FMA, built with those -m
    flags on x86-64 (CMakeLists.txt), for the reason kernels_avx2.cpp gives. */
 #if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__) && defined(__AVX512DQ__) && \

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The kernels at the build's baseline: SSE2 on x86-64, NEON on AArch64, plain C++ elsewhere.
 #define DYNBLUR_KERNELS_ISA baseline
 #include "restore/kernels/gather_simd.hpp"

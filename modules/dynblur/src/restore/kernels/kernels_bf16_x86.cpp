@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /* The one kernel universal intrinsics cannot express: the packed gather in AVX512-BF16's
    vdpbf16ps, which takes both bfloat16 halves of a packed pair in one instruction (twice the
    multiply-adds of a float FMA per instruction, from half the bytes). Raw intrinsics, behind

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /* updateRow in OpenCV's universal intrinsics, compiled per instruction set like gather_simd.hpp
    (the includer defines DYNBLUR_KERNELS_ISA). Sixteen columns at a time in 16 / lanes vectors, so
    the step's sums fall in the same sixteen lanes at every vector width; the last columns through

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /* The terms of Richardson–Lucy's update of one row (updateRow): plain structs and the plain C++
    reference, no OpenCV, so the kernels' test builds for any CPU from the headers alone.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "restore/operators/bank_geometry.hpp"
 
 #include <opencv2/core/utility.hpp>

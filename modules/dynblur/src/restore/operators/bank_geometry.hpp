@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: where a PsfBank's kernels apply (blending weights along node rows and columns), its kernels as read offsets, and its latent domain.
 #ifndef OPENCV_DYNBLUR_RESTORE_BANK_GEOMETRY_HPP
 #define OPENCV_DYNBLUR_RESTORE_BANK_GEOMETRY_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: a PsfBank's blur in its plainest form, each node's taps scattered: what the gathering operators are held to.
 #ifndef OPENCV_DYNBLUR_RESTORE_BANK_OPERATOR_HPP
 #define OPENCV_DYNBLUR_RESTORE_BANK_OPERATOR_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the operator a PsfBank is restored with, chosen by its shape.
 #ifndef OPENCV_DYNBLUR_RESTORE_BANK_OPERATOR_FACTORY_HPP
 #define OPENCV_DYNBLUR_RESTORE_BANK_OPERATOR_FACTORY_HPP

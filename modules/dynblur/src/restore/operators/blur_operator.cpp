@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "restore/operators/blur_operator.hpp"
 
 #include "restore/operators/packed_gather.hpp"

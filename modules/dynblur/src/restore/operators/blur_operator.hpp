@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the linear blur A that Richardson–Lucy inverts, and its exact adjoint.
 #ifndef OPENCV_DYNBLUR_RESTORE_BLUR_OPERATOR_HPP
 #define OPENCV_DYNBLUR_RESTORE_BLUR_OPERATOR_HPP

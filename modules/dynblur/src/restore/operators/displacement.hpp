@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the bank's displacement alone, which the restoration's start undoes.
 #ifndef OPENCV_DYNBLUR_RESTORE_DISPLACEMENT_HPP
 #define OPENCV_DYNBLUR_RESTORE_DISPLACEMENT_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "restore/operators/gather.hpp"
 
 #include "restore/kernels/kernel_table.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: gathers, the tap lists of a bank operator's rows, and the blocks of rows they compute.
 #ifndef OPENCV_DYNBLUR_RESTORE_GATHER_HPP
 #define OPENCV_DYNBLUR_RESTORE_GATHER_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "restore/operators/packed_gather.hpp"
 
 #include "restore/operators/gather.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: planes and gathers packed as bfloat16 row pairs.
 #ifndef OPENCV_DYNBLUR_RESTORE_PACKED_GATHER_HPP
 #define OPENCV_DYNBLUR_RESTORE_PACKED_GATHER_HPP

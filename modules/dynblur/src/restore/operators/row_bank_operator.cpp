@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "restore/operators/row_bank_operator.hpp"
 
 #include "restore/operators/bank_geometry.hpp"

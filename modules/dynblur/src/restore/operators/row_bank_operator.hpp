@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the blur of a bank with one node column, as row gathers.
 #ifndef OPENCV_DYNBLUR_RESTORE_ROW_BANK_OPERATOR_HPP
 #define OPENCV_DYNBLUR_RESTORE_ROW_BANK_OPERATOR_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the blur of a bank with several node columns, as row gathers per node column.
 #ifndef OPENCV_DYNBLUR_RESTORE_TILE_BANK_OPERATOR_HPP
 #define OPENCV_DYNBLUR_RESTORE_TILE_BANK_OPERATOR_HPP

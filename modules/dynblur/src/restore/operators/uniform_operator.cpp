@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "restore/operators/uniform_operator.hpp"
 
 #include "restore/fft_kernel.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the blur of one kernel everywhere, through FFTW.
 #ifndef OPENCV_DYNBLUR_RESTORE_UNIFORM_OPERATOR_HPP
 #define OPENCV_DYNBLUR_RESTORE_UNIFORM_OPERATOR_HPP

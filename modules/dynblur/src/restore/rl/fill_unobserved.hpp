@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: unobserved pixels of a restoration filled from the nearest observed ones.
 #ifndef OPENCV_DYNBLUR_RESTORE_FILL_UNOBSERVED_HPP
 #define OPENCV_DYNBLUR_RESTORE_FILL_UNOBSERVED_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "restore/rl/frame_planes.hpp"
 
 #include "restore/rl/rl_rows.hpp"

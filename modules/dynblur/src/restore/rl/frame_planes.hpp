@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: a frame's planes as the restoration reads them in, and their statistics.
 #ifndef OPENCV_DYNBLUR_RESTORE_FRAME_PLANES_HPP
 #define OPENCV_DYNBLUR_RESTORE_FRAME_PLANES_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the restored planes written out as one image, taking the luminance phase's change as they are read.
 #ifndef OPENCV_DYNBLUR_RESTORE_RESTORED_PLANES_HPP
 #define OPENCV_DYNBLUR_RESTORE_RESTORED_PLANES_HPP

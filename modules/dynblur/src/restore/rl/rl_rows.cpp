@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "restore/rl/rl_rows.hpp"
 
 #include "restore/rl/rl_terms.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the element-wise row loops of the Richardson–Lucy iteration and of reading a frame in and
 // out, each a pass over one row the compiler vectorises (cloned per instruction set: simd_clones.hpp).
 #ifndef OPENCV_DYNBLUR_RESTORE_RL_ROWS_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: the element-wise terms of a Richardson–Lucy iteration shared by its row loops and the
 // half-resolution color's combination.
 #ifndef OPENCV_DYNBLUR_RESTORE_RL_TERMS_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private: element-wise loops over rows, vectorised by the compiler.
 #ifndef OPENCV_DYNBLUR_RESTORE_ROW_ARITHMETIC_HPP
 #define OPENCV_DYNBLUR_RESTORE_ROW_ARITHMETIC_HPP

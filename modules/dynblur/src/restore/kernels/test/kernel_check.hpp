@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /* Every gather kernel of one table held to its plain C++ reference (gather_reference.hpp) on random
    taps and sources: each column width from 1 to 3 blocks of the widest vectors (every block size
    and tail), each way of folding (written, added, weighted, split mid-vector). Float kernels agree to

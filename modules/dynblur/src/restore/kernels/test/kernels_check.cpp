@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The gather kernels of the instruction set this file is compiled for (scripts/arm_check.sh: AArch64
 // under qemu, and each x86 flag set) against their reference; exits non-zero on a mismatch.
 #define DYNBLUR_KERNELS_ISA checked

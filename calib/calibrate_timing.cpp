@@ -14,8 +14,8 @@
 #include "cli_args.hpp"
 #include "gyro_recording.hpp"
 #include "gyro_timing.hpp"
+#include "objective_plot.hpp"
 #include "plant_file.hpp"
-#include "plot.hpp"
 #include "recording.hpp"
 #include "scene.hpp"
 
@@ -266,21 +266,8 @@ int main(int argc, char** argv)
                     c.naturalFreqScale, t.naturalFreqScaleStd, c.dampingScale, t.dampingScaleStd, c.consistency,
                     out.c_str());
         if (!args.has("no-png"))
-        {
-            std::vector<double> ms;
-            for (double offset : t.scanTimeOffsets)
-                ms.push_back(offset * 1e3);
-            dynblur_plot::Figure figure(900, "Timing calibration: objective around the result");
-            figure.addPanel("", "mean squared residual (noise^2)")
-                .line(ms, t.scanObjective, "objective over the clock offset")
-                .hLine(*std::min_element(t.scanObjective.begin(), t.scanObjective.end()));
-            figure.xLabel("clock offset (ms)");
-            const std::string temporary = temporaryPathFor(plotPath);
-            if (!figure.save(temporary))
-                CV_Error(Error::StsError, "cannot write '" + plotPath + "'");
-            renameIntoPlace(temporary, plotPath);
-            std::printf("wrote %s\n", plotPath.c_str());
-        }
+            writeObjectivePlot(t, "Timing calibration: objective around the result", "objective over the clock offset",
+                               plotPath);
         return 0;
     }
     catch (const std::runtime_error& e)

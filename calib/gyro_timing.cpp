@@ -7,7 +7,7 @@
 #include "cli_args.hpp"
 #include "gyro_recording.hpp"
 #include "gyro_simulation.hpp"
-#include "plot.hpp"
+#include "objective_plot.hpp"
 
 #include <opencv2/dynblur.hpp>
 
@@ -147,20 +147,7 @@ int calibrateGyroTiming(const CliArgs& args, const std::string& defaultCameraPat
                 c.timeOffset * 1e3, t.timeOffsetStd * 1e3, c.lineDelayScale, t.lineDelayScaleStd, bias[0], bias[1],
                 bias[2], biasStd[0], biasStd[1], biasStd[2], c.consistency, c.reason.c_str(), out.c_str());
     if (!args.has("no-png"))
-    {
-        std::vector<double> ms;
-        for (double offset : t.scanTimeOffsets)
-            ms.push_back(offset * 1e3);
-        dynblur_plot::Figure figure(900, "Gyro timing calibration: objective around the result");
-        figure.addPanel("", "mean squared residual (noise^2)")
-            .line(ms, t.scanObjective, "objective over the gyro log's clock offset")
-            .hLine(*std::min_element(t.scanObjective.begin(), t.scanObjective.end()));
-        figure.xLabel("clock offset (ms)");
-        const std::string temporary = temporaryPathFor(plotPath);
-        if (!figure.save(temporary))
-            CV_Error(Error::StsError, "cannot write '" + plotPath + "'");
-        renameIntoPlace(temporary, plotPath);
-        std::printf("wrote %s\n", plotPath.c_str());
-    }
+        writeObjectivePlot(t, "Gyro timing calibration: objective around the result",
+                           "objective over the gyro log's clock offset", plotPath);
     return 0;
 }

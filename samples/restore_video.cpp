@@ -173,7 +173,8 @@ static int restoreGyroRecording(const CliArgs& args, const std::string& model)
 }
 
 /* The largest image motion during one row's exposure, pixels (the angle's sweep over the row's
-   interval times the focal length), over nine rows: what ranks frames by blur. */
+   interval times the larger focal length: a bound for a pan or a tilt), over nine rows: what ranks
+   frames by blur. */
 static double blurPixels(const Ptr<Plant>& plant, const SwitchSchedule& schedule, const RollingShutter& shutter,
                          double focalPx)
 {
@@ -416,7 +417,7 @@ int main(int argc, char** argv)
                 if (!item.still)
                 {
                     blurPx = blurPixels(correctedPlant, item.schedule, calibration.correctShutter(item.shutter),
-                                        camera->getFx());
+                                        std::max(camera->getFx(), camera->getFy()));
                     movingSeen++;
                     refused += !c.applied;
                     if (blurPx > mostBlurPx)

@@ -63,7 +63,9 @@ static const char* const kUsage =
     "Simulation (writes a recording and exits; nothing is calibrated):\n"
     "  --simulate DIR       renders frame_%04d.png, frames.csv, commands.csv, camera.xml and plant.yml\n"
     "                       into DIR: saccades between 0 and 10 deg seen by a 640x480 webcam at 30 fps;\n"
-    "                       with --as-video the frames go to frames.avi (MJPG, as a C270 streams them)\n"
+    "                       with --as-video the frames go to frames.avi (MJPG, as a C270 streams them);\n"
+    "                       DIR/truth/ gets the sharp scene and the truth that moved the camera\n"
+    "                       (dynblur_restore_video --truth DIR/truth compares each frame with it)\n"
     "  --true-offset S --true-line-delay-scale X --true-hz-scale X --true-zeta-scale X --saccades N\n"
     "                       the truth that moved the camera (defaults 0.0012, 0.95, 1.03, 1.1, 4)\n"
     "\n"
@@ -82,6 +84,23 @@ static const double kDeg = CV_PI / 180.0;
 
 // ---------------------------------------------------------------------------------------------
 // Simulation
+
+/* What a rendered recording's frames are compared with (dynblur_restore_video --truth): the sharp
+   scene (the view at sceneAngle, wider than a frame by the same margin on each side; 8-bit sRGB) and
+   the correction from the nominal model to the motion that rendered the frames. */
+static void writeTruth(const std::string& dir, const Mat& linearScene, double sceneAngle, const MotionCorrection& drift)
+{
+    ::mkdir(dir.c_str(), 0755);
+    Mat srgb;
+    linearToSrgb(linearScene, srgb, CV_8U);
+    if (!imwrite(dir + "/scene.png", srgb))
+        CV_Error(Error::StsError, "cannot write '" + dir + "/scene.png'");
+    FileStorage fs(dir + "/truth.yml", FileStorage::WRITE);
+    fs.writeComment("the truth of a rendered recording: scene.png is the view at sceneAngle (radians); the "
+                    "frames were rendered with the nominal plant and frame log corrected by the rest");
+    fs << "sceneAngle" << sceneAngle << "timeOffset" << drift.timeOffset << "lineDelayScale" << drift.lineDelayScale
+       << "naturalFreqScale" << drift.naturalFreqScale << "dampingScale" << drift.dampingScale;
+}
 
 static int simulate(const CliArgs& args, const std::string& dir)
 {
@@ -162,6 +181,7 @@ static int simulate(const CliArgs& args, const std::string& dir)
     std::printf("\n");
     writer.release();
     writeFrameLog(dir + "/frames.csv", frames);
+    writeTruth(dir + "/truth", scene, thetaRef, drift);
     writeCommandLog(dir + "/commands.csv", commands);
     camera->save(dir + "/camera.xml");
     savePlantFile(dir + "/plant.yml", *nominal, 16, "the nominal plant the recording's commands were planned on");

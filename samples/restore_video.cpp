@@ -3,7 +3,9 @@
 // frame by frame, streaming: each frame taken during a move is refined against the stills on both
 // sides of its move (the deblurrer chooses the one that saw its moving rows) and restored; still
 // frames pass through. A frame that ends its move at rest waits for the still after the move.
-// Writes the restored video and a CSV of each frame's window, correction and consistency.
+// Writes the restored video, a CSV of each frame's window, correction and consistency, and a contact
+// sheet of the most blurred frames. With --truth (a rendered recording's sharp scene) each moving
+// frame's gain over the recording is measured.
 //
 //     dynblur_restore_video --video rec/frame_%04d.png --frames rec/frames.csv --commands rec/commands.csv
 //                           --camera rec/camera.xml --plant rec/plant.yml --timing rec/timing.yml
@@ -11,6 +13,7 @@
 #include "cli_args.hpp"
 #include "frame_timing.hpp"
 #include "gyro_recording.hpp"
+#include "image_metrics.hpp"
 #include "plant_file.hpp"
 #include "recording.hpp"
 
@@ -20,6 +23,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -60,8 +64,14 @@ static const char* const kUsage =
     "  --unobserved WHAT    where a frame never saw the restored view (content beyond its edges): recorded\n"
     "                       (default) keeps the frame's pixels, marked paints them black, nearest repeats the\n"
     "                       nearest observed pixel (streaks across a wide band)\n"
-    "  --out FILE           restored video (default restored.avi; MJPG at the frame log's rate)\n"
-    "  --csv FILE           per-frame log (default: OUT's name with .csv)\n"
+    "  --truth DIR          a rendered recording's truth (scene.png, truth.yml: dynblur_calibrate_timing\n"
+    "                       --simulate writes them): each moving frame's PSNR against the view it is\n"
+    "                       restored to, as recorded and restored, its true window, and a summary\n"
+    "  --out FILE           restored video (default restored.avi; MJPG at the frame log's rate); beside it\n"
+    "                       OUT_frames.png, the most blurred moving frames as recorded and restored\n"
+    "  --csv FILE           per-frame log (default: OUT's name with .csv); window is the frame's exposure\n"
+    "                       window under the motion it was restored with, window_as_told under the model\n"
+    "                       as given, blur_px the largest image motion during one row's exposure\n"
     "  --help               this help\n"
     "\n"
     "Usage: dynblur_restore_video --gyro LOG --video V --frames FRAMES.csv [options]\n"
@@ -162,24 +172,96 @@ static int restoreGyroRecording(const CliArgs& args, const std::string& model)
     return 0;
 }
 
-//! One row of the contact sheet: the frame and its restoration, 480 px wide each, labelled.
-static Mat sheetRow(const Mat& blurred, const Mat& restored, int frame, const MotionCorrection& c)
+/* The largest image motion during one row's exposure, pixels (the angle's sweep over the row's
+   interval times the larger focal length: a bound for a pan or a tilt), over nine rows: what ranks
+   frames by blur. */
+static double blurPixels(const Ptr<Plant>& plant, const SwitchSchedule& schedule, const RollingShutter& shutter,
+                         double focalPx)
 {
-    const auto cell = [](const Mat& image, const std::string& text) {
+    double largest = 0;
+    for (int k = 0; k <= 8; k++)
+    {
+        const Vec2d interval = shutter.rowInterval((shutter.rows - 1) * k / 8);
+        Mat t(1, 33, CV_64F), theta;
+        for (int i = 0; i < t.cols; i++)
+            t.at<double>(i) = interval[0] + (interval[1] - interval[0]) * i / (t.cols - 1);
+        plant->response(schedule, t, theta);
+        double low, high;
+        minMaxLoc(theta, &low, &high);
+        largest = std::max(largest, (high - low) * focalPx);
+    }
+    return largest;
+}
+
+/* A rendered recording's truth (dynblur_calibrate_timing --simulate writes it): the sharp scene, the
+   view at sceneAngle, and the correction from the nominal model to the motion that rendered the frames. */
+struct RecordingTruth
+{
+    Mat scene;  //!< 8-bit sRGB, wider than a frame by the same margin on each side
+    double sceneAngle = 0;  //!< radians
+    MotionCorrection motion;
+
+    static RecordingTruth load(const std::string& dir)
+    {
+        RecordingTruth truth;
+        truth.scene = imread(dir + "/scene.png", IMREAD_COLOR);
+        if (truth.scene.empty())
+            CV_Error(Error::StsError, "--truth: cannot read '" + dir + "/scene.png'");
+        FileStorage fs(dir + "/truth.yml", FileStorage::READ);
+        if (!fs.isOpened() || fs["sceneAngle"].empty())
+            CV_Error(Error::StsError, "--truth: cannot read sceneAngle from '" + dir + "/truth.yml'");
+        fs["sceneAngle"] >> truth.sceneAngle;
+        fs["timeOffset"] >> truth.motion.timeOffset;
+        fs["lineDelayScale"] >> truth.motion.lineDelayScale;
+        fs["naturalFreqScale"] >> truth.motion.naturalFreqScale;
+        fs["dampingScale"] >> truth.motion.dampingScale;
+        return truth;
+    }
+
+    //! The sharp view at `angle` (radians): the scene turned by angle - sceneAngle, as the renderer turns it.
+    Mat viewAt(double angle, const Ptr<Plant>& plant, const Ptr<CameraModel>& camera) const
+    {
+        // A plant resting at 0 sees the scene given as the view at sceneAngle - angle.
+        Mat view;
+        renderBlurred(scene, plant, SwitchSchedule({0.0}, {0}, 0), camera,
+                      RollingShutter(0.0, 1e-3, 0.0, camera->getImageSize().height), view, sceneAngle - angle);
+        return view;
+    }
+};
+
+//! A moving frame's row of the contact sheet, and what ranks it.
+struct SheetRow
+{
+    int frame = 0;
+    double blurPx = 0;
+    Mat image;
+};
+
+/* One row of the contact sheet: the frame and its restoration, 480 px wide each, labelled with the
+   frame's window, blur, correction, and whether it was restored or refused (and why). */
+static Mat sheetRow(const Mat& blurred, const Mat& restored, int frame, const std::string& window, double blurPx,
+                    const MotionCorrection& c, const std::string& gain)
+{
+    const auto cell = [](const Mat& image, const std::string& line1, const std::string& line2) {
         Mat small, color;
         resize(image, small, Size(480, image.rows * 480 / image.cols), 0, 0, INTER_AREA);
         color = small;
         if (small.channels() == 1)
             cvtColor(small, color, COLOR_GRAY2BGR);
-        rectangle(color, Rect(0, 0, color.cols, 22), Scalar(0, 0, 0), FILLED);
-        putText(color, text, Point(5, 16), FONT_HERSHEY_SIMPLEX, 0.45, Scalar(255, 255, 255), 1, LINE_AA);
+        rectangle(color, Rect(0, 0, color.cols, 38), Scalar(0, 0, 0), FILLED);
+        putText(color, line1, Point(5, 15), FONT_HERSHEY_SIMPLEX, 0.45, Scalar(255, 255, 255), 1, LINE_AA);
+        putText(color, line2, Point(5, 32), FONT_HERSHEY_SIMPLEX, 0.45, Scalar(255, 255, 255), 1, LINE_AA);
         return color;
     };
+    const std::string correction =
+        format("clock %+.2f ms, line delay x%.3f, wn x%.3f", c.timeOffset * 1e3, c.lineDelayScale, c.naturalFreqScale);
     Mat row;
-    hconcat(cell(blurred, format("frame %d: as recorded", frame)),
-            cell(restored, c.applied ? format("restored (clock %+.2f ms, consistency %.2f)", c.timeOffset * 1e3,
-                                              c.consistency)
-                                     : format("left unchanged (consistency %.2f)", c.consistency)),
+    hconcat(cell(blurred, format("frame %d: as recorded", frame),
+                 format("window %s, blur %.0f px", window.c_str(), blurPx)),
+            cell(restored,
+                 c.applied ? format("RESTORED, consistency %.2f%s", c.consistency, gain.c_str())
+                           : format("REFUSED (written as recorded), consistency %.2f", c.consistency),
+                 correction),
             row);
     return row;
 }
@@ -190,7 +272,8 @@ int main(int argc, char** argv)
     try
     {
         std::set<std::string> valued{"recording", "video", "frames", "commands", "camera", "plant", "timing",
-                                     "exposure", "line-delay", "refine", "model", "out", "csv", "no-still-after", "unobserved"};
+                                     "exposure", "line-delay", "refine", "model", "out", "csv", "no-still-after", "unobserved",
+                                     "truth"};
         valued.insert(gyroOptionNames().begin(), gyroOptionNames().end());
         CliArgs args(argc, argv, valued, {"help"});
         if (args.has("help"))
@@ -204,7 +287,11 @@ int main(int argc, char** argv)
         if (model != "rows" && model != "tiles")
             return usageError("--model must be rows or tiles");
         if (args.has("gyro"))
+        {
+            if (args.has("truth"))
+                return usageError("--truth belongs to a recording with a command log, not to --gyro");
             return restoreGyroRecording(args, model);
+        }
         if (!OpenedRecording::named(args))
             return usageError("--recording DIR, or --video, --frames and --commands, are required");
         const std::string noStillAfterMode = args.str("no-still-after", "as-told");
@@ -232,6 +319,9 @@ int main(int argc, char** argv)
             timingPath.empty() ? MotionCorrection() : TimingCalibration::load(timingPath).correction;
 
         const Ptr<Plant> correctedPlant = calibration.correctPlant(plant);
+        const bool hasTruth = args.has("truth");
+        const RecordingTruth truth = hasTruth ? RecordingTruth::load(args.str("truth", "")) : RecordingTruth();
+        const Ptr<Plant> truePlant = truth.motion.correctPlant(plant);
         Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
         if (model == "rows")
             useFrameRateSetting(*deblurrer);
@@ -251,10 +341,15 @@ int main(int argc, char** argv)
         if (!csv)
             CV_Error(Error::StsError, "--csv: cannot write '" + csvOut + "'");
         csv << "frame,window,restored,time_offset_s,line_delay_scale,natural_freq_scale,damping_scale,consistency,"
-               "reason\n";
+               "reason,window_as_told,blur_px,window_true,psnr_recorded_db,psnr_restored_db,gain_db\n";
 
         ReferencePairing pairing(plant, camera, recording.commands, calibration, 0.005);
-        std::vector<Mat> sheetRows;  // the first moving frames, blurred beside restored, for a look
+        std::vector<SheetRow> sheetRows;  // the most blurred moving frames, blurred beside restored, for a look
+        struct Measured { int frame; double gain; };
+        std::vector<Measured> measured;  // --truth: each moving frame's gain over the recording, dB
+        int movingSeen = 0, refused = 0;
+        double mostBlurPx = -1;
+        int mostBlurred = -1;
         Mat lastBefore, lastAfter, restored;
         std::vector<int> unrefined;  // frames that needed the still after their move and had none
         /* The ETA counts the moving frames still to restore at the time a moving frame has taken so far
@@ -278,6 +373,17 @@ int main(int argc, char** argv)
                 MotionCorrection c;
                 Mat out = item.image;
                 int window = item.window;
+                double blurPx = 0, thetaRef = 0;
+                if (!item.still)
+                {
+                    /* Each frame is restored to the view the camera had at its middle row's mid-exposure
+                       (the video does not jump to where a move will end, and the frame saw most of
+                       that view), on the calibrated clock and plant. */
+                    const Vec2d middle = calibration.correctShutter(item.shutter).rowInterval(item.shutter.rows / 2);
+                    Mat t(1, 1, CV_64F, Scalar((middle[0] + middle[1]) / 2)), theta;
+                    correctedPlant->response(item.schedule, t, theta);
+                    thetaRef = theta.at<double>(0);
+                }
                 // A frame that ends its move at rest is refined against the still after it.
                 const bool noStillAfter = !item.still && item.after.empty() && item.window == EXPOSURE_III;
                 if (noStillAfter)
@@ -295,15 +401,9 @@ int main(int argc, char** argv)
                         deblurrer->setReferenceFrames(item.before, item.after, item.angleBefore, item.angleAfter);
                     if (!noStillAfter)
                         lastBefore = item.before, lastAfter = item.after;
-                    /* Each frame is restored to the view the camera had at its middle row's mid-exposure
-                       (the video does not jump to where a move will end, and the frame saw most of
-                       that view), on the calibrated clock and plant. */
-                    const Vec2d middle = calibration.correctShutter(item.shutter).rowInterval(item.shutter.rows / 2);
-                    Mat t(1, 1, CV_64F, Scalar((middle[0] + middle[1]) / 2)), theta;
-                    correctedPlant->response(item.schedule, t, theta);
                     progress(": restoring");
                     clock.start();
-                    deblurrer->deblur(item.image, item.schedule, item.shutter, restored, theta.at<double>(0));
+                    deblurrer->deblur(item.image, item.schedule, item.shutter, restored, thetaRef);
                     clock.stop();
                     movingDone++;
                     movingLeft = std::max(0, movingLeft - 1);
@@ -312,8 +412,41 @@ int main(int argc, char** argv)
                     if (noStillAfter)
                         c.reason = "no still after the move: not refined; restored as told (--no-still-after as-told)";
                     out = restored;
-                    if (sheetRows.size() < kSheetRows && deblurrer->getLastExposureWindow() != EXPOSURE_IV)
-                        sheetRows.push_back(sheetRow(item.image, restored, item.record.frame, c));
+                }
+                std::string truthColumns = ",,,";
+                if (!item.still)
+                {
+                    blurPx = blurPixels(correctedPlant, item.schedule, calibration.correctShutter(item.shutter),
+                                        std::max(camera->getFx(), camera->getFy()));
+                    movingSeen++;
+                    refused += !c.applied;
+                    if (blurPx > mostBlurPx)
+                        mostBlurPx = blurPx, mostBlurred = item.record.frame;
+                }
+                std::string gainText;
+                if (!item.still && hasTruth)
+                {
+                    // The truth of a restoration is the sharp view at the angle it restores to.
+                    const Mat view = truth.viewAt(thetaRef, plant, camera);
+                    const double before = maskedPsnr(view, item.image, Mat(), 255.0), after = maskedPsnr(view, out, Mat(), 255.0);
+                    measured.push_back({item.record.frame, after - before});
+                    const int trueWindow = classifyExposure(truePlant, item.schedule, truth.motion.correctShutter(item.shutter));
+                    truthColumns = format("%s,%.3f,%.3f,%+.3f", exposureWindowName(trueWindow), before, after, after - before);
+                    gainText = format(", %+.2f dB", after - before);
+                }
+                if (!item.still && window != EXPOSURE_IV)
+                {
+                    SheetRow row{item.record.frame, blurPx,
+                                 sheetRow(item.image, out, item.record.frame,
+                                          window == item.window ? std::string(exposureWindowName(window))
+                                                                : format("%s (as told %s)", exposureWindowName(window),
+                                                                         exposureWindowName(item.window)),
+                                          blurPx, c, gainText)};
+                    sheetRows.push_back(row);
+                    // Keep the most blurred ones.
+                    if (sheetRows.size() > kSheetRows)
+                        sheetRows.erase(std::min_element(sheetRows.begin(), sheetRows.end(),
+                                                         [](const SheetRow& a, const SheetRow& b) { return a.blurPx < b.blurPx; }));
                 }
                 Mat color = out;
                 if (out.channels() == 1)
@@ -322,10 +455,11 @@ int main(int argc, char** argv)
                 std::string reason = item.still ? std::string("still") : c.reason;
                 for (char& ch : reason)
                     ch = ch == ',' || ch == '"' ? ';' : ch;
-                csv << format("%d,%s,%d,%.9f,%.6f,%.6f,%.6f,%.4f,%s\n", item.record.frame,
+                csv << format("%d,%s,%d,%.9f,%.6f,%.6f,%.6f,%.4f,%s,%s,%.2f,%s\n", item.record.frame,
                               item.still ? "still" : exposureWindowName(window),
                               int(!item.still && c.applied), c.timeOffset, c.lineDelayScale, c.naturalFreqScale,
-                              c.dampingScale, c.consistency, reason.c_str());
+                              c.dampingScale, c.consistency, reason.c_str(),
+                              item.still ? "still" : exposureWindowName(item.window), blurPx, truthColumns.c_str());
                 written++;
             }
             progress("");
@@ -344,6 +478,25 @@ int main(int argc, char** argv)
                         unrefined.size(), list.c_str(),
                         noStillAfterMode == "unchanged" ? "written as recorded" : "restored as told");
         }
+        std::printf("%d moving frame(s): %d restored, %d refused (%.0f %%); the most blurred is frame %d (%.1f px)\n",
+                    movingSeen, movingSeen - refused, refused, movingSeen ? 100.0 * refused / movingSeen : 0.0,
+                    mostBlurred, mostBlurPx);
+        if (!measured.empty())
+        {
+            double sum = 0;
+            const Measured* worst = &measured.front();
+            const Measured* blurred = nullptr;
+            for (const Measured& m : measured)
+            {
+                sum += m.gain;
+                worst = m.gain < worst->gain ? &m : worst;
+                blurred = m.frame == mostBlurred ? &m : blurred;
+            }
+            std::printf("truth: gain over the recording, mean %+.2f dB, worst %+.2f dB (frame %d), most blurred frame %d "
+                        "%+.2f dB; %d of %zu moving frames refused (%.0f %%)\n",
+                        sum / measured.size(), worst->gain, worst->frame, mostBlurred, blurred ? blurred->gain : NAN,
+                        refused, measured.size(), 100.0 * refused / measured.size());
+        }
         writer.release();
         csv.close();
         if (!csv)
@@ -351,8 +504,12 @@ int main(int argc, char** argv)
         const std::string sheetPath = pathStem(videoOut) + "_frames.png";
         if (!sheetRows.empty())
         {
+            std::sort(sheetRows.begin(), sheetRows.end(), [](const SheetRow& a, const SheetRow& b) { return a.frame < b.frame; });
+            std::vector<Mat> images;
+            for (const SheetRow& row : sheetRows)
+                images.push_back(row.image);
             Mat sheet;
-            vconcat(sheetRows, sheet);
+            vconcat(images, sheet);
             sheetTemporary = temporaryPathFor(sheetPath);
             if (!imwrite(sheetTemporary, sheet))
                 CV_Error(Error::StsError, "cannot write '" + sheetPath + "'");
@@ -362,7 +519,7 @@ int main(int argc, char** argv)
         if (!sheetTemporary.empty())
             renameIntoPlace(sheetTemporary, sheetPath);
         std::printf("wrote %s, %s%s\n", videoOut.c_str(), csvOut.c_str(),
-                    sheetRows.empty() ? "" : (" and " + sheetPath + " (moving frames: blurred | restored)").c_str());
+                    sheetRows.empty() ? "" : (" and " + sheetPath + " (the most blurred moving frames: recorded | restored)").c_str());
         return 0;
     }
     catch (const std::runtime_error& e)

@@ -148,6 +148,18 @@ TEST_P(WindowFixture, AMoveInsideOneReadoutIsWindowI)
     EXPECT_EQ(classifyExposure(fast, step, longFrame), EXPOSURE_I);
 }
 
+TEST_P(WindowFixture, ARecordingsScheduleRestsBetweenItsMoves)
+{
+    // A recording's schedule holds its log's earlier lines and moves; the plant rests between them.
+    const SwitchSchedule logged({-1.0, 0.0, 1.0}, {0, 10, 0}, 0);
+    EXPECT_EQ(classifyExposure(plant, logged, shutterAround(-0.5)), EXPOSURE_IV);
+    EXPECT_EQ(classifyExposure(plant, logged, shutterAround(-readout() / 2)), EXPOSURE_I);
+    EXPECT_EQ(classifyExposure(plant, logged, shutterAround(stillTime - readout() / 2)), EXPOSURE_III);
+    EXPECT_EQ(classifyExposure(plant, logged, shutterAround(0.7)), EXPOSURE_IV);
+    EXPECT_EQ(classifyExposure(plant, logged, shutterAround(1.0 - readout() / 2)), EXPOSURE_I);
+    EXPECT_EQ(classifyExposure(plant, logged, shutterAround(1.002)), EXPOSURE_II);
+}
+
 TEST_P(WindowFixture, AnEmptyScheduleIsStill)
 {
     EXPECT_EQ(classifyExposure(plant, SwitchSchedule(), shutterAround(0.0)), EXPOSURE_IV);

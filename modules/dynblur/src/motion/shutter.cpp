@@ -111,9 +111,11 @@ int classifyExposure(const Ptr<Plant>& plant, const SwitchSchedule& schedule, co
     Mat theta, omega;
     plant->response(schedule, t, theta);
     plant->velocity(schedule, t, omega);
-    const double finalAngle = plant->restingAngle(schedule.finalLevel());
+    /* Still means at rest at the level in force, not only at the final one: a recording's schedule
+       holds the earlier moves of its log, and the plant rests between them. */
     auto moving = [&](int i) {
-        return std::abs(theta.at<double>(i) - finalAngle) > angleTol || std::abs(omega.at<double>(i)) > velocityTol;
+        return std::abs(theta.at<double>(i) - plant->restingAngle(schedule.levelAt(t.at<double>(i)))) > angleTol ||
+               std::abs(omega.at<double>(i)) > velocityTol;
     };
 
     bool movingAnywhere = false;

@@ -7,14 +7,11 @@
 //
 // The per-idea tests already refuse many of these (expectErrorNaming in test_psf.cpp and
 // test_render.cpp, the schedule/plant/bus checks of test_plant.cpp, test_planner.cpp, test_bus.cpp,
-// test_plant_identification.cpp); this file holds the rest, one table row per input, and checks the
+// samples/test/test_plant_identification.cpp); this file holds the rest, one table row per input, and checks the
 // message of those the per-idea tests only check for an exception. Rows print as
 // "[ refused ] entry point | input | message" lines: docs/reliability.md's table is built from them.
+#include "bad_input_rows.hpp"
 #include "test_common.hpp"
-
-#include "cli_args.hpp"
-#include "plant_file.hpp"
-#include "response_log.hpp"
 
 #include <opencv2/dynblur.hpp>
 
@@ -28,109 +25,13 @@
 
 using namespace cv;
 using namespace cv::dynblur;
+using namespace dynblur_test;
 
 namespace {
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 const double kInf = std::numeric_limits<double>::infinity();
 const double kDeg = CV_PI / 180.0;
-
-//! One bad input: the call, and the words its error message must contain (the argument's name,
-//! and the allowed range or kind where there is one).
-struct Row
-{
-    std::string entry;
-    std::string input;
-    std::function<void()> call;
-    std::vector<std::string> words;
-};
-
-std::string oneLine(std::string s)
-{
-    for (char& c : s)
-        if (c == '\n' || c == '\r')
-            c = ' ';
-    return s.size() > 160 ? s.substr(0, 157) + "..." : s;
-}
-
-//! Runs one row; returns "" when it was refused as required, else what went wrong. `message`
-//! receives the error message.
-std::string tryRow(const Row& r, bool runtimeErrorIsDocumented, std::string& message)
-{
-    message.clear();
-    try
-    {
-        r.call();
-        return r.entry + " accepted " + r.input;
-    }
-    catch (const cv::Exception& e)
-    {
-        message = e.err;
-    }
-    catch (const std::runtime_error& e)
-    {
-        message = e.what();
-        if (!runtimeErrorIsDocumented)
-            return r.entry + " with " + r.input + " threw std::runtime_error, not cv::Exception: " + message;
-    }
-    catch (const std::exception& e)
-    {
-        message = e.what();
-        return r.entry + " with " + r.input + " threw " + typeid(e).name() + ": " + message;
-    }
-    for (const std::string& w : r.words)
-        if (message.find(w) == std::string::npos)
-            return r.entry + " with " + r.input + ": the message does not name '" + w + "': " + oneLine(message);
-    return "";
-}
-
-//! Runs the rows; every one must throw cv::Exception (or std::runtime_error where documented)
-//! naming its words.
-void refuseAll(const std::vector<Row>& rows, bool runtimeErrorIsDocumented = false)
-{
-    for (const Row& r : rows)
-    {
-        std::string message;
-        const std::string problem = tryRow(r, runtimeErrorIsDocumented, message);
-        if (!problem.empty())
-            ADD_FAILURE() << problem;
-        std::printf("[ refused ] %s | %s | %s\n", r.entry.c_str(), r.input.c_str(), oneLine(message).c_str());
-        std::fflush(stdout);
-    }
-}
-
-std::string tempPath(const std::string& name)
-{
-    return ::testing::TempDir() + cv::format("dynblur_bad_%d_", (int)::getpid()) + name;
-}
-
-std::string writeFile(const std::string& name, const std::string& text)
-{
-    const std::string path = tempPath(name);
-    std::ofstream(path, std::ios::binary) << text;
-    return path;
-}
-
-//! Rows every file reader must refuse by naming the file: a missing file, an empty one, the first
-//! half of a good one, and garbage bytes (binary, with a NUL).
-std::vector<Row> brokenFileRows(const std::string& entry, const std::string& name, const std::string& goodText,
-                                const std::function<void(const std::string&)>& read)
-{
-    const std::string half = goodText.substr(0, goodText.size() / 2);
-    return {
-        {entry, "missing file", [=] { read(tempPath("missing_" + name)); }, {"missing_" + name}},
-        {entry, "empty file", [=] { read(writeFile("empty_" + name, "")); }, {"empty_" + name}},
-        {entry, "truncated file (first half)", [=] { read(writeFile("half_" + name, half)); }, {"half_" + name}},
-        {entry, "garbage bytes", [=] { read(writeFile("garbage_" + name, std::string("\x01\x7f\xfe{[<::>]}\x00zz", 14))); },
-         {"garbage_" + name}},
-    };
-}
-
-std::string readText(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
 
 SwitchSchedule saccade()
 {
@@ -606,60 +507,6 @@ TEST(BadInput, Bus)
         {"encodeSchedule", "levels[0] = 40000", [] { encodeSchedule(SwitchSchedule({0.0}, {40000})); }, {"levels"}},
         {"encodeSchedule", "span of 2 hours", [] { encodeSchedule(SwitchSchedule({0.0, 7200.0}, {1, 2})); }, {"2^32"}},
     });
-}
-
-TEST(BadInput, SampleFiles)
-{
-    using namespace dynblur_samples;
-    const std::string goodPlant = tempPath("plant.yml");
-    savePlantFile(goodPlant, *Plant::create(14.4, 0.12, kDeg), 16, "bad-input test");
-    refuseAll(brokenFileRows("loadPlantFile", "plant.yml", readText(goodPlant), [](const std::string& path) { loadPlantFile(path); }));
-    refuseAll({        {"loadPlantFile", "truncated (naturalFreqHz only)",
-         [] { loadPlantFile(writeFile("trunc_plant.yml", "%YAML:1.0\n---\nnaturalFreqHz: 14.4\n")); },
-         {"trunc_plant.yml", "needs a number"}},
-        {"loadPlantFile", "dampingRatio = 1.5",
-         [] {
-             loadPlantFile(writeFile("zeta_plant.yml",
-                                     "%YAML:1.0\n---\nnaturalFreqHz: 14.4\ndampingRatio: 1.5\ngain: 0.01745\nmaxLevel: 16\n"));
-         },
-         {"dampingRatio", "(0, 1)"}},
-        {"loadPlantFile", "gain = .nan",
-         [] {
-             loadPlantFile(writeFile("nan_plant.yml",
-                                     "%YAML:1.0\n---\nnaturalFreqHz: 14.4\ndampingRatio: 0.12\ngain: .nan\nmaxLevel: 16\n"));
-         },
-         {"gain"}},
-        {"loadPlantFile", "naturalFreqHz a string",
-         [] {
-             loadPlantFile(writeFile("str_plant.yml",
-                                     "%YAML:1.0\n---\nnaturalFreqHz: \"fast\"\ndampingRatio: 0.12\ngain: 0.01745\nmaxLevel: 16\n"));
-         },
-         {"naturalFreqHz"}},
-        {"loadPlantFile", "maxLevel = 0",
-         [] {
-             loadPlantFile(writeFile("lvl_plant.yml",
-                                     "%YAML:1.0\n---\nnaturalFreqHz: 14.4\ndampingRatio: 0.12\ngain: 0.01745\nmaxLevel: 0\n"));
-         },
-         {"maxLevel"}},
-        {"readResponseLog", "missing file", [] { readResponseLog(tempPath("nope.csv")); }, {"nope.csv"}},
-        {"parseResponseLog", "t = inf", [] { parseResponseLog("t,theta\n0,0\ninf,1\n", "a.csv"); }, {"a.csv:3"}},
-        {"parseResponseLog", "binary garbage", [] { parseResponseLog(std::string("\x00\x01\x02,\xff\n\x03", 7), "a.csv"); }, {"a.csv"}},
-    });
-    // The programs' option reader throws std::runtime_error (its documented error).
-    auto args = [](std::vector<std::string> v) {
-        static std::vector<std::string> keep;
-        keep = v;
-        std::vector<char*> argv;
-        for (std::string& s : keep)
-            argv.push_back(&s[0]);
-        return CliArgs((int)argv.size(), argv.data(), {"timeout"}, {"start"});
-    };
-    refuseAll({{"CliArgs", "an unknown option", [&] { args({"ctl", "--bogus", "1"}); }, {"--bogus"}},
-               {"CliArgs", "an option without its value", [&] { args({"ctl", "--timeout"}); }, {"timeout"}},
-               {"CliArgs", "a number that is not one", [&] { args({"ctl", "--timeout", "soon"}).num("timeout", 0.5); }, {"timeout"}},
-               {"CliArgs", "an integer that is not one",
-                [&] { args({"ctl", "--timeout", "1.5"}).integer("timeout", 1); }, {"timeout"}}},
-              true);
 }
 
 // The likely unit mistakes: each refused at once (not minutes of kernels later), with a message that

@@ -288,8 +288,9 @@ between the starts of consecutive rows, s, ≥ 0; rows: number of sensor rows, >
           py::arg("plant"), py::arg("schedule"), py::arg("shutter"), py::arg("angleTol") = 2e-4,
           py::arg("velocityTol") = 0.02,
           R"doc(Which exposure window (EXPOSURE_I .. EXPOSURE_IV) a frame falls in. "Moving" at t means t is at
-or after the first switch and |θ(t) − θ_rest(t)| > angleTol (rad) or |dθ/dt| > velocityTol (rad/s),
-θ_rest(t) the resting angle of the level in force at t (a schedule holding several moves rests between them).
+or after the first switch and |dθ/dt| > velocityTol (rad/s), or θ(t) is farther than angleTol (rad) from both
+θ_final and θ_rest(t), the resting angle of the level in force at t (a schedule holding several moves rests
+between them).
 I: still at the start, moving later; II: moving throughout; III: moving at the start, still before
 the end; IV: still throughout. A move that starts and ends inside one readout is window I.)doc");
     m.def("classifyExposure",

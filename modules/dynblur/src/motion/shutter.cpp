@@ -111,11 +111,15 @@ int classifyExposure(const Ptr<Plant>& plant, const SwitchSchedule& schedule, co
     Mat theta, omega;
     plant->response(schedule, t, theta);
     plant->velocity(schedule, t, omega);
-    /* Still means at rest at the level in force, not only at the final one: a recording's schedule
-       holds the earlier moves of its log, and the plant rests between them. */
+    /* Still means at rest at the final angle, or at the level in force: a recording's schedule holds
+       the earlier moves of its log, and the plant rests between them. A shaped move may reach its
+       final angle before its last switch; it is still there, as a single move's frames always were. */
+    const double finalAngle = plant->restingAngle(schedule.finalLevel());
     auto moving = [&](int i) {
-        return std::abs(theta.at<double>(i) - plant->restingAngle(schedule.levelAt(t.at<double>(i)))) > angleTol ||
-               std::abs(omega.at<double>(i)) > velocityTol;
+        const double angle = theta.at<double>(i);
+        const bool atRest = std::abs(angle - finalAngle) <= angleTol ||
+                            std::abs(angle - plant->restingAngle(schedule.levelAt(t.at<double>(i)))) <= angleTol;
+        return !atRest || std::abs(omega.at<double>(i)) > velocityTol;
     };
 
     bool movingAnywhere = false;

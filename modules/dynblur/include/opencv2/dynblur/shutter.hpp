@@ -60,9 +60,9 @@ enum ExposureWindow
 /** @brief Which exposure window a frame falls in (DESIGN §2) @cite DynblurSeed.
 
 "Moving" at time t means: t is at or after the schedule's first switch and
-|θ(t) − θ_rest(t)| > angleTol or |dθ/dt| > velocityTol, θ_rest(t) the resting angle of the level in
-force at t (the final level after the last switch; a schedule that holds earlier moves, as a
-recording's does, rests between them). Before the first switch the plant rests.
+|dθ/dt| > velocityTol, or θ(t) farther than angleTol from both θ_final and θ_rest(t), the resting
+angle of the level in force at t (a schedule that holds earlier moves, as a recording's does, rests
+between them). Before the first switch the plant rests.
 A move that starts and ends inside one readout is window I.
 @param plant the plant.
 @param schedule the command (may be empty: still throughout).

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # Shared by the CLI test scripts: run(EXPECTED_EXIT_CODE command args...) runs a command, shows its
 # output, fails unless it exits with EXPECTED_EXIT_CODE, and leaves the output in `last_output`.
+# (read_timing_file, below, checks and reads what dynblur_calibrate_timing wrote.)
 function(run expected)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   message(STATUS "$ ${ARGN}\n${out}${err}")
@@ -9,3 +10,20 @@ function(run expected)
   endif()
   set(last_output "${out}${err}" PARENT_SCOPE)
 endfunction()
+
+# read_timing_file(DIR): fails unless dynblur_calibrate_timing wrote DIR/timing.yml and its plot
+# DIR/timing_objective.png, and sets each numeric field of timing.yml (timeOffset, lineDelayScale, ...)
+# as a variable of the caller.
+macro(read_timing_file dir)
+  foreach(f timing.yml timing_objective.png)
+    if(NOT EXISTS ${dir}/${f})
+      message(FATAL_ERROR "${f} was not written")
+    endif()
+  endforeach()
+  file(STRINGS ${dir}/timing.yml _timing_lines)
+  foreach(_line ${_timing_lines})
+    if(_line MATCHES "^([a-zA-Z]+): *([-+0-9.eE]+)$")
+      set(${CMAKE_MATCH_1} ${CMAKE_MATCH_2})
+    endif()
+  endforeach()
+endmacro()

@@ -15,17 +15,7 @@ run(0 ${TOOL} --simulate ${dir}/rec --saccades 2 --true-offset 0.0015 --true-lin
 set(rec --video ${dir}/rec/frame_%04d.png --frames ${dir}/rec/frames.csv --commands ${dir}/rec/commands.csv
         --camera ${dir}/rec/camera.xml --plant ${dir}/rec/plant.yml)
 run(0 ${TOOL} ${rec} --refine offset --out ${dir}/timing.yml)
-foreach(f timing.yml timing_objective.png)
-  if(NOT EXISTS ${dir}/${f})
-    message(FATAL_ERROR "${f} was not written")
-  endif()
-endforeach()
-file(STRINGS ${dir}/timing.yml lines)
-foreach(line ${lines})
-  if(line MATCHES "^([a-zA-Z]+): *([-+0-9.eE]+)$")
-    set(${CMAKE_MATCH_1} ${CMAKE_MATCH_2})
-  endif()
-endforeach()
+read_timing_file(${dir})
 message(STATUS "timing file: timeOffset=${timeOffset} lineDelayScale=${lineDelayScale}")
 # CMake compares decimals only, and the file writes 1.49...e-03: the offset in [1.4, 1.6) ms.
 if(NOT timeOffset MATCHES "^1\\.[45][0-9]*e-03$")

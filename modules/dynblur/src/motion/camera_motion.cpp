@@ -9,18 +9,6 @@ namespace cv {
 namespace dynblur {
 namespace detail {
 
-namespace {
-
-double sampleAt(void (Plant::*f)(const SwitchSchedule&, InputArray, OutputArray) const, const Plant& plant,
-                const SwitchSchedule& schedule, double t)
-{
-    Mat out;
-    (plant.*f)(schedule, Mat(1, 1, CV_64F, &t), out);
-    return out.at<double>(0);
-}
-
-}  // namespace
-
 Matx33d PlantMotion::orientation(double t) const
 {
     return axisRotation(axis_, sampleAt(&Plant::response, *plant_, schedule_, t));

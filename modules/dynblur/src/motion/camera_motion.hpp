@@ -37,6 +37,15 @@ private:
     Vec3d axis_;
 };
 
+//! `f` (Plant::response or Plant::velocity) of `plant` under `schedule` at one time `t`, seconds.
+inline double sampleAt(void (Plant::*f)(const SwitchSchedule&, InputArray, OutputArray) const, const Plant& plant,
+                       const SwitchSchedule& schedule, double t)
+{
+    Mat out;
+    (plant.*f)(schedule, Mat(1, 1, CV_64F, &t), out);
+    return out.at<double>(0);
+}
+
 //! The motion as a PlantMotion, or null when it is not one.
 inline const PlantMotion* asPlantMotion(const CameraMotion& motion)
 {

@@ -4,6 +4,7 @@
 #include "precomp.hpp"
 
 #include "imaging/axis_rotation.hpp"
+#include "motion/camera_motion.hpp"
 
 #include "opencv2/dynblur/mount.hpp"
 
@@ -19,14 +20,6 @@ struct Axis
     int minLevel, maxLevel;
     Vec2d angleRange;  // radians, (lowest, highest)
 };
-
-double sampleOne(void (Plant::*f)(const SwitchSchedule&, InputArray, OutputArray) const, const Plant& plant,
-                 const SwitchSchedule& schedule, double t)
-{
-    Mat out;
-    (plant.*f)(schedule, Mat(1, 1, CV_64F, &t), out);
-    return out.at<double>(0);
-}
 
 Matx33d chainOrientation(const std::vector<Axis>& axes, const std::vector<double>& angles)
 {
@@ -77,10 +70,9 @@ public:
         Vec3d omega(0, 0, 0);
         for (size_t i = axes_.size(); i-- > 0;)
         {
-            const double rate = sampleOne(&Plant::velocity, *axes_[i].plant, schedules_[i], t);
-            omega += carried.t() * (axes_[i].unit * rate);
-            carried = axisRotation(axes_[i].unit, sampleOne(&Plant::response, *axes_[i].plant, schedules_[i], t)) *
-                      carried;
+            const Plant& plant = *axes_[i].plant;
+            omega += carried.t() * (axes_[i].unit * detail::sampleAt(&Plant::velocity, plant, schedules_[i], t));
+            carried = axisRotation(axes_[i].unit, detail::sampleAt(&Plant::response, plant, schedules_[i], t)) * carried;
         }
         return omega;
     }
@@ -108,7 +100,7 @@ private:
     {
         std::vector<double> q(axes_.size());
         for (size_t i = 0; i < axes_.size(); i++)
-            q[i] = sampleOne(&Plant::response, *axes_[i].plant, schedules_[i], t);
+            q[i] = detail::sampleAt(&Plant::response, *axes_[i].plant, schedules_[i], t);
         return q;
     }
 

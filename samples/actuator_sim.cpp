@@ -17,6 +17,7 @@
 #include <thread>
 
 using namespace dynblur_samples;
+using namespace dynblur_test;
 
 static std::atomic<int> gSignal{0};
 

@@ -25,6 +25,7 @@
 using namespace cv;
 using namespace cv::dynblur;
 using namespace dynblur_samples;
+using namespace dynblur_test;
 
 namespace {
 

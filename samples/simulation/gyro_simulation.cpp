@@ -17,6 +17,7 @@ namespace dynblur_samples {
 
 using namespace cv;
 using namespace cv::dynblur;
+using namespace dynblur_test;
 
 namespace {
 

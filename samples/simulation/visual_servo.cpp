@@ -26,6 +26,7 @@
 
 using namespace cv;
 using namespace cv::dynblur;
+using namespace dynblur_test;
 
 namespace dynblur_samples {
 

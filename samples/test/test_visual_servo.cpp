@@ -15,6 +15,7 @@
 
 using namespace cv::dynblur;
 using namespace dynblur_samples;
+using namespace dynblur_test;
 
 namespace {
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace dynblur_samples {
+namespace dynblur_test {
 
 //! Kinds of injected faults (bit i of SimFaults::randomKinds enables kind i).
 enum SimFaultKind
@@ -122,6 +122,6 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace dynblur_samples
+}  // namespace dynblur_test
 
 #endif

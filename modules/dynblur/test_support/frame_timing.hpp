@@ -5,7 +5,7 @@
 
 #include <opencv2/dynblur.hpp>
 
-namespace dynblur_samples {
+namespace dynblur_test {
 
 /** Finds a frame start (seconds) whose readout falls in exposure window `window`: the middle of
     the first run of such starts, scanned in `step` seconds from one readout before the first
@@ -18,6 +18,6 @@ bool frameStartInWindow(const cv::Ptr<cv::dynblur::Plant>& plant, const cv::dynb
 //! "I", "II", "III", "IV" for cv::dynblur::ExposureWindow values, "?" otherwise.
 const char* exposureWindowName(int window);
 
-}  // namespace dynblur_samples
+}  // namespace dynblur_test
 
 #endif

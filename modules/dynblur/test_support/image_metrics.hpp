@@ -10,7 +10,7 @@
 #include <cmath>
 #include <limits>
 
-namespace dynblur_samples {
+namespace dynblur_test {
 
 /** PSNR in dB of `test` against `reference` (same size and type, values in [0, peak]) over the
     non-zero pixels of `mask` (CV_8U, empty: everywhere). */
@@ -45,6 +45,6 @@ inline double maskedSsim(const cv::Mat& reference, const cv::Mat& test, const cv
     return total / reference.channels();
 }
 
-}  // namespace dynblur_samples
+}  // namespace dynblur_test
 
 #endif

@@ -6,11 +6,11 @@
 
 #include <opencv2/core.hpp>
 
-namespace dynblur_samples {
+namespace dynblur_test {
 
 /** Deterministic 8-bit sRGB BGR scene of the given size (pixels). */
 cv::Mat makeScene(const cv::Size& size, unsigned seed = 20261122u);
 
-}  // namespace dynblur_samples
+}  // namespace dynblur_test
 
 #endif

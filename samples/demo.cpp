@@ -11,6 +11,7 @@
 #include "cli_args.hpp"
 #include "plant_file.hpp"
 #include "plot.hpp"
+#include "restoration_options.hpp"
 #include "scene.hpp"
 
 #include <opencv2/core/utils/filesystem.hpp>
@@ -38,7 +39,7 @@ const char* const kUsage =
     "  --image FILE         scene image (any size; scaled to fill the view) instead of the generated scene\n"
     "  --iterations N       Richardson-Lucy iterations (default 20)\n"
     "  --mode NAME          planner mode: robust (tolerates a 10% error in the natural frequency, default) or fast\n"
-    "  --model NAME         spatially variant PSF model: tiles (default) or rows\n"
+    "%MODEL%"
     "  --camera FILE.xml    camera (ViSP format); default: the nominal C270 at 1280x960\n"
     "  --plant FILE.yml     plant file (naturalFreqHz, dampingRatio, gain, maxLevel); default: the seed's\n"
     "  --exposure S         exposure of one row, seconds (default 0.008)\n"
@@ -65,17 +66,6 @@ struct Case
 Ptr<CameraModel> defaultCamera()
 {
     return CameraModel::create(1230.0, 1230.0, 639.5, 479.5, 1280, 960);
-}
-
-int psfModelFromName(const std::string& name)
-{
-    if (name == "rows")
-        return PSF_ROWS;
-    if (name == "tiles")
-        return PSF_TILES;
-    if (name == "uniform")
-        return PSF_UNIFORM;
-    CV_Error(Error::StsBadArg, "--model must be rows, tiles or uniform (got '" + name + "')");
 }
 
 // Pixels the frame never observed, hatched so nobody mistakes the fill for restored content.
@@ -458,7 +448,7 @@ int runSynthetic(const CliArgs& args)
     const std::string outDir = args.str("out", "demo_out");
     utils::fs::createDirectories(outDir);
     const int iterations = args.integer("iterations", 20);
-    const int model = psfModelFromName(args.str("model", "tiles"));
+    const int model = psfModelFromName(args.str("model", "auto"));
     const double exposure = args.num("exposure", 0.008), lineDelay = args.num("line-delay", 34.7e-6);
 
     PlantFile plantFile;
@@ -568,7 +558,7 @@ int runSynthetic(const CliArgs& args)
         std::vector<Mat> cells{labelled(frame, c.name + ": blurred", cellWidth),
                                labelled(shadeUnobserved(restoredUniform, valid), "uniform PSF (seed)", cellWidth),
                                labelled(shadeUnobserved(restoredVariant, valid),
-                                        std::string("spatially variant (") + args.str("model", "tiles") + ")", cellWidth),
+                                        std::string("spatially variant (") + args.str("model", "auto") + ")", cellWidth),
                                labelled(truth, "truth (view at theta_ref)", cellWidth)};
         Mat row;
         hconcat(cells, row);
@@ -621,7 +611,7 @@ int runRealFrame(const CliArgs& args)
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
     if (args.has("timing"))  // a single frame has no still to refine against: the calibration as told
         deblurrer->setCalibration(TimingCalibration::load(args.str("timing", "")).correction);
-    deblurrer->setPsfModel(psfModelFromName(args.str("model", "tiles")));
+    deblurrer->setPsfModel(psfModelFromName(args.str("model", "auto")));
     RLParams params = deblurrer->getRLParams();
     params.iterations = args.integer("iterations", 20);
     deblurrer->setRLParams(params);
@@ -655,7 +645,8 @@ int main(int argc, char** argv)
                            {"help"});
         if (args.has("help"))
         {
-            std::cout << kUsage;
+            std::string usage = kUsage;
+            std::cout << usage.replace(usage.find("%MODEL%"), 7, kModelOptionHelp);
             return 0;
         }
         if (!args.has("frame"))

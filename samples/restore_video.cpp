@@ -16,6 +16,7 @@
 #include "image_metrics.hpp"
 #include "plant_file.hpp"
 #include "recording.hpp"
+#include "restoration_options.hpp"
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/dynblur.hpp>
@@ -57,7 +58,9 @@ static const char* const kUsage =
     "  --exposure S, --line-delay S   when the frame log lacks those columns\n"
     "  --refine LIST        offset, line-delay, plant, all or none, comma-separated (default: offset with\n"
     "                       --timing, all without)\n"
-    "  --model NAME         rows (default, the frame-rate setting: 10 iterations) or tiles (20 iterations)\n"
+    "  --preset NAME        frame-rate (default: iterations by the blur's length, color at half resolution)\n"
+    "                       or default (20 iterations, full color); docs/quality.md gives both per window\n"
+    "%MODEL%"
     "  --no-still-after WHAT  a frame that ends its move at rest (window III) but has no still after it\n"
     "                       (the recording ends, or another move starts) cannot be refined: as-told\n"
     "                       (default) restores it with the model as told (and --timing), unchanged writes\n"
@@ -78,7 +81,8 @@ static const char* const kUsage =
     "Usage: dynblur_restore_video --gyro LOG --video V --frames FRAMES.csv [options]\n"
     "A recording whose motion is a gyro log: every frame is restored with the log's motion, on the clock,\n"
     "line delay and bias of --timing (dynblur_calibrate_timing --gyro; without it, as the logs tell), to\n"
-    "the view at its middle row's mid-exposure. --camera, --timing, --exposure, --line-delay, --model, --out\n"
+    "the view at its middle row's mid-exposure. --camera, --timing, --exposure, --line-delay, --preset, --model,\n"
+    "--out\n"
     "and --csv as above; frames the log shows still pass through.\n"
     "%GYRO%"
     "Output is written to temporary files and renamed into place only when the whole recording is done.\n"
@@ -92,21 +96,16 @@ static int usageError(const std::string& message)
 
 const size_t kSheetRows = 6;
 
-//! The frame-rate setting (DeblurQuality checks its quality): rows, 10 iterations, color at half resolution.
-static void useFrameRateSetting(DynamicDeblurrer& deblurrer)
+//! --preset, then --model over the preset's PSF_AUTO.
+static void applyRestorationOptions(const CliArgs& args, DynamicDeblurrer& deblurrer)
 {
-    deblurrer.setPsfModel(PSF_ROWS);
-    RLParams params = deblurrer.getRLParams();
-    params.iterations = 10;
-    params.colorIterations = 3;
-    params.blurPrecision = RL_BLUR_BFLOAT16;
-    deblurrer.setRLParams(params);
-    deblurrer.setColorResolution(DEBLUR_COLOR_HALF_RESOLUTION);
+    deblurrer.setPreset(deblurPresetFromName(args.str("preset", "frame-rate")));
+    deblurrer.setPsfModel(psfModelFromName(args.str("model", "auto")));
 }
 
 /* --gyro: each frame restored with the gyro log's motion as --timing corrects it; the video and a CSV
    of each frame's window, written whole. */
-static int restoreGyroRecording(const CliArgs& args, const std::string& model)
+static int restoreGyroRecording(const CliArgs& args)
 {
     GyroRecording recording;
     GyroRecording::open(args, std::string(DYNBLUR_CALIB_DIR) + "/c270_nominal.xml", recording);
@@ -115,8 +114,7 @@ static int restoreGyroRecording(const CliArgs& args, const std::string& model)
                           "refinement needs stills: DynamicDeblurrer::setReferenceFrame(still, stillShutter))");
     const std::string videoOut = args.str("out", "restored.avi"), csvOut = args.str("csv", pathStem(videoOut) + ".csv");
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(recording.camera);
-    if (model == "rows")
-        useFrameRateSetting(*deblurrer);
+    applyRestorationOptions(args, *deblurrer);
     MotionCorrection calibration;
     if (!recording.timingPath.empty())
         calibration = TimingCalibration::load(recording.timingPath).correction, deblurrer->setCalibration(calibration);
@@ -273,7 +271,7 @@ int main(int argc, char** argv)
     try
     {
         std::set<std::string> valued{"recording", "video", "frames", "commands", "camera", "plant", "timing",
-                                     "exposure", "line-delay", "refine", "model", "out", "csv", "no-still-after", "unobserved",
+                                     "exposure", "line-delay", "refine", "preset", "model", "out", "csv", "no-still-after", "unobserved",
                                      "truth"};
         valued.insert(gyroOptionNames().begin(), gyroOptionNames().end());
         CliArgs args(argc, argv, valued, {"help"});
@@ -281,17 +279,17 @@ int main(int argc, char** argv)
         {
             std::string usage = kUsage;
             usage.replace(usage.find("%GYRO%"), 6, kGyroOptionsHelp);
+            usage.replace(usage.find("%MODEL%"), 7, kModelOptionHelp);
             std::cout << usage;
             return 0;
         }
-        const std::string model = args.str("model", "rows");
-        if (model != "rows" && model != "tiles")
-            return usageError("--model must be rows or tiles");
+        psfModelFromName(args.str("model", "auto"));  // a usage error before any file is opened
+        deblurPresetFromName(args.str("preset", "frame-rate"));
         if (args.has("gyro"))
         {
             if (args.has("truth"))
                 return usageError("--truth belongs to a recording with a command log, not to --gyro");
-            return restoreGyroRecording(args, model);
+            return restoreGyroRecording(args);
         }
         if (!OpenedRecording::named(args))
             return usageError("--recording DIR, or --video, --frames and --commands, are required");
@@ -324,8 +322,7 @@ int main(int argc, char** argv)
         const RecordingTruth truth = hasTruth ? RecordingTruth::load(args.str("truth", "")) : RecordingTruth();
         const Ptr<Plant> truePlant = truth.motion.correctPlant(plant);
         Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
-        if (model == "rows")
-            useFrameRateSetting(*deblurrer);
+        applyRestorationOptions(args, *deblurrer);
         deblurrer->setRefinement(flags);
         deblurrer->setUnobservedFill(unobserved);
         if (!timingPath.empty())
@@ -357,7 +354,8 @@ int main(int argc, char** argv)
            (a still frame costs next to nothing), and the line is shown before each restoration, so a
            slow frame never leaves a stale estimate on the screen. */
         int written = 0, movingDone = 0;
-        int movingLeft = movingFrames(log, recording.commands, plant, size.height, calibration);
+        int movingLeft = int(std::count_if(log.begin(), log.end(),
+                                           [&](const FrameRecord& f) { return !pairing.isStill(f, size.height); }));
         TickMeter clock;
         const auto progress = [&](const char* doing) {
             const double perMoving = movingDone ? clock.getTimeSec() / movingDone : NAN;

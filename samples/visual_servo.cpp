@@ -16,6 +16,7 @@
 //   dynblur_actuator_sim --tcp-port 5020 --max-level 400 &
 //   dynblur_visual_servo --bus tcp://127.0.0.1:5020
 #include "cli_args.hpp"
+#include "restoration_options.hpp"
 #include "frame_timing.hpp"
 #include "visual_servo.hpp"
 
@@ -50,7 +51,7 @@ const char* const kHelp =
     "  --mode fast|robust    planner mode (default robust; fast tries every level, ~10 s per plan at 400 levels)\n"
     "  --gain-deg G          positioner gain, degrees per level (default 0.05: 0.26 px at fx 300)\n"
     "  --max-level N         largest |level| (default 400)\n"
-    "  --model rows|tiles    PSF model of the restoration (default rows)\n"
+    "  --model NAME          PSF model of the restoration: auto, rows (default), tiles or uniform\n"
     "  --iterations N        Richardson-Lucy iterations (default 20)\n"
     "  --tags N              AprilTags in the target, a column of ids 0..N-1, N in [1, 3] (default 3)\n"
     "  --tag-cell PX         tag cell size on the plane, pixels, in [2, 12] (default 4: a 32 px black square);\n"
@@ -153,10 +154,8 @@ ServoConfig parseOptions(int argc, char** argv, std::string& outDir)
     const std::string mode = args.str("mode", "robust"), model = args.str("model", "rows");
     if (mode != "fast" && mode != "robust")
         throw std::runtime_error("--mode must be fast or robust (got '" + mode + "')");
-    if (model != "rows" && model != "tiles")
-        throw std::runtime_error("--model must be rows or tiles (got '" + model + "')");
     config.plannerMode = mode == "fast" ? PLAN_FAST : PLAN_ROBUST;
-    config.psfModel = model == "rows" ? PSF_ROWS : PSF_TILES;
+    config.psfModel = psfModelFromName(model);
     if (config.cycles < 1 || config.cycles > 1000)
         throw std::runtime_error("--cycles must be in [1, 1000]");
     if (config.framesPerCycle < 1 || config.framesPerCycle > 30)

@@ -129,17 +129,17 @@ void checkFramePeriod(const std::vector<FrameRecord>& frames, const std::string&
 
 }  // namespace
 
-int movingFrames(const std::vector<FrameRecord>& frames, const CommandLog& commands,
-                 const cv::Ptr<cv::dynblur::Plant>& plant, int rows, const cv::dynblur::MotionCorrection& correction)
+/* The frames of the log that see the plant move under `commands` (exposure windows I–III), read out
+   by `rows` rows. */
+static int movingFrames(const std::vector<FrameRecord>& frames, const CommandLog& commands,
+                        const cv::Ptr<cv::dynblur::Plant>& plant, int rows)
 {
-    const cv::Ptr<cv::dynblur::Plant> corrected = correction.correctPlant(plant);
     int moving = 0;
     for (const FrameRecord& f : frames)
     {
-        const cv::dynblur::RollingShutter shutter =
-            correction.correctShutter(cv::dynblur::RollingShutter(f.frameStart, f.exposure, f.lineDelay, rows));
+        const cv::dynblur::RollingShutter shutter(f.frameStart, f.exposure, f.lineDelay, rows);
         const cv::Vec2d readout = shutter.readoutInterval();
-        moving += cv::dynblur::classifyExposure(corrected, commands.scheduleAround(readout[0], readout[1]), shutter) !=
+        moving += cv::dynblur::classifyExposure(plant, commands.scheduleAround(readout[0], readout[1]), shutter) !=
                   cv::dynblur::EXPOSURE_IV;
     }
     return moving;
@@ -160,7 +160,7 @@ void checkFramesMeetCommands(const std::vector<FrameRecord>& frames, const Comma
                        f.frame, f.lineDelay, rows, (rows - 1) * f.lineDelay, period));
     if (std::all_of(commands.levels.begin(), commands.levels.end(), [&](int l) { return l == commands.levels[0]; }))
         return;  // no move to see
-    if (movingFrames(frames, commands, plant, rows, cv::dynblur::MotionCorrection()) > 0)
+    if (movingFrames(frames, commands, plant, rows) > 0)
         return;
     CV_Error_(cv::Error::StsBadArg,
               ("no frame overlaps a move: the frames span %.6g to %.6g s (camera clock) and the commands %.6g to %.6g s "
@@ -408,6 +408,24 @@ ReferencePairing::ReferencePairing(const cv::Ptr<cv::dynblur::Plant>& plant,
 {
 }
 
+bool ReferencePairing::isStill(const FrameRecord& record, int rows) const
+{
+    using namespace cv::dynblur;
+    const RollingShutter shutter =
+        correction_.correctShutter(RollingShutter(record.frameStart, record.exposure, record.lineDelay, rows));
+    const cv::Vec2d readout = shutter.readoutInterval();
+    const SwitchSchedule schedule = commands_.scheduleAround(readout[0] - maxOffset_, readout[1] + maxOffset_);
+    const double pixelAngle = 0.25 / camera_->getFx();
+    for (double shift : {-maxOffset_, 0.0, maxOffset_})
+    {
+        RollingShutter shifted = shutter;
+        shifted.frameStart += shift;
+        if (classifyExposure(correctedPlant_, schedule, shifted, pixelAngle, pixelAngle / record.exposure) != EXPOSURE_IV)
+            return false;
+    }
+    return true;
+}
+
 std::vector<ReferencePairing::Item> ReferencePairing::push(const FrameRecord& record, const cv::Mat& image)
 {
     using namespace cv::dynblur;
@@ -417,15 +435,8 @@ std::vector<ReferencePairing::Item> ReferencePairing::push(const FrameRecord& re
     item.shutter = RollingShutter(record.frameStart, record.exposure, record.lineDelay, image.rows);
     const cv::Vec2d readout = correction_.correctShutter(item.shutter).readoutInterval();
     item.schedule = commands_.scheduleAround(readout[0] - maxOffset_, readout[1] + maxOffset_);
-    const double pixelAngle = 0.25 / camera_->getFx();
-    const auto stillWith = [&](double shift) {
-        RollingShutter shifted = correction_.correctShutter(item.shutter);
-        shifted.frameStart += shift;
-        return classifyExposure(correctedPlant_, item.schedule, shifted, pixelAngle, pixelAngle / record.exposure) ==
-               EXPOSURE_IV;
-    };
     item.window = classifyExposure(correctedPlant_, item.schedule, correction_.correctShutter(item.shutter));
-    item.still = stillWith(-maxOffset_) && stillWith(0) && stillWith(maxOffset_);
+    item.still = isStill(record, image.rows);
 
     std::vector<Item> ready;
     if (item.still)

@@ -69,11 +69,6 @@ CommandLog readCommandLog(const std::string& path);
 //! Writes a command log atomically.
 void writeCommandLog(const std::string& path, const CommandLog& log);
 
-/** The frames of the log that see the plant move under `commands` (exposure windows I–III), read
-out by `rows` rows, with the model corrected by `correction`. */
-int movingFrames(const std::vector<FrameRecord>& frames, const CommandLog& commands,
-                 const cv::Ptr<cv::dynblur::Plant>& plant, int rows, const cv::dynblur::MotionCorrection& correction);
-
 /** Throws cv::Exception for a recording whose logs cannot belong together: a frame read out (`rows`
 rows) in longer than the frame period, or a command log that moves the plant while no frame sees
 a move (both logs' time spans in the message: one in ms, or on another epoch). */
@@ -153,6 +148,8 @@ public:
     std::vector<Item> push(const FrameRecord& record, const cv::Mat& image);
     //! At the end of the recording: the frames still waiting (with the last still frame before them).
     std::vector<Item> finish();
+    //! Whether push() calls the frame still, read out by `rows` rows (what a progress count needs ahead).
+    bool isStill(const FrameRecord& record, int rows) const;
     //! Frames held until the still after their move arrives.
     size_t pending() const { return waiting_.size(); }
 

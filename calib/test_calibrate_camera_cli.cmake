@@ -2,19 +2,8 @@
 # CTest script: run dynblur_calibrate_camera on the 13 real views and check its files.
 # -DTOOL=dynblur_calibrate_camera -DDATA=folder with left01..14.jpg (the configure-time default)
 # -DWORK=scratch folder. DYNBLUR_TEST_DATA in the environment of the test run wins over DATA.
-if(DEFINED ENV{DYNBLUR_TEST_DATA} AND NOT "$ENV{DYNBLUR_TEST_DATA}" STREQUAL "")
-  set(DATA "$ENV{DYNBLUR_TEST_DATA}")
-endif()
-if(NOT EXISTS ${DATA}/left01.jpg)
-  # Under the test command (DYNBLUR_REQUIRE_TEST_DATA=1) missing data fails the run.
-  if("$ENV{DYNBLUR_REQUIRE_TEST_DATA}" STREQUAL "1")
-    message(FATAL_ERROR "test data left01.jpg not found in ${DATA} (DYNBLUR_REQUIRE_TEST_DATA=1: missing data is a "
-                        "failure; set DYNBLUR_TEST_DATA)")
-  endif()
-  # CTest reports the test as skipped on this line (SKIP_REGULAR_EXPRESSION).
-  message(STATUS "DYNBLUR-SKIP: test data left01.jpg not found in ${DATA} (set DYNBLUR_TEST_DATA)")
-  return()
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/cli_test_run.cmake)
+require_test_data(left01.jpg)
 set(dir ${WORK}/camera)
 file(REMOVE_RECURSE ${dir})
 file(MAKE_DIRECTORY ${dir})

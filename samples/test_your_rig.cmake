@@ -4,17 +4,8 @@
 # simulator, a virtual camera, the chessboard views of the test data. Then checks what each step
 # wrote.
 # -DBIN=build/samples -DCALIB=build/calib -DDATA=test data -DDOC=docs/your-rig.md -DWORK=scratch folder
-if(DEFINED ENV{DYNBLUR_TEST_DATA} AND NOT "$ENV{DYNBLUR_TEST_DATA}" STREQUAL "")
-  set(DATA "$ENV{DYNBLUR_TEST_DATA}")
-endif()
-if(NOT EXISTS ${DATA}/left01.jpg)
-  if("$ENV{DYNBLUR_REQUIRE_TEST_DATA}" STREQUAL "1")
-    message(FATAL_ERROR "test data left01.jpg not found in ${DATA} (DYNBLUR_REQUIRE_TEST_DATA=1: missing data is a "
-                        "failure; set DYNBLUR_TEST_DATA)")
-  endif()
-  message(STATUS "DYNBLUR-SKIP: test data left01.jpg not found in ${DATA} (set DYNBLUR_TEST_DATA)")
-  return()
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/../calib/cli_test_run.cmake)
+require_test_data(left01.jpg)
 file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})
 

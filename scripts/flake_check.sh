@@ -6,7 +6,7 @@
 set -euo pipefail
 usage() {
   cat <<'USAGE'
-Usage: scripts/flake_check.sh [--repeat N] [--load N] [--regex R] [--exclude R] [--build DIR]
+Usage: scripts/flake_check.sh [--repeat N] [--load N] [--regex R] [--exclude R] [--skip-figures] [--build DIR]
 
 Builds the project (scripts/setup.sh), starts N busy loops (default: one per core), and runs
 `ctest --repeat until-fail:N` on the build (each test up to N times, stopping at its first failure).
@@ -17,6 +17,8 @@ Exits non-zero if any test failed in any repetition.
   --regex R    only the tests matching R (ctest -R)
   --exclude R  not the tests matching R (ctest -E), e.g. the long figure tests, whose results depend
                on no timing and which take most of the suite's time
+  --skip-figures  not the long figure tests (scripts/figure_tests.regex), nor HalfColor.* and
+               DeconvMemory.*: their results depend on no timing, and they take most of the suite's time
   --build DIR  build folder (default: build/, or $DYNBLUR_BUILD_DIR)
 USAGE
 }
@@ -28,6 +30,7 @@ while [ $# -gt 0 ]; do
       [ $# -ge 2 ] || { echo "flake_check: $1 needs a value" >&2; exit 2; }
       opt="$1"; val="$2"; shift 2 ;;
     --repeat=*|--load=*|--regex=*|--exclude=*|--build=*) opt="${1%%=*}"; val="${1#*=}"; shift ;;
+    --skip-figures) exclude="${exclude:+$exclude|}$(grep -v '^#' "$here/scripts/figure_tests.regex" | paste -sd'|')|HalfColor\.|DeconvMemory\."; shift; continue ;;
     -h|--help) usage; exit 0 ;;
     *) echo "flake_check: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -35,7 +38,7 @@ while [ $# -gt 0 ]; do
     --repeat) repeat="$val" ;;
     --load) load="$val" ;;
     --regex) regex="$val" ;;
-    --exclude) exclude="$val" ;;
+    --exclude) exclude="${exclude:+$exclude|}$val" ;;
     --build) build="$val" ;;
   esac
 done

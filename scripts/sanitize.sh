@@ -36,17 +36,13 @@ cmake --build "$build" -j "$(nproc)"
 
 # shellcheck source=scripts/sanitizer_env.sh
 source "$here/scripts/sanitizer_env.sh"
-# Left out here (they run in the normal build): the heavy image-quality tests, 30 s to 2 min each
-# under ASan on this 2-core machine, about three quarters of the suite's time, whose code paths the
-# lighter tests below already cover (PSF generation, rendering, RL and the deblurring pipeline on
-# small frames): the DeblurQuality PSNR figures on 640x480 frames, the renderer-vs-PSF point-source
-# sweeps over a rolling-shutter frame (one axis and 3-axis), the 3-axis shake restorations, the refinement figures on drifted 640x480 frames, the
-# tile-grid column-variation sweep, the full-frame render
-# speed test, the closed-loop servoing runs (whole 640x480 restorations every cycle), the gyro timing
-# and mount figures, the global-shutter timing calibrations and the simulated-rig rehearsal. Every
-# parser, bus/driver, planner, plant and deconv test stays.
+# Left out here (they run in the normal build): the long figure tests listed in
+# scripts/figure_tests.regex, 30 s to 2 min each under ASan on this 2-core machine, about three
+# quarters of the suite's time, whose code paths the lighter tests cover (PSF generation, rendering,
+# RL and the deblurring pipeline on small frames). Every parser, bus/driver, planner, plant and
+# deconv test stays.
 # DYNBLUR_ASAN_CTEST_EXCLUDE replaces the list ("" runs everything).
-default_exclude='DeblurQuality\.|RefinementQuality\.|RefinementRejection\.|RefinementBlind\.|RefinementBlindRejection\.|CalibrateTiming\.TenFrames|PsfGenerator\.PointSourceMatchesRendererRollingShutter|PsfGenerator\.TilesCaptureColumnVariation|RenderBlurred\.FullFrameSaccadeSpeed|ServoTrack\.|ServoLoop\.|ServoDrift\.|RotationQuality\.|RotationBlur\.ThreeAxisPointSources|RefinementNeverWorse\.|RefinementStills\.|CalibrateTiming\.GlobalFrames|GyroTiming\.PerFrameOffsetAndGain|GyroTiming\.RecordingCalibrates|Mount\.PanTilt|Mount\.MotionIsTheChain|samples_your_rig'
+default_exclude="$(grep -v '^#' "$here/scripts/figure_tests.regex" | paste -sd'|')"
 exclude="${DYNBLUR_ASAN_CTEST_EXCLUDE-$default_exclude}"
 echo "[sanitize] C++ tests under ASan + UBSan (CTest${exclude:+, without the heavy quality tests})"
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)" ${exclude:+-E "$exclude"}

@@ -278,19 +278,23 @@ private:
         return std::vector<double>(out.ptr<double>(), out.ptr<double>() + t.size());
     }
 
+    //! One axis: the view's rotation relative to the reference at the angles `theta`, radians.
+    std::vector<Matx33d> viewsAt(const std::vector<double>& theta) const
+    {
+        std::vector<Matx33d> R(theta.size());
+        for (size_t i = 0; i < theta.size(); i++)
+            R[i] = axisRotation(motion_.axis, theta[i] - motion_.thetaRef);
+        return R;
+    }
+
     //! The view's rotation R(t) relative to the reference at the times `t`.
     std::vector<Matx33d> views(const std::vector<double>& t) const
     {
-        std::vector<Matx33d> R(t.size());
         if (motion_.oneAxis())
-        {
-            const std::vector<double> theta = angles(t);
-            for (size_t i = 0; i < t.size(); i++)
-                R[i] = axisRotation(motion_.axis, theta[i] - motion_.thetaRef);
-        }
-        else
-            for (size_t i = 0; i < t.size(); i++)
-                R[i] = motion_.reference.t() * motion_.motion->orientation(t[i]);
+            return viewsAt(angles(t));
+        std::vector<Matx33d> R(t.size());
+        for (size_t i = 0; i < t.size(); i++)
+            R[i] = motion_.reference.t() * motion_.motion->orientation(t[i]);
         return R;
     }
 
@@ -299,7 +303,7 @@ private:
     void surveyAngles()
     {
         const std::vector<double> theta = angles(tGrid_);
-        viewGrid_ = views(tGrid_);
+        viewGrid_ = viewsAt(theta);
         double aMin = theta[0] - motion_.thetaRef, aMax = aMin, dMax = 0;
         for (size_t i = 0; i < theta.size(); i++)
         {

@@ -118,7 +118,8 @@ TEST_P(RefinementNeverWorse, FramesNoCorrectionExplains)
     /* The issue's target is none worse by more than 0.1 dB. Building and fruits meet it; baboon's fur
        inflates the noise estimate (docs/refinement.md, "Where it falls short") and two of its frames
        come back worse: -1.52 dB (the other sign, window I) and -6.50 dB (a still moved by 5 px, global
-       shutter). Those measured figures are the floors here, so any further loss fails. */
+       shutter). Those measured figures are the floors here, so any further loss fails. With the noise
+       measured from two stills (setNoiseFrames) none does: RefinementNoisePair. */
     const bool baboon = GetParam() == "baboon.jpg";
     EXPECT_LE(worse, baboon ? 2 : 0);
     EXPECT_GE(worst, baboon ? -1.1 * 6.50 : -0.1);

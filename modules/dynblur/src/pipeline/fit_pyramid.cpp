@@ -8,6 +8,9 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 namespace cv {
 namespace dynblur {
 namespace detail {
@@ -47,6 +50,43 @@ LuminancePyramid buildPyramid(const Mat& luminance, const Ptr<CameraModel>& came
             pyramid.noiseSigma.push_back(observeFrame(image, pool, true).noiseSigma);
     }
     return pyramid;
+}
+
+std::vector<double> pairNoiseSigma(const LuminancePyramid& a, const LuminancePyramid& b)
+{
+    CV_Assert(a.levels() == b.levels());
+    // At or above this (linear) a pixel may be clipped: the difference there is not the noise.
+    const float saturated = 0.99f;
+    std::vector<double> sigma;
+    std::vector<float> values;
+    for (int level = 0; level < a.levels(); level++)
+    {
+        const Mat& first = a.images[size_t(level)];
+        const Mat& second = b.images[size_t(level)];
+        values.clear();
+        for (int y = 0; y < first.rows; y++)
+        {
+            const float* p = first.ptr<float>(y);
+            const float* q = second.ptr<float>(y);
+            for (int x = 0; x < first.cols; x++)
+                if (p[x] < saturated && q[x] < saturated)
+                    values.push_back(p[x] - q[x]);
+        }
+        if (values.empty())
+        {
+            sigma.push_back(0);
+            continue;
+        }
+        const auto middle = values.begin() + std::ptrdiff_t(values.size() / 2);
+        std::nth_element(values.begin(), middle, values.end());
+        const float median = *middle;
+        for (float& v : values)
+            v = std::abs(v - median);
+        std::nth_element(values.begin(), middle, values.end());
+        // 1.4826 × MAD is a normal distribution's standard deviation; the difference holds two frames' noise.
+        sigma.push_back(1.4826 * double(*middle) / std::sqrt(2.0));
+    }
+    return sigma;
 }
 
 RollingShutter shutterAtLevel(const RollingShutter& shutter, int halvings)

@@ -40,6 +40,12 @@ Mat linearLuminance(const Mat& frame);
 LuminancePyramid buildPyramid(const Mat& luminance, const Ptr<CameraModel>& camera, int coarsestWidth,
                               bool estimateNoise);
 
+/** @brief The noise of one frame at each level, measured from the pyramids of two stills at rest
+at the same view: the robust standard deviation (1.4826 × the median absolute deviation) of their
+difference over √2, over the pixels neither clips. A level where they differ in fewer than half of
+those pixels measures 0. The pyramids have the same levels. */
+std::vector<double> pairNoiseSigma(const LuminancePyramid& a, const LuminancePyramid& b);
+
 //! The shutter of a frame halved `halvings` times (halfResolutionShutter applied that often).
 RollingShutter shutterAtLevel(const RollingShutter& shutter, int halvings);
 

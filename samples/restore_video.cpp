@@ -417,7 +417,8 @@ int main(int argc, char** argv)
                         }
                         catch (const cv::Exception& e)
                         {
-                            std::fprintf(stderr, "\nnote: the noise is Immerkaer's estimate on each still: %s\n",
+                            std::fprintf(stderr, "\nnote: the noise stays as measured before (or Immerkaer's estimate "
+                                                 "on each still): %s\n",
                                          e.err.c_str());
                         }
                     }

@@ -31,40 +31,6 @@ Mat throughCodec(const Mat& frame, int quality)
     return imdecode(bytes, IMREAD_COLOR);
 }
 
-Mat shifted(const Mat& still, double dx, double dy)
-{
-    const Matx23d move(1, 0, dx, 0, 1, dy);
-    Mat out;
-    warpAffine(still, out, move, still.size(), INTER_LINEAR, BORDER_REFLECT);
-    return out;
-}
-
-Mat relit(const Mat& still, double gain)
-{
-    Mat linear, out;
-    srgbToLinear(still, linear);
-    linear = min(linear * gain, 1.0);
-    linearToSrgb(linear, out, CV_8U);
-    return out;
-}
-
-SwitchSchedule otherSign(const SwitchSchedule& schedule)
-{
-    SwitchSchedule mirrored = schedule;
-    for (int& level : mirrored.levels)
-        level = -level;
-    mirrored.initialLevel = -mirrored.initialLevel;
-    return mirrored;
-}
-
-SwitchSchedule late(const SwitchSchedule& schedule, double seconds)
-{
-    SwitchSchedule moved = schedule;
-    for (double& t : moved.times)
-        t += seconds;
-    return moved;
-}
-
 //! What one image and codec gave: wrong models' worst outcome, right (drifted) models' gain and refusals.
 struct PairFigures
 {
@@ -107,22 +73,10 @@ PairFigures measurePair(const std::string& path, const std::string& image, int q
         const DriftedFrame d = captureDrifted(s, w.window, w.lineDelay, wrongSchedules.drift, 11);
         const RollingShutter stillShutter(after ? 1.0 : -0.2, d.told.exposure, d.told.lineDelay, d.told.rows);
         const Mat next = throughCodec(s.capture(stillShutter, 71), quality);
-        const Mat frame = throughCodec(d.frame, quality), still = throughCodec(d.still, quality);
-        struct Told
-        {
-            const char* name;
-            SwitchSchedule schedule;
-            Mat frame, still;
-        };
-        const Told told[] = {{"another move (6 deg)", wrongSchedules.another, frame, still},
-                             {"5 ms late", late(s.schedule, 0.005), frame, still},
-                             {"10 ms late", late(s.schedule, 0.010), frame, still},
-                             {"20 ms late", late(s.schedule, 0.020), frame, still},
-                             {"the other sign", otherSign(s.schedule), frame, still},
-                             {"moving object", s.schedule, throughCodec(withMovingObject(d.frame), quality), still},
-                             {"still shifted 5 px", s.schedule, frame, throughCodec(shifted(d.still, 3, 4), quality)},
-                             {"still lit x0.8", s.schedule, frame, throughCodec(relit(d.still, 0.8), quality)}};
-        for (const Told& t : told)
+        const std::vector<WrongModel> wrong =
+            wrongModels(s, wrongSchedules, d, [&](const Mat& m) { return throughCodec(m, quality); });
+        const Mat& still = wrong[0].still;  // the still as captured (through the codec)
+        for (const WrongModel& t : wrong)
         {
             const double angle = s.plant->restingAngle(after ? t.schedule.finalLevel() : t.schedule.initialLevel);
             Ptr<DynamicDeblurrer> deblurrer = pairDeblurrer(s, t.still, angle, still, next, limit);

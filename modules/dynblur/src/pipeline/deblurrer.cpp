@@ -121,36 +121,11 @@ public:
     }
     void setNoiseFrames(InputArray stillA, InputArray stillB) CV_OVERRIDE
     {
-        const char* fn = "DynamicDeblurrer::setNoiseFrames";
         const Mat a = stillA.getMat(), b = stillB.getMat();
-        if (a.empty() && b.empty())
-        {
-            noiseSigma_.clear();
-            noiseType_ = -1;
-            weighStills();
-            return;
-        }
-        detail::checkCameraFrame(a, *camera_, fn, "stillA");
-        detail::checkCameraFrame(b, *camera_, fn, "stillB");
-        if (a.type() != b.type())
-            CV_Error(Error::StsUnmatchedFormats,
-                     format("%s: 'stillA' is %s but 'stillB' is %s; both must come from the frames' stream", fn,
-                            typeToString(a.type()).c_str(), typeToString(b.type()).c_str()));
-        const detail::LuminancePyramid pyramids[2] = {
-            detail::buildPyramid(detail::linearLuminance(a), camera_, detail::kFitCoarseWidth, false),
-            detail::buildPyramid(detail::linearLuminance(b), camera_, detail::kFitCoarseWidth, false)};
-        const std::vector<double> sigma = detail::pairNoiseSigma(pyramids[0], pyramids[1]);
-        for (size_t level = 0; level < sigma.size(); level++)
-            // Only the levels the fit runs at count: a clean camera's 8-bit stills may agree at full size.
-            if ((pyramids[0].images[level].cols <= detail::kFitFineWidth || level + 1 == sigma.size()) &&
-                !(sigma[level] > 0))
-                CV_Error(Error::StsBadArg,
-                         format("%s: 'stillA' and 'stillB' are equal in at least half of their unclipped pixels at "
-                                "%dx%d px: their difference measures no noise; give two separate captures of the "
-                                "same view",
-                                fn, pyramids[0].images[level].cols, pyramids[0].images[level].rows));
-        noiseSigma_ = sigma;
-        noiseType_ = a.type();
+        const bool forget = a.empty() && b.empty();
+        noiseSigma_ = forget ? std::vector<double>()
+                             : detail::measureNoise(a, b, camera_, "DynamicDeblurrer::setNoiseFrames");
+        noiseType_ = forget ? -1 : a.type();
         weighStills();
     }
     // The noise each still's pyramid weighs residuals by: the noise frames' when given, else Immerkær's.

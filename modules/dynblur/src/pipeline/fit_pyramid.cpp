@@ -52,9 +52,17 @@ LuminancePyramid buildPyramid(const Mat& luminance, const Ptr<CameraModel>& came
     return pyramid;
 }
 
-std::vector<double> pairNoiseSigma(const LuminancePyramid& a, const LuminancePyramid& b)
+std::vector<double> measureNoise(const Mat& stillA, const Mat& stillB, const Ptr<CameraModel>& camera,
+                                 const char* function)
 {
-    CV_Assert(a.levels() == b.levels());
+    checkCameraFrame(stillA, *camera, function, "stillA");
+    checkCameraFrame(stillB, *camera, function, "stillB");
+    if (stillA.type() != stillB.type())
+        CV_Error(Error::StsUnmatchedFormats,
+                 format("%s: 'stillA' is %s but 'stillB' is %s; both must come from the frames' stream", function,
+                        typeToString(stillA.type()).c_str(), typeToString(stillB.type()).c_str()));
+    const LuminancePyramid a = buildPyramid(linearLuminance(stillA), camera, kFitCoarseWidth, false);
+    const LuminancePyramid b = buildPyramid(linearLuminance(stillB), camera, kFitCoarseWidth, false);
     // At or above this (linear) a pixel may be clipped: the difference there is not the noise.
     const float saturated = 0.99f;
     std::vector<double> sigma;
@@ -72,19 +80,26 @@ std::vector<double> pairNoiseSigma(const LuminancePyramid& a, const LuminancePyr
                 if (p[x] < saturated && q[x] < saturated)
                     values.push_back(p[x] - q[x]);
         }
-        if (values.empty())
+        double deviation = 0;
+        if (!values.empty())
         {
-            sigma.push_back(0);
-            continue;
+            const auto middle = values.begin() + std::ptrdiff_t(values.size() / 2);
+            std::nth_element(values.begin(), middle, values.end());
+            const float median = *middle;
+            for (float& v : values)
+                v = std::abs(v - median);
+            std::nth_element(values.begin(), middle, values.end());
+            // 1.4826 × MAD is a normal distribution's standard deviation; the difference holds two frames' noise.
+            deviation = 1.4826 * double(*middle) / std::sqrt(2.0);
         }
-        const auto middle = values.begin() + std::ptrdiff_t(values.size() / 2);
-        std::nth_element(values.begin(), middle, values.end());
-        const float median = *middle;
-        for (float& v : values)
-            v = std::abs(v - median);
-        std::nth_element(values.begin(), middle, values.end());
-        // 1.4826 × MAD is a normal distribution's standard deviation; the difference holds two frames' noise.
-        sigma.push_back(1.4826 * double(*middle) / std::sqrt(2.0));
+        // Only the levels the fit runs at count: a clean camera's 8-bit stills may agree at full size.
+        if (!(deviation > 0) && (first.cols <= kFitFineWidth || level + 1 == a.levels()))
+            CV_Error(Error::StsBadArg,
+                     format("%s: 'stillA' and 'stillB' are equal in at least half of their unclipped pixels at "
+                            "%dx%d px: their difference measures no noise; give two separate captures of the same "
+                            "view",
+                            function, first.cols, first.rows));
+        sigma.push_back(deviation);
     }
     return sigma;
 }

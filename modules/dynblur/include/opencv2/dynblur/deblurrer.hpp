@@ -216,10 +216,11 @@ public:
     /** @param correction the calibrated correction (its consistency, applied and reason are ignored). */
     CV_WRAP virtual void setCalibration(const MotionCorrection& correction) = 0;
     /** @brief Frames whose corrected model's MotionCorrection::consistency exceeds it are returned
-    unchanged (noise units; +inf turns the check off). Default 3 in units of Immerkær's estimate on the
-    still (measured 0.5 to 2.3 where the model is right), 7.5 in units of the noise setNoiseFrames
-    measured (right models 1.4 to 6.3, wrong ones that would restore worse from 8.8). It is the user's cap: a fit stopped at one of its search bounds is refused whatever
-    its consistency (docs/refinement.md, "The decision"). Needs a reference frame. */
+    unchanged (noise units; +inf turns the check off). Default 3 in units of Immerkær's estimate on
+    the still (measured 0.5 to 2.3 where the model is right), 7.5 in units of the noise
+    setNoiseFrames measured (right models 1.4 to 6.3, wrong ones that would restore worse from 8.8).
+    It is the user's cap: a fit stopped at one of its search bounds is refused whatever its
+    consistency (docs/refinement.md, "The decision"). Needs a reference frame. */
     CV_WRAP virtual double getConsistencyLimit() const = 0;
     /** @param limit > 1, or +inf. */
     CV_WRAP virtual void setConsistencyLimit(double limit) = 0;

@@ -41,7 +41,8 @@ static const char* const kUsage =
     "       dynblur_restore_video --recording DIR [options]\n"
     "Restores the frames of a recording that a move blurred, with the blur predicted from the plant and\n"
     "the commands, corrected per frame against the still frame before the move (a frame that starts at\n"
-    "rest) or after it (one that ends at rest). A frame no correction explains is written unchanged.\n"
+    "rest) or after it (one that ends at rest), in units of the noise measured from the last two\n"
+    "consecutive still frames. A frame no correction explains is written unchanged.\n"
     "Each frame is restored to the view at the angle of its middle row's mid-exposure. A frame that\n"
     "needs the still after its move is held until that still arrives (the rest of the move and one\n"
     "frame; the progress line shows how many frames wait).\n"
@@ -350,6 +351,11 @@ int main(int argc, char** argv)
         int mostBlurred = -1;
         Mat lastBefore, lastAfter, restored;
         std::vector<int> unrefined;  // frames that needed the still after their move and had none
+        /* The last two consecutive still frames at one resting level: the noise refinement weighs its
+           residuals by is measured from their difference (setNoiseFrames), compression included. */
+        Mat noiseA, noiseB;
+        int lastStillFrame = -2, lastStillLevel = 0;
+        bool noisePending = false;
         /* The ETA counts the moving frames still to restore at the time a moving frame has taken so far
            (a still frame costs next to nothing), and the line is shown before each restoration, so a
            slow frame never leaves a stale estimate on the screen. */
@@ -400,6 +406,20 @@ int main(int argc, char** argv)
                         deblurrer->setReferenceFrames(item.before, item.after, item.angleBefore, item.angleAfter);
                     if (!noStillAfter)
                         lastBefore = item.before, lastAfter = item.after;
+                    if (noisePending)
+                    {
+                        noisePending = false;
+                        try
+                        {
+                            deblurrer->setNoiseFrames(noiseA, noiseB);
+                        }
+                        catch (const cv::Exception& e)
+                        {
+                            std::fprintf(stderr, "\nnote: the noise stays as measured before (or Immerkaer's estimate "
+                                                 "on each still): %s\n",
+                                         e.err.c_str());
+                        }
+                    }
                     progress(": restoring");
                     clock.start();
                     deblurrer->deblur(item.image, item.schedule, item.shutter, restored, thetaRef);
@@ -411,6 +431,18 @@ int main(int argc, char** argv)
                     if (noStillAfter)
                         c.reason = "no still after the move: not refined; restored as told (--no-still-after as-told)";
                     out = restored;
+                }
+                if (item.still)
+                {
+                    const int level = item.schedule.levelAt(item.shutter.frameStart);
+                    if (item.record.frame == lastStillFrame + 1 && level == lastStillLevel)
+                    {
+                        noiseA = noiseB, noiseB = item.image;
+                        noisePending = !noiseA.empty();
+                    }
+                    else
+                        noiseA = Mat(), noiseB = item.image;
+                    lastStillFrame = item.record.frame, lastStillLevel = level;
                 }
                 std::string truthColumns = ",,,";
                 if (!item.still)

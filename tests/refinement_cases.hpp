@@ -8,6 +8,9 @@
 
 #include <opencv2/dynblur.hpp>
 
+#include <functional>
+#include <vector>
+
 namespace dynblur_test {
 
 using namespace cv;
@@ -118,6 +121,69 @@ struct WrongSchedules
     const Drift drift{"combined A", 1.2e-3, 0.93, 1.035, 1.15};
     SwitchSchedule shifted, another;
 };
+
+//! An 8-bit sRGB still moved by (dx, dy) pixels (a bumped camera), edges reflected.
+inline Mat shifted(const Mat& still, double dx, double dy)
+{
+    const Matx23d move(1, 0, dx, 0, 1, dy);
+    Mat out;
+    warpAffine(still, out, move, still.size(), INTER_LINEAR, BORDER_REFLECT);
+    return out;
+}
+
+//! An 8-bit sRGB still whose light is scaled by `gain` (the lighting changed, or the webcam's exposure).
+inline Mat relit(const Mat& still, double gain)
+{
+    Mat linear, out;
+    srgbToLinear(still, linear);
+    linear = min(linear * gain, 1.0);
+    linearToSrgb(linear, out, CV_8U);
+    return out;
+}
+
+//! The schedule of the same move in the other direction.
+inline SwitchSchedule otherSign(const SwitchSchedule& schedule)
+{
+    SwitchSchedule mirrored = schedule;
+    for (int& level : mirrored.levels)
+        level = -level;
+    mirrored.initialLevel = -mirrored.initialLevel;
+    return mirrored;
+}
+
+//! The same schedule `seconds` later.
+inline SwitchSchedule late(const SwitchSchedule& schedule, double seconds)
+{
+    SwitchSchedule moved = schedule;
+    for (double& t : moved.times)
+        t += seconds;
+    return moved;
+}
+
+//! A frame told a model that does not explain it: the schedule told, the frame and the still given.
+struct WrongModel
+{
+    const char* name;
+    SwitchSchedule schedule;
+    Mat frame, still;
+};
+
+/* RefinementNeverWorse's eight wrong models of the drifted frame `d`: told another move, the move
+   5, 10 or 20 ms late, or the move of the other sign; something moving in the frame; the still moved
+   by 5 px or lit x0.8. `encode` takes each frame and still as the camera delivers it (a codec). */
+inline std::vector<WrongModel> wrongModels(const SaccadeScene& s, const WrongSchedules& wrong, const DriftedFrame& d,
+                                           const std::function<Mat(const Mat&)>& encode)
+{
+    const Mat frame = encode(d.frame), still = encode(d.still);
+    return {{"another move (6 deg)", wrong.another, frame, still},
+            {"5 ms late", late(s.schedule, 0.005), frame, still},
+            {"10 ms late", late(s.schedule, 0.010), frame, still},
+            {"20 ms late", late(s.schedule, 0.020), frame, still},
+            {"the other sign", otherSign(s.schedule), frame, still},
+            {"moving object", s.schedule, encode(withMovingObject(d.frame)), still},
+            {"still shifted 5 px", s.schedule, frame, encode(shifted(d.still, 3, 4))},
+            {"still lit x0.8", s.schedule, frame, encode(relit(d.still, 0.8))}};
+}
 
 }  // namespace dynblur_test
 

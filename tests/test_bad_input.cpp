@@ -369,6 +369,12 @@ TEST(BadInput, Deblurrer)
     const Ptr<DynamicDeblurrer> d = DynamicDeblurrer::create(plant, cam);
     const RollingShutter rs(0.005, 0.008, 4e-4, 48);
     const Mat frame(48, 64, CV_32F, Scalar(0.5));
+    // A still of the 64x48 camera with sensor noise drawn from `seed`.
+    const auto noisy = [&](uint64 seed) {
+        Mat still;
+        addSensorNoise(frame, still, 4000.0, 8.0, 5.0, seed);
+        return still;
+    };
     Mat out;
     refuseAll({
         {"DynamicDeblurrer::create", "plant empty", [&] { DynamicDeblurrer::create(Ptr<Plant>(), cam); }, {"plant"}},
@@ -391,6 +397,23 @@ TEST(BadInput, Deblurrer)
          [&] { d->deblur(frame, saccade(), rs, out, kInf); }, {"thetaRef"}},
         {"DynamicDeblurrer::deblur", "schedule times not increasing",
          [&] { d->deblur(frame, SwitchSchedule({0.01, 0.0}, {1, 2}), rs, out); }, {"times"}},
+        {"DynamicDeblurrer::setNoiseFrames", "stillA empty", [&] { d->setNoiseFrames(Mat(), noisy(1)); }, {"stillA"}},
+        {"DynamicDeblurrer::setNoiseFrames", "stillB 32x24 for a 64x48 camera",
+         [&] { d->setNoiseFrames(noisy(1), Mat(24, 32, CV_32F, Scalar(0.5))); }, {"stillB", "64x48"}},
+        {"DynamicDeblurrer::setNoiseFrames", "stillB holds NaN", [&] { d->setNoiseFrames(noisy(1), nanAt(noisy(2))); },
+         {"stillB"}},
+        {"DynamicDeblurrer::setNoiseFrames", "stillA CV_32F, stillB CV_8U",
+         [&] { d->setNoiseFrames(noisy(1), Mat(48, 64, CV_8U, Scalar(128))); }, {"stillA", "stillB", "CV_8U"}},
+        {"DynamicDeblurrer::setNoiseFrames", "the same still twice",
+         [&] { d->setNoiseFrames(noisy(1), noisy(1)); }, {"stillA", "stillB", "no noise"}},
+        {"DynamicDeblurrer::deblur", "a CV_8U frame after CV_32F noise frames",
+         [&] {
+             const Ptr<DynamicDeblurrer> n = DynamicDeblurrer::create(plant, cam);
+             n->setNoiseFrames(noisy(1), noisy(2));
+             n->setReferenceFrame(Mat(48, 64, CV_8U, Scalar(128)), 0.0);
+             n->deblur(Mat(48, 64, CV_8U, Scalar(128)), saccade(), RollingShutter(0.0, 0.008, 4e-4, 48), out);
+         },
+         {"frame", "noise frames"}},
         {"DynamicDeblurrer::setPsfModel", "7", [&] { d->setPsfModel(7); }, {"model"}},
         {"DynamicDeblurrer::setMethod", "-1", [&] { d->setMethod(-1); }, {"method"}},
         {"DynamicDeblurrer::setUnobservedFill", "3", [&] { d->setUnobservedFill(3); }, {"fill", "UNOBSERVED_RECORDED"}},

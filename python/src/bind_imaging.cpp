@@ -532,6 +532,21 @@ middle row's mid-exposure of stillShutter (the frames' clock, moved by the refin
             R"doc(The still frames before and after a move (None: none on that side; not both); each frame is
 compared with the one that observed its moving rows (window I: before; window III: after; window II: both).
 Angles in radians; NaN: the schedule's initial (before) or final (after) resting angle.)doc")
+        .def("setNoiseFrames",
+            [](DynamicDeblurrer& db, py::handle stillA, py::handle stillB) {
+                MatIn a, b;
+                if (!stillA.is_none())
+                    a = toFrame(stillA, "stillA");
+                if (!stillB.is_none())
+                    b = toFrame(stillB, "stillB");
+                py::gil_scoped_release release;
+                db.setNoiseFrames(a.mat, b.mat);
+            },
+            py::arg("stillA"), py::arg("stillB"),
+            R"doc(Two consecutive stills at rest at the same view (same dtype, channels and size as the frames):
+the noise refinement weighs its residuals by is measured from their difference at each scale the fit uses,
+in place of Immerkær's estimate on the reference still. Identical stills are refused; None, None forgets
+the measurement.)doc")
         .def("clearReferenceFrame", &DynamicDeblurrer::clearReferenceFrame)
         .def("getLastCorrection", &DynamicDeblurrer::getLastCorrection,
              "The MotionCorrection used for the last frame, its consistency, and whether it was applied.")
@@ -539,7 +554,8 @@ Angles in radians; NaN: the schedule's initial (before) or final (after) resting
              "The correction every frame starts from (a recording's calibrateTiming result).")
         .def("setCalibration", &DynamicDeblurrer::setCalibration, py::arg("correction"))
         .def("getConsistencyLimit", &DynamicDeblurrer::getConsistencyLimit,
-             "Frames whose consistency exceeds it are returned unchanged (default 3; inf: no check)")
+             "Frames whose consistency exceeds it are returned unchanged (default 3, or 7.5 with noise frames; inf: no "
+             "check)")
         .def("setConsistencyLimit", &DynamicDeblurrer::setConsistencyLimit, py::arg("limit"))
         .def("getBlindRefinement", &DynamicDeblurrer::getBlindRefinement,
              "Whether frames without a reference frame are refined blind (default False: the model as told)")

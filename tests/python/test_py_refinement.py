@@ -26,6 +26,15 @@ def capture(db, tele, shutter, seed):
     return db.addSensorNoise(blurred, seed=seed)
 
 
+def late_window_iii(db, tele, line_delay):
+    """A rolling window III frame taken 2 ms later than told: the shutter told and the frame."""
+    plant, sched, _, _ = tele
+    start = window_start(db, plant, sched, 120, 0.008, line_delay, db.EXPOSURE_III)
+    told = db.RollingShutter(frameStart=start, exposure=0.008, lineDelay=line_delay, rows=120)
+    truth = db.RollingShutter(frameStart=start + 2e-3, exposure=0.008, lineDelay=line_delay, rows=120)
+    return told, capture(db, tele, truth, 1)
+
+
 def test_enum_values_and_correction_fields(db):
     assert (db.REFINE_NONE, db.REFINE_TIME_OFFSET, db.REFINE_LINE_DELAY, db.REFINE_PLANT, db.REFINE_ALL) == \
         (0, 1, 2, 4, 7)
@@ -74,10 +83,7 @@ def test_stills_on_both_sides_the_deblurrer_chooses(db, tele):
     and a still 20 % darker than its frame is absorbed as a brightness gain."""
     plant, sched, cam, _ = tele
     line_delay = 1 / 30 / 120
-    start = window_start(db, plant, sched, 120, 0.008, line_delay, db.EXPOSURE_III)
-    told = db.RollingShutter(frameStart=start, exposure=0.008, lineDelay=line_delay, rows=120)
-    truth = db.RollingShutter(frameStart=start + 2e-3, exposure=0.008, lineDelay=line_delay, rows=120)
-    frame = capture(db, tele, truth, 1)
+    told, frame = late_window_iii(db, tele, line_delay)
     before = capture(db, tele, db.RollingShutter(frameStart=-0.2, exposure=0.008, lineDelay=line_delay, rows=120), 2)
     after = capture(db, tele, db.RollingShutter(frameStart=1.0, exposure=0.008, lineDelay=line_delay, rows=120), 3)
     d = db.DynamicDeblurrer.create(plant, cam)
@@ -165,3 +171,36 @@ def test_blind_refinement_finds_the_clock_offset(db, tele):
         d.setBlindConsistencyLimit(0.0)
     with pytest.raises(db.error, match=r"maxWidth \(pixels\) must be in \[64, 4096\]"):
         db.blindMotionConsistency(plant, cam, frame, sched, told, [db.MotionCorrection()], maxWidth=32)
+
+
+def test_noise_frames_measure_the_noise_from_two_stills(db, tele):
+    """Two stills at rest give the noise the consistency is counted in (setNoiseFrames): the default
+    limit follows it, the clock offset is still found, and bad pairs are refused by name."""
+    plant, sched, cam, _ = tele
+    line_delay = 1 / 30 / 120
+    told, frame = late_window_iii(db, tele, line_delay)
+    rest = db.RollingShutter(frameStart=1.0, exposure=0.008, lineDelay=line_delay, rows=120)
+    after, next_after = capture(db, tele, rest, 3), capture(db, tele, rest, 4)
+    d = db.DynamicDeblurrer.create(plant, cam)
+    d.setPsfModel(db.PSF_ROWS)
+    d.setRefinement(db.REFINE_TIME_OFFSET)
+    d.setReferenceFrames(None, after)
+    d.deblur(frame, sched, told)
+    estimated = d.getLastCorrection()
+    d.setNoiseFrames(after, next_after)
+    assert d.getConsistencyLimit() == 7.5
+    d.setConsistencyLimit(math.inf)
+    d.deblur(frame, sched, told)
+    c = d.getLastCorrection()
+    assert c.applied, c.reason
+    assert c.timeOffset == pytest.approx(2e-3, abs=5e-4)
+    # The measured noise is below Immerkær's estimate on the still, so the same residual counts more.
+    assert c.consistency > estimated.consistency
+    with pytest.raises(db.error, match="'stillA' and 'stillB' are equal"):
+        d.setNoiseFrames(after, after.copy())
+    with pytest.raises(db.error, match="'stillB'"):
+        d.setNoiseFrames(after, np.full((100, 160), 0.5, np.float32))
+    d.setNoiseFrames(None, None)
+    d.setConsistencyLimit(3.0)
+    d.deblur(frame, sched, told)
+    assert d.getLastCorrection().consistency == pytest.approx(estimated.consistency, rel=1e-6)

@@ -119,6 +119,21 @@ public:
         setStills(fn, first, "before", angleBefore, "angleBefore", second, "after", angleAfter, "angleAfter");
         single_ = false;
     }
+    void setNoiseFrames(InputArray stillA, InputArray stillB) CV_OVERRIDE
+    {
+        const Mat a = stillA.getMat(), b = stillB.getMat();
+        const bool forget = a.empty() && b.empty();
+        noiseSigma_ = forget ? std::vector<double>()
+                             : detail::measureNoise(a, b, camera_, "DynamicDeblurrer::setNoiseFrames");
+        noiseType_ = forget ? -1 : a.type();
+        weighStills();
+    }
+    // The noise each still's pyramid weighs residuals by: the noise frames' when given, else Immerkær's.
+    void weighStills()
+    {
+        for (Still& still : stills_)
+            still.pyramid.noiseSigma = noiseSigma_.empty() ? still.estimatedNoise : noiseSigma_;
+    }
     void clearReferenceFrame() CV_OVERRIDE
     {
         stills_[0] = stills_[1] = Still();
@@ -148,7 +163,12 @@ public:
         calibration_.gyroBias = correction.gyroBias;
         calibrated_ = true;
     }
-    double getConsistencyLimit() const CV_OVERRIDE { return consistencyLimit_; }
+    double getConsistencyLimit() const CV_OVERRIDE
+    {
+        if (!std::isnan(consistencyLimit_))
+            return consistencyLimit_;
+        return noiseSigma_.empty() ? kEstimatedNoiseLimit : kMeasuredNoiseLimit;
+    }
     void setConsistencyLimit(double limit) CV_OVERRIDE
     {
         if (!(limit > 1))
@@ -438,9 +458,21 @@ private:
             if (luminance.data == images[k].data)
                 luminance = luminance.clone();
             stills_[k].pyramid = detail::buildPyramid(luminance, camera_, detail::kFitCoarseWidth, true);
+            stills_[k].estimatedNoise = stills_[k].pyramid.noiseSigma;
             stills_[k].angle = angles[k];
             referenceType_ = images[k].type();
         }
+        weighStills();
+    }
+
+    // The noise frames (setNoiseFrames) measured the noise of frames of their own type only.
+    void checkNoiseType(const char* fn, const Mat& input) const
+    {
+        if (noiseType_ >= 0 && input.type() != noiseType_)
+            CV_Error(Error::StsUnmatchedFormats,
+                     format("%s: 'frame' is %s but the noise frames are %s; both must come from the same stream "
+                            "(or forget them: setNoiseFrames(noArray(), noArray()))",
+                            fn, typeToString(input.type()).c_str(), typeToString(noiseType_).c_str()));
     }
 
     /* The correction for this frame: the calibration, refined against the reference frame when
@@ -461,6 +493,7 @@ private:
                      format("DynamicDeblurrer::deblur: 'frame' is %s but the reference frame is %s; both must come "
                             "from the same stream (or call clearReferenceFrame)",
                             typeToString(input.type()).c_str(), typeToString(referenceType_).c_str()));
+        checkNoiseType("DynamicDeblurrer::deblur", input);
         if (!std::isnan(stills_[0].time))
             CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: the reference frame was placed by its capture time "
                                        "(setReferenceFrame(still, stillShutter)), which serves a measured motion; "
@@ -530,6 +563,7 @@ private:
                      format("%s: 'frame' is %s but the reference frame is %s; both must come from the same stream "
                             "(or call clearReferenceFrame)",
                             fn, typeToString(input.type()).c_str(), typeToString(referenceType_).c_str()));
+        checkNoiseType(fn, input);
         if (std::isnan(still.time))
             CV_Error(Error::StsBadArg, format("%s: a measured motion's reference frame is placed by its capture "
                                               "time: set it with setReferenceFrame(still, stillShutter), not with "
@@ -605,7 +639,8 @@ private:
                 detail::meanSquaredResiduals(plant_, frames, correction, {correction}, detail::kFitFineWidth)[0]);
             correction.reason = "checked against " + against;
         }
-        if (!(correction.consistency <= consistencyLimit_))
+        const double limit = getConsistencyLimit();
+        if (!(correction.consistency <= limit))
         {
             correction.applied = false;
             correction.reason =
@@ -613,7 +648,7 @@ private:
                     ? String("the frame and the reference frame observe no common pixel: returned unchanged")
                     : format("consistency %.2f exceeds the limit %.2f: no correction explains the frame (another "
                              "schedule, something moving, a bumped camera?); returned unchanged",
-                             correction.consistency, consistencyLimit_);
+                             correction.consistency, limit);
         }
         return correction;
     }
@@ -752,7 +787,14 @@ private:
     int refinement_ = REFINE_ALL;
     bool blind_ = false;
     double blindLimit_ = std::numeric_limits<double>::infinity();
-    double consistencyLimit_ = 3.0;
+    /* The consistency limit in units of Immerkær's estimate on the still, which texture inflates: a
+       right model measured 0.5 to 2.3 (RefinementQuality). */
+    static constexpr double kEstimatedNoiseLimit = 3.0;
+    /* ... and in units of the noise the noise frames measured: right models measured up to 6.3
+       (building, window I, as rendered), wrong ones that restore worse from 8.8 (baboon, the other
+       sign, after JPEG at quality 80; RefinementNoisePair, docs/refinement.md): their geometric middle. */
+    static constexpr double kMeasuredNoiseLimit = 7.5;
+    double consistencyLimit_ = kNaN;  // setConsistencyLimit's; NaN: by the noise's source, as above
     MotionCorrection calibration_, lastCorrection_;
     bool calibrated_ = false;  // setCalibration was called
     //! A still frame of the stream: its luminance, halved down to the fit's coarse width, and its angle.
@@ -761,9 +803,12 @@ private:
         detail::LuminancePyramid pyramid;
         double angle = kNaN;  // radians; NaN: the schedule's resting angle on its side of the move
         double time = kNaN;   // a measured motion's still: its capture time (mid-exposure), seconds; else NaN
+        std::vector<double> estimatedNoise;  // Immerkær's estimate at each level
         bool present() const { return pyramid.levels() > 0; }
     };
     Still stills_[2];         // before the move, after it
+    std::vector<double> noiseSigma_;  // setNoiseFrames: one frame's noise at each pyramid level; empty: Immerkær's
+    int noiseType_ = -1;              // the noise frames' type
     int referenceType_ = -1;  // the stills' type
     bool single_ = false;     // setReferenceFrame: one still for every frame, whatever its window
     double wienerNoiseToSignal_ = 1e-2;

@@ -8,6 +8,9 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 namespace cv {
 namespace dynblur {
 namespace detail {
@@ -47,6 +50,58 @@ LuminancePyramid buildPyramid(const Mat& luminance, const Ptr<CameraModel>& came
             pyramid.noiseSigma.push_back(observeFrame(image, pool, true).noiseSigma);
     }
     return pyramid;
+}
+
+std::vector<double> measureNoise(const Mat& stillA, const Mat& stillB, const Ptr<CameraModel>& camera,
+                                 const char* function)
+{
+    checkCameraFrame(stillA, *camera, function, "stillA");
+    checkCameraFrame(stillB, *camera, function, "stillB");
+    if (stillA.type() != stillB.type())
+        CV_Error(Error::StsUnmatchedFormats,
+                 format("%s: 'stillA' is %s but 'stillB' is %s; both must come from the frames' stream", function,
+                        typeToString(stillA.type()).c_str(), typeToString(stillB.type()).c_str()));
+    const LuminancePyramid a = buildPyramid(linearLuminance(stillA), camera, kFitCoarseWidth, false);
+    const LuminancePyramid b = buildPyramid(linearLuminance(stillB), camera, kFitCoarseWidth, false);
+    // At or above this (linear) a pixel may be clipped: the difference there is not the noise.
+    const float saturated = 0.99f;
+    std::vector<double> sigma;
+    std::vector<float> values;
+    for (int level = 0; level < a.levels(); level++)
+    {
+        const Mat& first = a.images[size_t(level)];
+        const Mat& second = b.images[size_t(level)];
+        values.clear();
+        for (int y = 0; y < first.rows; y++)
+        {
+            const float* p = first.ptr<float>(y);
+            const float* q = second.ptr<float>(y);
+            for (int x = 0; x < first.cols; x++)
+                if (p[x] < saturated && q[x] < saturated)
+                    values.push_back(p[x] - q[x]);
+        }
+        double deviation = 0;
+        if (!values.empty())
+        {
+            const auto middle = values.begin() + std::ptrdiff_t(values.size() / 2);
+            std::nth_element(values.begin(), middle, values.end());
+            const float median = *middle;
+            for (float& v : values)
+                v = std::abs(v - median);
+            std::nth_element(values.begin(), middle, values.end());
+            // 1.4826 × MAD is a normal distribution's standard deviation; the difference holds two frames' noise.
+            deviation = 1.4826 * double(*middle) / std::sqrt(2.0);
+        }
+        // Only the levels the fit runs at count: a clean camera's 8-bit stills may agree at full size.
+        if (!(deviation > 0) && (first.cols <= kFitFineWidth || level + 1 == a.levels()))
+            CV_Error(Error::StsBadArg,
+                     format("%s: 'stillA' and 'stillB' are equal in at least half of their unclipped pixels at "
+                            "%dx%d px: their difference measures no noise; give two separate captures of the same "
+                            "view",
+                            function, first.cols, first.rows));
+        sigma.push_back(deviation);
+    }
+    return sigma;
 }
 
 RollingShutter shutterAtLevel(const RollingShutter& shutter, int halvings)

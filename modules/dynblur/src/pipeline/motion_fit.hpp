@@ -40,6 +40,15 @@ Mat linearLuminance(const Mat& frame);
 LuminancePyramid buildPyramid(const Mat& luminance, const Ptr<CameraModel>& camera, int coarsestWidth,
                               bool estimateNoise);
 
+/** @brief The noise of one frame at each level of the fit's pyramid (buildPyramid down to
+kFitCoarseWidth), measured from two stills at rest at the same view: the robust standard deviation
+(1.4826 × the median absolute deviation) of their pyramids' difference over √2, over the pixels
+neither clips. Throws cv::Exception prefixed by `function` and naming the argument when either is not
+a frame of `camera` (checkCameraFrame), their types differ, or they agree in at least half of those
+pixels at a level the fit runs at (at most kFitFineWidth wide, or the smallest). */
+std::vector<double> measureNoise(const Mat& stillA, const Mat& stillB, const Ptr<CameraModel>& camera,
+                                 const char* function);
+
 //! The shutter of a frame halved `halvings` times (halfResolutionShutter applied that often).
 RollingShutter shutterAtLevel(const RollingShutter& shutter, int halvings);
 

@@ -170,7 +170,23 @@ public:
     CV_WRAP virtual void setReferenceFrames(InputArray before, InputArray after,
                                             double angleBefore = std::numeric_limits<double>::quiet_NaN(),
                                             double angleAfter = std::numeric_limits<double>::quiet_NaN()) = 0;
-    /** @brief Forgets the still frames: frames are restored with the model as told. */
+    /** @brief Measures the noise the refinement weighs its residuals by from two stills at rest at
+    the same view (consecutive frames of the stream, nothing moving between them): both are reduced as
+    the fit reduces a frame (linear luminance, halved to 320 and 160 px), and at each of those scales
+    the robust standard deviation of their difference (1.4826 × its median absolute deviation; clipped
+    pixels left out) over √2 is the noise of one frame there, with the camera's own correlation and a
+    codec's (MJPEG) included. Without them the noise is Immerkær's estimate on the reference still at
+    each scale @cite Immerkaer1996Noise, which its texture inflates (docs/refinement.md). In these
+    units a right model measures a consistency up to about 6, and the default consistency limit is
+    7.5 (getConsistencyLimit). The stills may be the reference frames themselves; the measurement
+    holds for every still set before or after it, until setNoiseFrames(noArray(), noArray()).
+    @param stillA a still frame of the frames' stream (their type and channels), the camera's image
+           size, intensities as the frames' (CV_8U sRGB or linear CV_32F in [0, 1]).
+    @param stillB the next still at the same view, the type and size of `stillA`; it must differ
+           from `stillA` in most pixels (the same capture twice measures no noise: refused). Both
+           empty: forget the measurement (Immerkær's estimate again). */
+    CV_WRAP virtual void setNoiseFrames(InputArray stillA, InputArray stillB) = 0;
+    /** @brief Forgets the still frames (not the noise frames): frames are restored with the model as told. */
     CV_WRAP virtual void clearReferenceFrame() = 0;
     /** @brief Whether a frame without a reference frame is refined blind (default false: the
     model as told). Blind, only the time offset is estimated (with REFINE_TIME_OFFSET among the
@@ -200,9 +216,11 @@ public:
     /** @param correction the calibrated correction (its consistency, applied and reason are ignored). */
     CV_WRAP virtual void setCalibration(const MotionCorrection& correction) = 0;
     /** @brief Frames whose corrected model's MotionCorrection::consistency exceeds it are returned
-    unchanged (default 3, noise units: measured 0.5 to 2.3 where the model is right; +inf turns the
-    check off). It is the user's cap: a fit stopped at one of its search bounds is refused whatever
-    its consistency (docs/refinement.md, "The decision"). Needs a reference frame. */
+    unchanged (noise units; +inf turns the check off). Default 3 in units of Immerkær's estimate on
+    the still (measured 0.5 to 2.3 where the model is right), 7.5 in units of the noise
+    setNoiseFrames measured (right models 1.4 to 6.3, wrong ones that would restore worse from 8.8).
+    It is the user's cap: a fit stopped at one of its search bounds is refused whatever its
+    consistency (docs/refinement.md, "The decision"). Needs a reference frame. */
     CV_WRAP virtual double getConsistencyLimit() const = 0;
     /** @param limit > 1, or +inf. */
     CV_WRAP virtual void setConsistencyLimit(double limit) = 0;

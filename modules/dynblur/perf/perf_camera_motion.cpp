@@ -62,8 +62,9 @@ const ShakeFrame& shakeFrame()
 }
 
 /* Each round restores the one-axis saccade frame and the 3-axis frame, each in the frame-rate
-   setting and in the default (tiles, 20 iterations, full color). Counters: the medians (ms) and the
-   median ratios 3-axis / one-axis of each setting. */
+   setting and in the default (tiles, 20 iterations, full color), and the 3-axis frame with
+   DEBLUR_PRESET_FRAME_RATE. Counters: the medians (ms), the median ratios 3-axis / one-axis of each
+   setting and the preset's over the default on the 3-axis frame. */
 void BM_ThreeAxisPaired(benchmark::State& state)
 {
     const dynblur_perf::SaccadeFrame& one = saccadeFrame();
@@ -71,7 +72,9 @@ void BM_ThreeAxisPaired(benchmark::State& state)
     Ptr<DynamicDeblurrer> oneFast = DynamicDeblurrer::create(one.plant, one.camera),
                           threeFast = DynamicDeblurrer::create(three.camera),
                           oneDefault = DynamicDeblurrer::create(one.plant, one.camera),
-                          threeDefault = DynamicDeblurrer::create(three.camera);
+                          threeDefault = DynamicDeblurrer::create(three.camera),
+                          threePreset = DynamicDeblurrer::create(three.camera);
+    threePreset->setPreset(DEBLUR_PRESET_FRAME_RATE);
     dynblur_perf::setFrameRate(*oneFast);
     dynblur_perf::setFrameRate(*threeFast);
     Mat restored;
@@ -79,13 +82,16 @@ void BM_ThreeAxisPaired(benchmark::State& state)
         state, {[&] { oneFast->deblur(one.frame, one.schedule, one.shutter, restored); },
                 [&] { threeFast->deblur(three.frame, three.motion, three.handHeld, restored); },
                 [&] { oneDefault->deblur(one.frame, one.schedule, one.shutter, restored); },
-                [&] { threeDefault->deblur(three.frame, three.motion, three.handHeld, restored); }});
+                [&] { threeDefault->deblur(three.frame, three.motion, three.handHeld, restored); },
+                [&] { threePreset->deblur(three.frame, three.motion, three.handHeld, restored); }});
     state.counters["one_axis_frame_rate_ms"] = median(ms[0]);
     state.counters["three_axis_frame_rate_ms"] = median(ms[1]);
     state.counters["one_axis_default_ms"] = median(ms[2]);
     state.counters["three_axis_default_ms"] = median(ms[3]);
     state.counters["frame_rate_three_over_one"] = medianRatio(ms[1], ms[0]);
     state.counters["default_three_over_one"] = medianRatio(ms[3], ms[2]);
+    state.counters["three_axis_preset_ms"] = median(ms[4]);
+    state.counters["three_axis_preset_over_default"] = medianRatio(ms[4], ms[3]);
     state.counters["three_axis_default_kernels"] = double(threeDefault->getLastPsfBank().kernels.size());
 }
 

@@ -220,9 +220,8 @@ double partsPsnr(const ShakeScene& s, const RollingShutter& shutter, const Mat& 
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(s.camera);
     RLParams params = deblurrer->getRLParams();
     params.iterations = parts.iterations > 0 ? parts.iterations : longest <= 32 ? 10 : 20;
-    params.colorIterations = parts.halfColor
-                                 ? std::min(params.iterations - 1, std::max(3, std::min(14, int(std::ceil(longest / 6.5)))))
-                                 : -1;
+    const int byLength = std::max(3, std::min(14, int(std::ceil(longest / 6.5))));
+    params.colorIterations = parts.halfColor ? std::min(params.iterations - 1, byLength) : -1;
     params.blurPrecision = parts.bfloat16 ? RL_BLUR_BFLOAT16 : RL_BLUR_FLOAT32;
     params.tolerance = parts.tolerance;
     deblurrer->setRLParams(params);
@@ -267,7 +266,8 @@ TEST(RotationQuality, DISABLED_PresetAblation)
         const double reference = maskedPsnr(scene.truth, byDefault, judged, 255);
         std::printf("[ measured ] %s %.0f deg/s %s %.0f ms | %.0f, %.1f | %.2f | %+.2f", name, peakRate,
                     shutter.lineDelay > 0 ? "rolling" : "global", shutter.exposure * 1e3, longest,
-                    dynblur_test::kernelSpreadPx(bank), reference, maskedPsnr(scene.truth, byPreset, judged, 255) - reference);
+                    dynblur_test::kernelSpreadPx(bank), reference,
+                    maskedPsnr(scene.truth, byPreset, judged, 255) - reference);
         for (const PresetParts& parts : settings)
             std::printf(" | %+.2f", partsPsnr(scene, shutter, frame, judged, parts, longest) - reference);
         std::printf("\n");

@@ -85,8 +85,9 @@ Ptr<DynamicDeblurrer> presetWith(const Ptr<CameraModel>& camera, int iterations,
    setting and in the default (tiles, 20 iterations, full color); the 3-axis frame with
    DEBLUR_PRESET_FRAME_RATE (its kernels' N = 49 px: 20 iterations) and with it at 10 iterations;
    and the gentle shake's frame with the default, the preset (L = 7 px: 8 iterations, every one in
-   color at full resolution) and the preset with 10 iterations, 3 in color at half resolution. Counters: the
-   medians (ms), the median ratios 3-axis / one-axis of each setting, and the preset's ratios. */
+   color at full resolution) and the preset with 10 iterations, 3 in color at half resolution.
+   Counters: the medians (ms), the median ratios 3-axis / one-axis of each setting, and the preset's
+   ratios. */
 void BM_ThreeAxisPaired(benchmark::State& state)
 {
     const dynblur_perf::SaccadeFrame& one = saccadeFrame();
@@ -96,7 +97,8 @@ void BM_ThreeAxisPaired(benchmark::State& state)
                           oneDefault = DynamicDeblurrer::create(one.plant, one.camera),
                           threeDefault = DynamicDeblurrer::create(three.camera),
                           threePreset = DynamicDeblurrer::create(three.camera),
-                          threeTen = presetWith(three.camera, 10, 5), gentleDefault = DynamicDeblurrer::create(three.camera),
+                          threeTen = presetWith(three.camera, 10, 5),
+                          gentleDefault = DynamicDeblurrer::create(three.camera),
                           gentlePreset = DynamicDeblurrer::create(three.camera),
                           gentleHalf = presetWith(three.camera, 10, 3);
     threePreset->setPreset(DEBLUR_PRESET_FRAME_RATE);

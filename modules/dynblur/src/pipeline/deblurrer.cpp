@@ -739,10 +739,10 @@ private:
        saccade's window III global frame, whose L = 25 px kernels hold most of their light in a few
        taps: N = 3.2). The color at half resolution loses 0.6 dB on baboon's fur at L = 7 px whatever
        its iterations; 6, 8 and 10 iterations all in color at full resolution lose 0.37, 0.26 and
-       0.19 dB there at worst (8: the margin kept at a fifth less work than 10); 3 color iterations at half
-       resolution lost 1.4 dB on fruits' window II frame (91 px), 14 lost 0.3. The automatic stop is
-       a safety net: at 2e-3 it stopped none of those frames, at 5e-3 it stopped building's window
-       III frame 1.6 dB early. */
+       0.19 dB there at worst (8: the margin kept at a fifth less work than 10); 3 color iterations
+       at half resolution lost 1.4 dB on fruits' window II frame (91 px), 14 lost 0.3. The automatic
+       stop is a safety net: at 2e-3 it stopped none of those frames, at 5e-3 it stopped building's
+       window III frame 1.6 dB early. */
     static constexpr int kShortBlurIterations = 10, kLongBlurIterations = 20, kFullColorIterations = 8;
     static constexpr double kShortBlurSpread = 12, kFullColorPx = 8;
     static constexpr int kMinColorIterations = 3, kMaxColorIterations = 14;

@@ -95,9 +95,11 @@ void expectAutoAndPreset(const std::string& file, const std::string& window, con
     Mat restored;
     preset->deblur(r.frame, s.schedule, shutter, restored);
     const double fast = maskedPsnr(s.truth, restored, judged, 255);
+    const Size longest = preset->getLastPsfBank().maxKernelSize();
     std::printf("[ measured ] %s: %s, frame-rate preset - default: %+.3f dB (%.2f against %.2f dB), allowed -%.1f "
-                "dB\n",
-                imageName(file).c_str(), window.c_str(), fast - variant, fast, variant, kPresetGap);
+                "dB; kernels up to %dx%d px, most spread N = %.1f px\n",
+                imageName(file).c_str(), window.c_str(), fast - variant, fast, variant, kPresetGap, longest.width,
+                longest.height, dynblur_test::kernelSpreadPx(preset->getLastPsfBank()));
     EXPECT_GE(fast - variant, -kPresetGap) << window;
 }
 

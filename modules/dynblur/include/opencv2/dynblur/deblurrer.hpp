@@ -42,9 +42,10 @@ enum DeblurPreset
     /** PSF_AUTO, Richardson–Lucy, 20 iterations in full color, automatic damping (the deblurrer's
         defaults) */
     DEBLUR_PRESET_DEFAULT = 0,
-    /** PSF_AUTO, iterations by need: per frame, from its longest kernel L, 10 iterations up to
-        L = 32 px, else 20, and ceil(L / 6.5) of them (3 to 14) in color at half resolution
-        (DEBLUR_COLOR_HALF_RESOLUTION, when the image size is even); bfloat16 blurs
+    /** PSF_AUTO, iterations by need, per frame from its PSF bank: where its longest kernel L is at
+        most 8 px, 8 iterations in color at full resolution; else 10 where its most spread kernel
+        spreads a point's light over N = 1 / Σk² ≤ 12 px, 20 beyond, and ceil(L / 6.5) of them (3 to
+        14) in color at half resolution (DEBLUR_COLOR_HALF_RESOLUTION, when the image size is even); bfloat16 blurs
         (RL_BLUR_BFLOAT16), automatic damping and the automatic stop (RLParams::tolerance 2e-3).
         getRLParams() returns the long blur's iterations; setRLParams fixes them again. */
     DEBLUR_PRESET_FRAME_RATE = 1

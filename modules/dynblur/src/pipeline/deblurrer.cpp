@@ -5,6 +5,7 @@
 #include "motion/camera_motion.hpp"
 #include "motion/corrected_motion.hpp"
 #include "pipeline/blind_fit.hpp"
+#include "pipeline/frame_rate_preset.hpp"
 #include "pipeline/half_color.hpp"
 #include "pipeline/motion_fit.hpp"
 #include "motion/shutter_check.hpp"
@@ -192,7 +193,7 @@ public:
             CV_Error(Error::StsOutOfRange,
                      format("DynamicDeblurrer::setPreset: preset = %d must be DEBLUR_PRESET_DEFAULT (0) or "
                             "DEBLUR_PRESET_FRAME_RATE (1)", preset));
-        RLParams params;
+        RLParams params = preset == DEBLUR_PRESET_FRAME_RATE ? detail::frameRatePresetParams() : RLParams();
         params.damping = kNaN;
         psfModel_ = PSF_AUTO;
         method_ = DEBLUR_RICHARDSON_LUCY;
@@ -200,10 +201,6 @@ public:
         iterationsByNeed_ = preset == DEBLUR_PRESET_FRAME_RATE;
         if (preset == DEBLUR_PRESET_FRAME_RATE)
         {
-            params.iterations = kLongBlurIterations;
-            params.tolerance = kFrameRateTolerance;
-            params.colorIterations = kMinColorIterations;
-            params.blurPrecision = RL_BLUR_BFLOAT16;
             const Size size = camera_->getImageSize();
             if (size.width % 2 == 0 && size.height % 2 == 0)
                 colorResolution_ = DEBLUR_COLOR_HALF_RESOLUTION;
@@ -284,7 +281,7 @@ private:
         lastBank_ = detail::generatePsfBank(*generator_, psfModel_, view, shutter, &lastPlan_);
         if (psfModel_ != PSF_AUTO)
             lastPlan_.model = lastBank_.model;
-        frameParams_ = iterationsByNeed_ ? iterationsFor(lastBank_) : params_;
+        frameParams_ = iterationsByNeed_ ? detail::frameRateIterations(lastBank_, params_) : params_;
 
         Mat alpha;
         const Mat color = withoutAlpha(input, alpha);
@@ -324,35 +321,6 @@ private:
     {
         return colorResolution_ == DEBLUR_COLOR_HALF_RESOLUTION && channels == 3 && frameParams_.colorIterations >= 0 &&
                frameParams_.colorIterations < frameParams_.iterations;
-    }
-
-    /* DEBLUR_PRESET_FRAME_RATE's iterations for a frame blurred as `bank`, from its longest kernel
-       L (pixels) and its most spread one's N = 1 / Σk² (pixels: a uniform line of n pixels has
-       N ≈ n, a kernel holding most of its light in one tap N ≈ 1; by Parseval 1 / N is the mean of
-       |K(f)|², so N says how much the blur takes away). Up to L = kFullColorPx, kFullColorIterations,
-       every one in color at full resolution; beyond, kShortBlurIterations up to N = kShortBlurSpread,
-       else kLongBlurIterations, and the color takes one iteration per kPxPerColorIteration of L, from
-       kMinColorIterations to kMaxColorIterations, at half resolution (docs/quality.md, "PSF_AUTO and
-       the frame-rate preset"). */
-    RLParams iterationsFor(const PsfBank& bank) const
-    {
-        const Size k = bank.maxKernelSize();
-        const double longest = std::max(k.width, k.height);
-        double spread = 1;
-        for (const Mat& kernel : bank.kernels)
-            spread = std::max(spread, 1 / kernel.dot(kernel));
-        RLParams params = params_;
-        if (longest <= kFullColorPx)
-        {
-            params.iterations = kFullColorIterations;
-            params.colorIterations = -1;
-            return params;
-        }
-        params.iterations = spread <= kShortBlurSpread ? kShortBlurIterations : kLongBlurIterations;
-        params.colorIterations = std::min(params.iterations - 1,
-                                          std::max(kMinColorIterations, std::min(kMaxColorIterations,
-                                                   int(std::ceil(longest / kPxPerColorIteration)))));
-        return params;
     }
 
     //! The frame returned as it came, every pixel valid.
@@ -767,22 +735,6 @@ private:
     Ptr<PsfGenerator> generator_;
     int psfModel_ = PSF_AUTO;  // tiles where the motion needs them; see the quality tests
     PsfPlan lastPlan_;
-    /* DEBLUR_PRESET_FRAME_RATE's iterations by need (iterationsFor), measured on DeblurQuality's
-       and RotationQuality's frames: 10 iterations lose up to 0.7 dB against 20 where the most spread
-       kernel covers N ≥ 14.6 px (a 3-axis shake's lines, L = 11 px and more), 0.2 to 1.4 dB where
-       N ≥ 78 (the saccade's long blurs), and stay within 0.25 dB at N ≤ 9.9 (L = 7 px, and the
-       saccade's window III global frame, whose L = 25 px kernels hold most of their light in a few
-       taps: N = 3.2). The color at half resolution loses 0.6 dB on baboon's fur at L = 7 px whatever
-       its iterations; 6, 8 and 10 iterations all in color at full resolution lose 0.37, 0.26 and
-       0.19 dB there at worst (8: the margin kept at a fifth less work than 10); 3 color iterations
-       at half resolution lost 1.4 dB on fruits' window II frame (91 px), 14 lost 0.3. The automatic
-       stop is a safety net: at 2e-3 it stopped none of those frames, at 5e-3 it stopped building's
-       window III frame 1.6 dB early. */
-    static constexpr int kShortBlurIterations = 10, kLongBlurIterations = 20, kFullColorIterations = 8;
-    static constexpr double kShortBlurSpread = 12, kFullColorPx = 8;
-    static constexpr int kMinColorIterations = 3, kMaxColorIterations = 14;
-    static constexpr double kPxPerColorIteration = 6.5;
-    static constexpr double kFrameRateTolerance = 2e-3;
     int method_ = DEBLUR_RICHARDSON_LUCY;
     int colorResolution_ = DEBLUR_COLOR_FULL_RESOLUTION;
     int unobservedFill_ = UNOBSERVED_RECORDED;  // never streaks of the nearest pixel across a band

@@ -293,7 +293,8 @@ def main():
                         f"{three[f'one_axis_{key}_ms']:.0f} ms)", f"{ratio:.2f}x", "<= 2x", ratio <= 2))
     # PSF_AUTO and the frame-rate preset, per window (BM_AutoPaired; the frames are described there).
     for arg, window in ((0, "window III rolling"), (1, "window I rolling"), (2, "window III global"),
-                        (3, "window III rolling, late (short blur)")):
+                        (3, "window III rolling, late (short blur)"),
+                        (4, "window III rolling, 15 deg field of view, 1 deg saccade")):
         a = entry(f"BM_AutoPaired/window:{arg}")
         tiles_share = a["auto_tiles_share"]
         if tiles_share == 0:

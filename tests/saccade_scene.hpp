@@ -33,10 +33,13 @@ struct SaccadeScene
     Mat truth;        // 8-bit sRGB frame-sized view at θ_ref
     int marginX = 24, marginY = 0;
 
-    explicit SaccadeScene(const std::string& imagePath)
+    /** `focalPx` and `moveDeg`: another lens (focal length, pixels) and saccade (degrees) than the
+    C270's 615 px and 10°. */
+    explicit SaccadeScene(const std::string& imagePath, double focalPx = 615.0, double moveDeg = 10)
     {
-        schedule = SwitchPlanner::create(plant, 16)->plan(0.0, 10 * kDeg, 0.0);
-        marginY = static_cast<int>(std::ceil(615.0 * std::tan(10 * kDeg))) + 24;
+        camera = CameraModel::create(focalPx, focalPx, 319.5, 239.5, 640, 480);
+        schedule = SwitchPlanner::create(plant, 16)->plan(0.0, moveDeg * kDeg, 0.0);
+        marginY = static_cast<int>(std::ceil(focalPx * std::tan(moveDeg * kDeg))) + 24;
         const Size sceneSize(640 + 2 * marginX, 480 + 2 * marginY);
         Mat image = imread(imagePath, IMREAD_COLOR), scaled;
         // Scale to cover the scene, keeping the aspect ratio, then take the centre.

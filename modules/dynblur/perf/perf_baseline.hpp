@@ -25,11 +25,16 @@ struct SaccadeFrame : SaccadeScene
 {
     cv::Mat frame, frame8;  // linear float, and as a webcam delivers it: 8-bit sRGB
 
-    //! `timing`: the frame's shutter instead of SaccadeScene's (its rows must be 960).
-    explicit SaccadeFrame(const cv::dynblur::RollingShutter* timing = nullptr)
+    /** `timing`: the frame's shutter instead of SaccadeScene's (its rows must be 960); `focalPx` and
+    `moveDeg`: the camera's focal length (pixels) and the saccade (degrees) instead of 1230 px and 10°. */
+    explicit SaccadeFrame(const cv::dynblur::RollingShutter* timing = nullptr, double focalPx = 1230, double moveDeg = 10)
     {
         if (timing)
             shutter = *timing;
+        if (focalPx != 1230)
+            camera = cv::dynblur::CameraModel::create(focalPx, focalPx, 639.5, 479.5, 1280, 960);
+        if (moveDeg != 10)
+            schedule = cv::dynblur::SwitchPlanner::create(plant, 16, cv::dynblur::PLAN_ROBUST)->plan(0.0, moveDeg * CV_PI / 180, 0.0);
         // A textured linear-intensity scene.
         cv::Mat sharp(960, 1280, CV_32FC3), blurred;
         cv::randu(sharp, 0.05f, 0.95f);

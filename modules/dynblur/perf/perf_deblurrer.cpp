@@ -116,19 +116,21 @@ BENCHMARK(BM_FrameRatePaired)->Unit(benchmark::kMillisecond)->UseRealTime()->Ite
 /* PSF_AUTO and the frame-rate preset against the fixed models, paired per round, on the frame of a
    window: 0 the benchmark's window III rolling frame, 1 window I rolling (starts 20.7 ms before the
    move), 2 window III global (starts 42.9 ms after it starts; the demo's frames), 3 a frame late in
-   the settling (rolling, starts 40 ms after), whose blur is short. Each round restores it with the
+   the settling (rolling, starts 40 ms after), whose blur is short, 4 a window III rolling frame of a
+   zoomed lens (15° field of view) 25 ms into a 1° saccade, whose rows each need one kernel. Each round restores it with the
    default settings (20 iterations, full color) as PSF_AUTO, PSF_ROWS and PSF_TILES, with
    DEBLUR_PRESET_FRAME_RATE, with the frame-rate setting of old (setFrameRate: rows, 10 iterations)
    and with the filter2D reference. Counters: the medians (ms), the median ratios, and the share of
    rows PSF_AUTO gave rows and tiles (the default's, then the preset's). */
 void BM_AutoPaired(benchmark::State& state)
 {
-    static const RollingShutter timings[4] = {SaccadeScene().shutter, RollingShutter(-0.0207, 0.008, 1.0 / 30 / 960, 960),
+    static const RollingShutter timings[5] = {SaccadeScene().shutter, RollingShutter(-0.0207, 0.008, 1.0 / 30 / 960, 960),
                                               RollingShutter(0.0429, 0.008, 0, 960),
-                                              RollingShutter(0.040, 0.008, 1.0 / 30 / 960, 960)};
+                                              RollingShutter(0.040, 0.008, 1.0 / 30 / 960, 960),
+                                              RollingShutter(0.025, 0.008, 1.0 / 30 / 960, 960)};
     const int window = static_cast<int>(state.range(0));
-    const SaccadeFrame f(&timings[window]);
-    const int expected[4] = {EXPOSURE_III, EXPOSURE_I, EXPOSURE_III, EXPOSURE_III};
+    const SaccadeFrame f(&timings[window], window == 4 ? 4920 : 1230, window == 4 ? 1 : 10);
+    const int expected[5] = {EXPOSURE_III, EXPOSURE_I, EXPOSURE_III, EXPOSURE_III, EXPOSURE_III};
     if (classifyExposure(f.plant, f.schedule, f.shutter) != expected[window])
         state.SkipWithError("the frame is not in the window it stands for");
     const auto withModel = [&](int model) {
@@ -160,7 +162,7 @@ void BM_AutoPaired(benchmark::State& state)
     state.counters["auto_tiles_share"] = plan.rowShare(PSF_TILES);
     state.counters["preset_tiles_share"] = fast.rowShare(PSF_TILES);
 }
-BENCHMARK(BM_AutoPaired)->ArgName("window")->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)
+BENCHMARK(BM_AutoPaired)->ArgName("window")->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond)
     ->UseRealTime()->Iterations(5)->Repetitions(1);
 
 /* The test command's short speed check (scripts/benchmark.sh --ci): the row-wise restoration and the

@@ -334,25 +334,24 @@ TEST_P(DeblurQuality, RollingShutterWindowIIMovingThroughout)
 
 // building and fruits have been looked at while the restoration was developed; board is held out.
 /* Through a zoomed lens (a 15° field of view: fx = 2460 px at 640 px wide) a 1° saccade's window I
-   frame (the move inside its readout, kernels up to 45 px) is one where one kernel per row is within
-   the 0.5 px tolerance everywhere (0.49 px at worst): PSF_AUTO gives every band rows and restores as
-   PSF_ROWS does. The quality figures there are printed, not asserted: tiles (3×45 px kernels, which
-   follow the sub-pixel slant that one kernel per row leaves out) restore building and board 0.36 and
-   0.72 dB better, beyond the 0.3 dB that PSF_AUTO promises (docs/quality.md), and the frame-rate
-   preset and the row-wise setting of 10 iterations are printed against the default. */
-TEST_P(DeblurQuality, ZoomedLensRowsSuffice)
+   frame (the move inside its readout, kernels up to 45 px) errs by at most 0.49 px with one kernel per
+   row; at a tolerance of 0.5 px PSF_AUTO gave it rows everywhere and lost 0.36 and 0.72 dB against
+   tiles on building and board, at 0.25 px (the default) it gives 23 % of its rows tiles. PSF_AUTO is
+   held to its bound here too. The frame-rate preset is printed, not held: on the held-out board it is
+   0.77 dB below the default here, beyond its 0.5 dB (docs/quality.md); so is the row-wise setting of
+   10 iterations. DISABLED_ZoomedLensTolerances prints PSF_AUTO at each tolerance. */
+TEST_P(DeblurQuality, ZoomedLensWindowI)
 {
     DYNBLUR_REQUIRE_DATA(path, GetParam());
     const SaccadeScene s(path, 2460.0, 1.0);
     const RollingShutter shutter(-0.010, 0.008, 1.0 / 30 / 480, 480);
     ASSERT_EQ(classifyExposure(s.plant, s.schedule, shutter), EXPOSURE_I);
     const Restorations r = restoreBoth(s, shutter);
-    EXPECT_EQ(r.plan.rowShare(PSF_ROWS), 1.0);
     const Mat judged = judgedPixels(r.valid, Range(0, 480));
     const std::array<double, 3> p = r.psnr(s.truth, judged);
-    const double rows = modelPsnr(s, shutter, r.frame, judged, PSF_ROWS);
-    EXPECT_NEAR(p[2], rows, 1e-9) << "PSF_AUTO restores as PSF_ROWS where it gives every band rows";
     const double tiles = modelPsnr(s, shutter, r.frame, judged, PSF_TILES);
+    const double rows = modelPsnr(s, shutter, r.frame, judged, PSF_ROWS);
+    EXPECT_GE(p[2] - std::max(tiles, rows), -kAutoGap);
     Ptr<DynamicDeblurrer> preset = DynamicDeblurrer::create(s.plant, s.camera);
     preset->setPreset(DEBLUR_PRESET_FRAME_RATE);
     Mat restored;
@@ -360,10 +359,31 @@ TEST_P(DeblurQuality, ZoomedLensRowsSuffice)
     const double fast = maskedPsnr(s.truth, restored, judged, 255);
     const double rowWise = frameRatePsnr(s, shutter, r.frame, judged, PSF_ROWS, RL_BLUR_BFLOAT16,
                                          DEBLUR_COLOR_HALF_RESOLUTION);
-    std::printf("[ measured ] %s: I rolling, 15 deg field of view, 1 deg saccade: blurred %.2f dB, PSF_AUTO (rows "
-                "everywhere) %.2f dB, tiles %+.3f dB, frame-rate preset %+.3f dB, row-wise setting of 10 iterations "
-                "%+.3f dB against PSF_AUTO\n",
-                imageName(GetParam()).c_str(), p[0], p[2], tiles - p[2], fast - p[2], rowWise - p[2]);
+    std::printf("[ measured ] %s: zoomed lens, window I: blurred %.2f dB, PSF_AUTO %.2f dB (tiles in %.0f %% of the "
+                "rows), PSF_AUTO - best fixed model %+.3f dB (tiles %.2f, rows %.2f dB), against PSF_AUTO: frame-rate "
+                "preset %+.3f dB, row-wise setting of 10 iterations %+.3f dB\n",
+                imageName(GetParam()).c_str(), p[0], p[2], 100 * r.plan.rowShare(PSF_TILES),
+                p[2] - std::max(tiles, rows), tiles, rows, fast - p[2], rowWise - p[2]);
+}
+
+TEST_P(DeblurQuality, DISABLED_ZoomedLensTolerances)
+{
+    DYNBLUR_REQUIRE_DATA(path, GetParam());
+    const SaccadeScene s(path, 2460.0, 1.0);
+    const RollingShutter shutter(-0.010, 0.008, 1.0 / 30 / 480, 480);
+    const Restorations r = restoreBoth(s, shutter);
+    const Mat judged = judgedPixels(r.valid, Range(0, 480));
+    for (double tolerance : {0.5, 0.35, 0.25, 0.15, 0.1})
+    {
+        Ptr<DynamicDeblurrer> d = DynamicDeblurrer::create(s.plant, s.camera);
+        d->getPsfGenerator()->setAutoTolerance(tolerance);
+        Mat restored;
+        d->deblur(r.frame, s.schedule, shutter, restored);
+        std::printf("[ measured ] %s: zoomed lens, PSF_AUTO at a tolerance of %.2f px: tiles in %.0f %% of the rows, "
+                    "%.2f dB (tiles %.2f dB)\n",
+                    imageName(GetParam()).c_str(), tolerance, 100 * d->getLastPlan().rowShare(PSF_TILES),
+                    maskedPsnr(s.truth, restored, judged, 255), modelPsnr(s, shutter, r.frame, judged, PSF_TILES));
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(SharedImages, DeblurQuality, testing::Values("building.jpg", "fruits.jpg", "board.jpg"),

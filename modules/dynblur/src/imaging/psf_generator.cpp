@@ -27,7 +27,7 @@ class PsfGeneratorImpl CV_FINAL : public PsfGenerator
 {
 public:
     PsfGeneratorImpl(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera)
-        : plant_(plant), camera_(camera), maxKernel_(401), bandRows_(0), grid_(0, 0), autoTolerance_(0.5)
+        : plant_(plant), camera_(camera), maxKernel_(401), bandRows_(0), grid_(0, 0), autoTolerance_(0.25)
     {
     }
 

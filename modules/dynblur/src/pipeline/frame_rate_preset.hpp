@@ -18,7 +18,7 @@ RLParams frameRatePresetParams();
 and its most spread one's N = 1 / Σk² (pixels: a uniform line of n pixels has N ≈ n, a kernel
 holding most of its light in one tap N ≈ 1; by Parseval 1 / N is the mean of |K(f)|², so N says how
 much the blur takes away). Up to L = 8 px, 8 iterations, every one in color at full resolution;
-beyond, 10 iterations up to N = 12 px, else 20, and the color takes one iteration per 6.5 px of L,
+beyond, 10 iterations where N ≤ 12 px and L ≤ 32 px, else 20, and the color takes one iteration per 6.5 px of L,
 from 3 to 14, at half resolution (docs/quality.md, "PSF_AUTO and the frame-rate preset").
 @param bank the frame's PSF bank.
 @param params the preset's settings (frameRatePresetParams), whose other fields are kept. */

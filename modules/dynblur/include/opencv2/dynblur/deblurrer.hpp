@@ -43,10 +43,11 @@ enum DeblurPreset
         defaults) */
     DEBLUR_PRESET_DEFAULT = 0,
     /** PSF_AUTO, iterations by need, per frame from its PSF bank: where its longest kernel L is at
-        most 8 px, 8 iterations in color at full resolution; else 10 where its most spread kernel
-        spreads a point's light over N = 1 / Σk² ≤ 12 px, 20 beyond, and ceil(L / 6.5) of them (3 to
-        14) in color at half resolution (DEBLUR_COLOR_HALF_RESOLUTION, when the image size is even); bfloat16 blurs
-        (RL_BLUR_BFLOAT16), automatic damping and the automatic stop (RLParams::tolerance 2e-3).
+        most 8 px, 8 iterations in color at full resolution; else 10 where L ≤ 32 px and its most
+        spread kernel spreads a point's light over N = 1 / Σk² ≤ 12 px, 20 otherwise, and
+        ceil(L / 6.5) of them (3 to 14) in color at half resolution (DEBLUR_COLOR_HALF_RESOLUTION,
+        when the image size is even); bfloat16 blurs (RL_BLUR_BFLOAT16), automatic damping and the
+        automatic stop (RLParams::tolerance 2e-3).
         getRLParams() returns the long blur's iterations; setRLParams fixes them again. */
     DEBLUR_PRESET_FRAME_RATE = 1
 };

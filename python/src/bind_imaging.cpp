@@ -299,7 +299,7 @@ PSF_AUTO: the model chosen per band of rows (the bank's model is the one chosen)
             py::arg("motion"), py::arg("shutter"), py::arg("tRef") = kNaN,
             "What PSF_AUTO chooses for one frame of `motion` (a PsfPlan).")
         .def("getAutoTolerance", &PsfGenerator::getAutoTolerance,
-             "PSF_AUTO's largest displacement error of a cheaper model, pixels (default 0.5).")
+             "PSF_AUTO's largest displacement error of a cheaper model, pixels (default 0.25).")
         .def("setAutoTolerance", &PsfGenerator::setAutoTolerance, py::arg("pixels"))
         .def("getMaxKernelSize", &PsfGenerator::getMaxKernelSize,
              "Largest kernel extent allowed, pixels (default 401); a longer path is refused.")

@@ -339,7 +339,8 @@ TEST_P(DeblurQuality, RollingShutterWindowIIMovingThroughout)
    tiles on building and board, at 0.25 px (the default) it gives 23 % of its rows tiles. PSF_AUTO is
    held to its bound here too. The frame-rate preset is printed, not held: on the held-out board it is
    0.77 dB below the default here, beyond its 0.5 dB (docs/quality.md); so is the row-wise setting of
-   10 iterations. DISABLED_ZoomedLensTolerances prints PSF_AUTO at each tolerance. */
+   10 iterations. DISABLED_ZoomedLensTolerances prints PSF_AUTO at each tolerance, and the preset with
+   its color at half and at full resolution. */
 TEST_P(DeblurQuality, ZoomedLensWindowI)
 {
     DYNBLUR_REQUIRE_DATA(path, GetParam());
@@ -373,6 +374,17 @@ TEST_P(DeblurQuality, DISABLED_ZoomedLensTolerances)
     const RollingShutter shutter(-0.010, 0.008, 1.0 / 30 / 480, 480);
     const Restorations r = restoreBoth(s, shutter);
     const Mat judged = judgedPixels(r.valid, Range(0, 480));
+    for (int resolution : {DEBLUR_COLOR_HALF_RESOLUTION, DEBLUR_COLOR_FULL_RESOLUTION})
+    {
+        Ptr<DynamicDeblurrer> d = DynamicDeblurrer::create(s.plant, s.camera);
+        d->setPreset(DEBLUR_PRESET_FRAME_RATE);
+        d->setColorResolution(resolution);
+        Mat restored;
+        d->deblur(r.frame, s.schedule, shutter, restored);
+        std::printf("[ measured ] %s: zoomed lens, the frame-rate preset with the color at %s resolution: %.2f dB\n",
+                    imageName(GetParam()).c_str(), resolution == DEBLUR_COLOR_HALF_RESOLUTION ? "half" : "full",
+                    maskedPsnr(s.truth, restored, judged, 255));
+    }
     for (double tolerance : {0.5, 0.35, 0.25, 0.15, 0.1})
     {
         Ptr<DynamicDeblurrer> d = DynamicDeblurrer::create(s.plant, s.camera);

@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: Apache-2.0
 # Shared by the CLI test scripts: run(EXPECTED_EXIT_CODE command args...) runs a command, shows its
 # output, fails unless it exits with EXPECTED_EXIT_CODE, and leaves the output in `last_output`.
-# (read_timing_file, below, checks and reads what dynblur_calibrate_timing wrote; require_test_data
-# finds the test data.)
+# (Below: expect_written, read_yaml_numbers and read_timing_file check and read what a program wrote;
+# require_test_data finds the test data.)
 function(run expected)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   message(STATUS "$ ${ARGN}\n${out}${err}")
@@ -12,21 +12,32 @@ function(run expected)
   set(last_output "${out}${err}" PARENT_SCOPE)
 endfunction()
 
-# read_timing_file(DIR): fails unless dynblur_calibrate_timing wrote DIR/timing.yml and its plot
-# DIR/timing_objective.png, and sets each numeric field of timing.yml (timeOffset, lineDelayScale, ...)
-# as a variable of the caller.
-macro(read_timing_file dir)
-  foreach(f timing.yml timing_objective.png)
+# expect_written(DIR WHO FILE...): fails unless WHO (a program, a step) wrote each FILE under DIR.
+function(expect_written dir who)
+  foreach(f ${ARGN})
     if(NOT EXISTS ${dir}/${f})
-      message(FATAL_ERROR "${f} was not written")
+      message(FATAL_ERROR "${who} did not write ${f}")
     endif()
   endforeach()
-  file(STRINGS ${dir}/timing.yml _timing_lines)
-  foreach(_line ${_timing_lines})
+endfunction()
+
+# read_yaml_numbers(FILE): sets each "name: number" line of FILE (a plant or timing file) as a
+# variable of the caller.
+macro(read_yaml_numbers file)
+  file(STRINGS ${file} _yaml_lines)
+  foreach(_line ${_yaml_lines})
     if(_line MATCHES "^([a-zA-Z]+): *([-+0-9.eE]+)$")
       set(${CMAKE_MATCH_1} ${CMAKE_MATCH_2})
     endif()
   endforeach()
+endmacro()
+
+# read_timing_file(DIR): fails unless dynblur_calibrate_timing wrote DIR/timing.yml and its plot
+# DIR/timing_objective.png, and sets each numeric field of timing.yml (timeOffset, lineDelayScale, ...)
+# as a variable of the caller.
+macro(read_timing_file dir)
+  expect_written(${dir} dynblur_calibrate_timing timing.yml timing_objective.png)
+  read_yaml_numbers(${dir}/timing.yml)
 endmacro()
 
 # require_test_data(FILE): DATA becomes DYNBLUR_TEST_DATA when the environment sets it. Without

@@ -58,11 +58,7 @@ endif()
 # The video restorer on the same recording, with the timing file: every frame written, each moving
 # frame restored (the CSV says so), and the same refusals.
 run(0 ${RESTORE} ${rec} --timing ${dir}/timing.yml --out ${dir}/restored.avi)
-foreach(f restored.avi restored.csv)
-  if(NOT EXISTS ${dir}/${f})
-    message(FATAL_ERROR "${f} was not written")
-  endif()
-endforeach()
+expect_written(${dir} dynblur_restore_video restored.avi restored.csv)
 file(STRINGS ${dir}/restored.csv rows)
 list(LENGTH rows count)
 file(STRINGS ${dir}/rec/frames.csv frameLines REGEX "^[0-9]")

@@ -32,11 +32,7 @@ if(NOT last_output MATCHES "gyro bias +\\(\\+0\\.[45][0-9]*, -0\\.[45][0-9]*, \\
 endif()
 
 run(0 ${RESTORE} ${rec} --timing ${dir}/timing.yml --out ${dir}/restored.avi)
-foreach(f restored.avi restored.csv)
-  if(NOT EXISTS ${dir}/${f})
-    message(FATAL_ERROR "${f} was not written")
-  endif()
-endforeach()
+expect_written(${dir} dynblur_restore_video restored.avi restored.csv)
 file(STRINGS ${dir}/restored.csv rows REGEX ",II,1,")
 list(LENGTH rows restoredRows)
 if(restoredRows LESS 10)

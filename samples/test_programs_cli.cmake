@@ -18,11 +18,7 @@ endfunction()
 # --- dynblur_plan: both spellings, the schedule file it writes, units in its CSV header.
 run(0 ${BIN}/dynblur_plan --deg --from 0 --to 10 --out ${dir}/move)
 run(0 ${BIN}/dynblur_plan --deg --from=0 --to=10 --mode=robust --out=${dir}/robust)
-foreach(f move.yml move.csv move.png robust.yml)
-  if(NOT EXISTS ${dir}/${f})
-    message(FATAL_ERROR "dynblur_plan did not write ${f}")
-  endif()
-endforeach()
+expect_written(${dir} dynblur_plan move.yml move.csv move.png robust.yml)
 file(STRINGS ${dir}/move.csv header LIMIT_COUNT 1)
 if(NOT header STREQUAL "t_s,theta_rad,omega_rad_per_s,level")
   message(FATAL_ERROR "plan CSV header without units: ${header}")
@@ -89,9 +85,7 @@ file(WRITE ${dir}/timing.yml "%YAML:1.0\n---\ntimeOffset: 1.0e-03\nlineDelayScal
 run(0 ${BIN}/dynblur_demo --frame ${dir}/rec/frame_0001.png --schedule ${dir}/move.yml --frame-start 0.01
     --camera ${REC}/camera.xml --plant ${REC}/plant.yml --timing ${dir}/timing.yml --model rows --iterations 2
     --out ${dir}/demo)
-if(NOT EXISTS ${dir}/demo/restored.png)
-  message(FATAL_ERROR "the demo did not restore the frame")
-endif()
+expect_written(${dir}/demo dynblur_demo restored.png)
 run(2 ${BIN}/dynblur_demo --timing ${dir}/timing.yml)
 expect("--timing belongs to the real-frame mode" "--timing without --frame")
 run(1 ${BIN}/dynblur_demo --frame ${dir}/rec/frame_0001.png --schedule ${dir}/move.yml --frame-start 0.01

@@ -14,9 +14,7 @@ run(0 ${BIN}/dynblur_restore_video --recording ${REC} --truth ${REC}/truth --out
 if(NOT last_output MATCHES "truth: gain over the recording, mean [-+][0-9.]+ dB")
   message(FATAL_ERROR "no truth summary line")
 endif()
-if(NOT EXISTS ${dir}/restored_frames.png)
-  message(FATAL_ERROR "no contact sheet")
-endif()
+expect_written(${dir} "dynblur_restore_video (the contact sheet)" restored_frames.png)
 
 # Columns: frame, window, restored, ..., reason (9th), window_as_told, blur_px, window_true,
 # psnr_recorded_db, psnr_restored_db, gain_db.

@@ -27,12 +27,8 @@ message(STATUS "${out}${err}")
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "the rehearsal of ${DOC} failed (exit ${rc})")
 endif()
-foreach(f rig/camera.xml rig/step.yml rig/response.csv rig/plant.yml rec/frames.csv rec/commands.csv rec/camera.xml
-          rec/plant.yml rec/timing.yml restored.avi restored.csv)
-  if(NOT EXISTS ${WORK}/${f})
-    message(FATAL_ERROR "the rehearsal did not write ${f}")
-  endif()
-endforeach()
+expect_written(${WORK} "the rehearsal" rig/camera.xml rig/step.yml rig/response.csv rig/plant.yml rec/frames.csv
+               rec/commands.csv rec/camera.xml rec/plant.yml rec/timing.yml restored.avi restored.csv)
 # Every moving frame of the recording was restored or refused with a reason; the timing was found.
 file(STRINGS ${WORK}/restored.csv rows REGEX "^[0-9]+,(I|II|III)")
 list(LENGTH rows moving)

@@ -97,16 +97,27 @@ static int usageError(const std::string& message)
 
 const size_t kSheetRows = 6;
 
-//! --preset, then --model over the preset's PSF_AUTO.
-static void applyRestorationOptions(const CliArgs& args, DynamicDeblurrer& deblurrer)
+//! --preset and --model, read before any file is opened (a usage error comes first).
+struct RestorationSettings
 {
-    deblurrer.setPreset(deblurPresetFromName(args.str("preset", "frame-rate")));
-    deblurrer.setPsfModel(psfModelFromName(args.str("model", "auto")));
-}
+    int preset, psfModel;
+
+    explicit RestorationSettings(const CliArgs& args)
+        : preset(deblurPresetFromName(args.str("preset", "frame-rate"))),
+          psfModel(psfModelFromName(args.str("model", "auto")))
+    {
+    }
+    //! The preset, then the model over the preset's PSF_AUTO.
+    void apply(DynamicDeblurrer& deblurrer) const
+    {
+        deblurrer.setPreset(preset);
+        deblurrer.setPsfModel(psfModel);
+    }
+};
 
 /* --gyro: each frame restored with the gyro log's motion as --timing corrects it; the video and a CSV
    of each frame's window, written whole. */
-static int restoreGyroRecording(const CliArgs& args)
+static int restoreGyroRecording(const CliArgs& args, const RestorationSettings& settings)
 {
     GyroRecording recording;
     GyroRecording::open(args, std::string(DYNBLUR_CALIB_DIR) + "/c270_nominal.xml", recording);
@@ -115,7 +126,7 @@ static int restoreGyroRecording(const CliArgs& args)
                           "refinement needs stills: DynamicDeblurrer::setReferenceFrame(still, stillShutter))");
     const std::string videoOut = args.str("out", "restored.avi"), csvOut = args.str("csv", pathStem(videoOut) + ".csv");
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(recording.camera);
-    applyRestorationOptions(args, *deblurrer);
+    settings.apply(*deblurrer);
     MotionCorrection calibration;
     if (!recording.timingPath.empty())
         calibration = TimingCalibration::load(recording.timingPath).correction, deblurrer->setCalibration(calibration);
@@ -284,13 +295,12 @@ int main(int argc, char** argv)
             std::cout << usage;
             return 0;
         }
-        psfModelFromName(args.str("model", "auto"));  // a usage error before any file is opened
-        deblurPresetFromName(args.str("preset", "frame-rate"));
+        const RestorationSettings settings(args);
         if (args.has("gyro"))
         {
             if (args.has("truth"))
                 return usageError("--truth belongs to a recording with a command log, not to --gyro");
-            return restoreGyroRecording(args);
+            return restoreGyroRecording(args, settings);
         }
         if (!OpenedRecording::named(args))
             return usageError("--recording DIR, or --video, --frames and --commands, are required");
@@ -323,7 +333,7 @@ int main(int argc, char** argv)
         const RecordingTruth truth = hasTruth ? RecordingTruth::load(args.str("truth", "")) : RecordingTruth();
         const Ptr<Plant> truePlant = truth.motion.correctPlant(plant);
         Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
-        applyRestorationOptions(args, *deblurrer);
+        settings.apply(*deblurrer);
         deblurrer->setRefinement(flags);
         deblurrer->setUnobservedFill(unobserved);
         if (!timingPath.empty())

@@ -410,17 +410,28 @@ ReferencePairing::ReferencePairing(const cv::Ptr<cv::dynblur::Plant>& plant,
 
 bool ReferencePairing::isStill(const FrameRecord& record, int rows) const
 {
+    const cv::dynblur::RollingShutter corrected =
+        correction_.correctShutter(cv::dynblur::RollingShutter(record.frameStart, record.exposure, record.lineDelay, rows));
+    return stillUnder(corrected, scheduleFor(corrected));
+}
+
+cv::dynblur::SwitchSchedule ReferencePairing::scheduleFor(const cv::dynblur::RollingShutter& corrected) const
+{
+    const cv::Vec2d readout = corrected.readoutInterval();
+    return commands_.scheduleAround(readout[0] - maxOffset_, readout[1] + maxOffset_);
+}
+
+bool ReferencePairing::stillUnder(const cv::dynblur::RollingShutter& corrected,
+                                  const cv::dynblur::SwitchSchedule& schedule) const
+{
     using namespace cv::dynblur;
-    const RollingShutter shutter =
-        correction_.correctShutter(RollingShutter(record.frameStart, record.exposure, record.lineDelay, rows));
-    const cv::Vec2d readout = shutter.readoutInterval();
-    const SwitchSchedule schedule = commands_.scheduleAround(readout[0] - maxOffset_, readout[1] + maxOffset_);
     const double pixelAngle = 0.25 / camera_->getFx();
     for (double shift : {-maxOffset_, 0.0, maxOffset_})
     {
-        RollingShutter shifted = shutter;
+        RollingShutter shifted = corrected;
         shifted.frameStart += shift;
-        if (classifyExposure(correctedPlant_, schedule, shifted, pixelAngle, pixelAngle / record.exposure) != EXPOSURE_IV)
+        if (classifyExposure(correctedPlant_, schedule, shifted, pixelAngle, pixelAngle / corrected.exposure) !=
+            EXPOSURE_IV)
             return false;
     }
     return true;
@@ -433,10 +444,11 @@ std::vector<ReferencePairing::Item> ReferencePairing::push(const FrameRecord& re
     item.record = record;
     item.image = image;
     item.shutter = RollingShutter(record.frameStart, record.exposure, record.lineDelay, image.rows);
-    const cv::Vec2d readout = correction_.correctShutter(item.shutter).readoutInterval();
-    item.schedule = commands_.scheduleAround(readout[0] - maxOffset_, readout[1] + maxOffset_);
-    item.window = classifyExposure(correctedPlant_, item.schedule, correction_.correctShutter(item.shutter));
-    item.still = isStill(record, image.rows);
+    const RollingShutter corrected = correction_.correctShutter(item.shutter);
+    const cv::Vec2d readout = corrected.readoutInterval();
+    item.schedule = scheduleFor(corrected);
+    item.window = classifyExposure(correctedPlant_, item.schedule, corrected);
+    item.still = stillUnder(corrected, item.schedule);
 
     std::vector<Item> ready;
     if (item.still)

@@ -155,6 +155,10 @@ public:
 
 private:
     void release(std::vector<Item>& ready, const cv::Mat& reference, double angle, double stillStart);
+    //! The commands around a frame read out as `corrected` (the calibrated shutter), ±maxOffset.
+    cv::dynblur::SwitchSchedule scheduleFor(const cv::dynblur::RollingShutter& corrected) const;
+    //! At rest under `schedule` whether the clock is early, right or late by maxOffset.
+    bool stillUnder(const cv::dynblur::RollingShutter& corrected, const cv::dynblur::SwitchSchedule& schedule) const;
 
     cv::Ptr<cv::dynblur::Plant> plant_, correctedPlant_;
     cv::Ptr<cv::dynblur::CameraModel> camera_;

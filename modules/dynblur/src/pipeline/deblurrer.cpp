@@ -446,9 +446,15 @@ private:
         weighStills();
     }
 
-    // The noise frames (setNoiseFrames) measured the noise of frames of their own type only.
-    void checkNoiseType(const char* fn, const Mat& input) const
+    /* A frame refined against the stills comes from their stream: the reference frames' type, and the
+       noise frames' (setNoiseFrames measured the noise of frames of their own type only). */
+    void checkStreamType(const char* fn, const Mat& input) const
     {
+        if (input.type() != referenceType_)
+            CV_Error(Error::StsUnmatchedFormats,
+                     format("%s: 'frame' is %s but the reference frame is %s; both must come from the same stream "
+                            "(or call clearReferenceFrame)",
+                            fn, typeToString(input.type()).c_str(), typeToString(referenceType_).c_str()));
         if (noiseType_ >= 0 && input.type() != noiseType_)
             CV_Error(Error::StsUnmatchedFormats,
                      format("%s: 'frame' is %s but the noise frames are %s; both must come from the same stream "
@@ -469,12 +475,7 @@ private:
             correction.reason = "no reference frame: the model as told (with the calibration)";
             return correction;
         }
-        if (input.type() != referenceType_)
-            CV_Error(Error::StsUnmatchedFormats,
-                     format("DynamicDeblurrer::deblur: 'frame' is %s but the reference frame is %s; both must come "
-                            "from the same stream (or call clearReferenceFrame)",
-                            typeToString(input.type()).c_str(), typeToString(referenceType_).c_str()));
-        checkNoiseType("DynamicDeblurrer::deblur", input);
+        checkStreamType("DynamicDeblurrer::deblur", input);
         if (!std::isnan(stills_[0].time))
             CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: the reference frame was placed by its capture time "
                                        "(setReferenceFrame(still, stillShutter)), which serves a measured motion; "
@@ -539,12 +540,7 @@ private:
                                             : "a measured motion without a reference frame: restored as given";
             return correction;
         }
-        if (input.type() != referenceType_)
-            CV_Error(Error::StsUnmatchedFormats,
-                     format("%s: 'frame' is %s but the reference frame is %s; both must come from the same stream "
-                            "(or call clearReferenceFrame)",
-                            fn, typeToString(input.type()).c_str(), typeToString(referenceType_).c_str()));
-        checkNoiseType(fn, input);
+        checkStreamType(fn, input);
         if (std::isnan(still.time))
             CV_Error(Error::StsBadArg, format("%s: a measured motion's reference frame is placed by its capture "
                                               "time: set it with setReferenceFrame(still, stillShutter), not with "

@@ -4,6 +4,7 @@
 #include "test_common.hpp"
 
 #include "image_metrics.hpp"
+#include "pipeline/frame_rate_preset.hpp"
 #include "saccade_scene.hpp"
 
 #include <opencv2/dynblur.hpp>
@@ -99,7 +100,7 @@ void expectAutoAndPreset(const std::string& file, const std::string& window, con
     std::printf("[ measured ] %s: %s, frame-rate preset - default: %+.3f dB (%.2f against %.2f dB), allowed -%.1f "
                 "dB; kernels up to %dx%d px, most spread N = %.1f px\n",
                 imageName(file).c_str(), window.c_str(), fast - variant, fast, variant, kPresetGap, longest.width,
-                longest.height, dynblur_test::kernelSpreadPx(preset->getLastPsfBank()));
+                longest.height, cv::dynblur::detail::mostSpreadKernelPx(preset->getLastPsfBank()));
     EXPECT_GE(fast - variant, -kPresetGap) << window;
 }
 

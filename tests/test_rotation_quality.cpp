@@ -2,6 +2,7 @@
 // Restoration of frames blurred by a 3-axis hand-held shake (CameraMotion): the spatially variant
 // pipeline against the seed's single PSF and against a dense operator close to the exact blur.
 #include "image_metrics.hpp"
+#include "pipeline/frame_rate_preset.hpp"
 #include "rotation_motion.hpp"
 #include "saccade_scene.hpp"
 #include "shake_scene.hpp"
@@ -266,7 +267,7 @@ TEST(RotationQuality, DISABLED_PresetAblation)
         const double reference = maskedPsnr(scene.truth, byDefault, judged, 255);
         std::printf("[ measured ] %s %.0f deg/s %s %.0f ms | %.0f, %.1f | %.2f | %+.2f", name, peakRate,
                     shutter.lineDelay > 0 ? "rolling" : "global", shutter.exposure * 1e3, longest,
-                    dynblur_test::kernelSpreadPx(bank), reference,
+                    cv::dynblur::detail::mostSpreadKernelPx(bank), reference,
                     maskedPsnr(scene.truth, byPreset, judged, 255) - reference);
         for (const PresetParts& parts : settings)
             std::printf(" | %+.2f", partsPsnr(scene, shutter, frame, judged, parts, longest) - reference);

@@ -3,8 +3,8 @@
 // TCP (127.0.0.1 only) and Modbus RTU on a pseudo-terminal, runs the plant in real time while a
 // schedule runs, logs θ(t) as CSV (t,theta,level) and injects faults for tests. Used by the
 // dynblur_actuator_sim program and, in-process, by tests/test_bus.cpp.
-#ifndef DYNBLUR_SAMPLES_ACTUATOR_SIM_HPP
-#define DYNBLUR_SAMPLES_ACTUATOR_SIM_HPP
+#ifndef DYNBLUR_TEST_SUPPORT_ACTUATOR_SIM_HPP
+#define DYNBLUR_TEST_SUPPORT_ACTUATOR_SIM_HPP
 
 #include <opencv2/dynblur.hpp>
 

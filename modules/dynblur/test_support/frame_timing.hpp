@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Choosing when a frame is taken so that it falls in a given exposure window.
-#ifndef DYNBLUR_SAMPLES_FRAME_TIMING_HPP
-#define DYNBLUR_SAMPLES_FRAME_TIMING_HPP
+#ifndef DYNBLUR_TEST_SUPPORT_FRAME_TIMING_HPP
+#define DYNBLUR_TEST_SUPPORT_FRAME_TIMING_HPP
 
 #include <opencv2/dynblur.hpp>
 

@@ -1,15 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 // Image quality over a region: PSNR and SSIM restricted to a mask, so restorations are judged
-// only where the frame observed the scene, and how far a blur spreads a point's light. Used by the
-// demo and by the quality tests.
-#ifndef DYNBLUR_SAMPLES_IMAGE_METRICS_HPP
-#define DYNBLUR_SAMPLES_IMAGE_METRICS_HPP
+// only where the frame observed the scene. Used by the demo and by the quality tests.
+#ifndef DYNBLUR_TEST_SUPPORT_IMAGE_METRICS_HPP
+#define DYNBLUR_TEST_SUPPORT_IMAGE_METRICS_HPP
 
 #include <opencv2/core.hpp>
-#include <opencv2/dynblur/psf.hpp>
 #include <opencv2/quality/qualityssim.hpp>
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -46,16 +43,6 @@ inline double maskedSsim(const cv::Mat& reference, const cv::Mat& test, const cv
     for (int c = 0; c < reference.channels(); ++c)
         total += mean[c];
     return total / reference.channels();
-}
-
-/** N = 1 / Σk² of the bank's most spread kernel, pixels: what DEBLUR_PRESET_FRAME_RATE decides its
-    iterations by (a uniform line of n pixels: N ≈ n; one tap holding most of the light: N ≈ 1). */
-inline double kernelSpreadPx(const cv::dynblur::PsfBank& bank)
-{
-    double spread = 1;
-    for (const cv::Mat& kernel : bank.kernels)
-        spread = std::max(spread, 1 / kernel.dot(kernel));
-    return spread;
 }
 
 }  // namespace dynblur_test

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // A generated test scene, so the demo needs no image file: textures at many scales (text, edges,
 // fine stripes, a Siemens star, smooth gradients), the kinds of detail motion blur destroys.
-#ifndef DYNBLUR_SAMPLES_SCENE_HPP
-#define DYNBLUR_SAMPLES_SCENE_HPP
+#ifndef DYNBLUR_TEST_SUPPORT_SCENE_HPP
+#define DYNBLUR_TEST_SUPPORT_SCENE_HPP
 
 #include <opencv2/core.hpp>
 

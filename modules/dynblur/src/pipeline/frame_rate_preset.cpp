@@ -41,13 +41,19 @@ RLParams frameRatePresetParams()
     return params;
 }
 
+double mostSpreadKernelPx(const PsfBank& bank)
+{
+    double spread = 1;
+    for (const Mat& kernel : bank.kernels)
+        spread = std::max(spread, 1 / kernel.dot(kernel));
+    return spread;
+}
+
 RLParams frameRateIterations(const PsfBank& bank, const RLParams& params)
 {
     const Size k = bank.maxKernelSize();
     const double longest = std::max(k.width, k.height);
-    double spread = 1;
-    for (const Mat& kernel : bank.kernels)
-        spread = std::max(spread, 1 / kernel.dot(kernel));
+    const double spread = mostSpreadKernelPx(bank);
     RLParams frame = params;
     if (longest <= kFullColorPx)
     {

@@ -63,14 +63,29 @@ Restorations restoreBoth(const SaccadeScene& s, const RollingShutter& shutter)
     return r;
 }
 
+//! PSNR over `judged` of the frame as `deblurrer` restores it.
+double restoredPsnr(DynamicDeblurrer& deblurrer, const SaccadeScene& s, const RollingShutter& shutter, const Mat& frame,
+                    const Mat& judged)
+{
+    Mat restored;
+    deblurrer.deblur(frame, s.schedule, shutter, restored);
+    return maskedPsnr(s.truth, restored, judged, 255);
+}
+
 //! PSNR of the frame restored by a deblurrer with the default settings but `model`.
 double modelPsnr(const SaccadeScene& s, const RollingShutter& shutter, const Mat& frame, const Mat& judged, int model)
 {
     Ptr<DynamicDeblurrer> fixed = DynamicDeblurrer::create(s.plant, s.camera);
     fixed->setPsfModel(model);
-    Mat restored;
-    fixed->deblur(frame, s.schedule, shutter, restored);
-    return maskedPsnr(s.truth, restored, judged, 255);
+    return restoredPsnr(*fixed, s, shutter, frame, judged);
+}
+
+//! A deblurrer with DEBLUR_PRESET_FRAME_RATE.
+Ptr<DynamicDeblurrer> presetDeblurrer(const SaccadeScene& s)
+{
+    Ptr<DynamicDeblurrer> preset = DynamicDeblurrer::create(s.plant, s.camera);
+    preset->setPreset(DEBLUR_PRESET_FRAME_RATE);
+    return preset;
 }
 
 /* PSF_AUTO (r.variant, PSNR `variant`) within kAutoGap of the best fixed model (`uniform` is r.uniform's
@@ -91,11 +106,8 @@ void expectAutoAndPreset(const std::string& file, const std::string& window, con
                 100 * r.plan.rowShare(PSF_TILES));
     EXPECT_GE(variant - best, -kAutoGap) << window;
 
-    Ptr<DynamicDeblurrer> preset = DynamicDeblurrer::create(s.plant, s.camera);
-    preset->setPreset(DEBLUR_PRESET_FRAME_RATE);
-    Mat restored;
-    preset->deblur(r.frame, s.schedule, shutter, restored);
-    const double fast = maskedPsnr(s.truth, restored, judged, 255);
+    const Ptr<DynamicDeblurrer> preset = presetDeblurrer(s);
+    const double fast = restoredPsnr(*preset, s, shutter, r.frame, judged);
     const Size longest = preset->getLastPsfBank().maxKernelSize();
     std::printf("[ measured ] %s: %s, frame-rate preset - default: %+.3f dB (%.2f against %.2f dB), allowed -%.1f "
                 "dB; kernels up to %dx%d px, most spread N = %.1f px\n",
@@ -117,9 +129,7 @@ double frameRatePsnr(const SaccadeScene& s, const RollingShutter& shutter, const
     params.blurPrecision = blurPrecision;
     fast->setRLParams(params);
     fast->setColorResolution(resolution);
-    Mat restored;
-    fast->deblur(frame, s.schedule, shutter, restored);
-    return maskedPsnr(s.truth, restored, judged, 255);
+    return restoredPsnr(*fast, s, shutter, frame, judged);
 }
 
 /* The quality figures docs/quality.md states, as gains in dB (a restoration's PSNR minus the
@@ -333,7 +343,6 @@ TEST_P(DeblurQuality, RollingShutterWindowIIMovingThroughout)
     expectAutoAndPreset(GetParam(), "II rolling", s, shutter, r, judged, uniform, variant);
 }
 
-// building and fruits have been looked at while the restoration was developed; board is held out.
 /* Through a zoomed lens (a 15° field of view: fx = 2460 px at 640 px wide) a 1° saccade's window I
    frame (the move inside its readout, kernels up to 45 px) errs by at most 0.49 px with one kernel per
    row; at a tolerance of 0.5 px PSF_AUTO gave it rows everywhere and lost 0.36 and 0.72 dB against
@@ -342,23 +351,40 @@ TEST_P(DeblurQuality, RollingShutterWindowIIMovingThroughout)
    0.77 dB below the default here, beyond its 0.5 dB (docs/quality.md); so is the row-wise setting of
    10 iterations. DISABLED_ZoomedLensTolerances prints PSF_AUTO at each tolerance, and the preset with
    its color at half and at full resolution. */
+namespace {
+
+//! The zoomed lens's window I frame, restored with the seed's uniform PSF and the default.
+struct ZoomedLensFrame
+{
+    SaccadeScene s;
+    RollingShutter shutter{-0.010, 0.008, 1.0 / 30 / 480, 480};
+    Restorations r;
+    Mat judged;
+
+    explicit ZoomedLensFrame(const std::string& path) : s(path, 2460.0, 1.0)
+    {
+        EXPECT_EQ(classifyExposure(s.plant, s.schedule, shutter), EXPOSURE_I);
+        r = restoreBoth(s, shutter);
+        judged = judgedPixels(r.valid, Range(0, 480));
+    }
+    double psnr(DynamicDeblurrer& deblurrer) const { return restoredPsnr(deblurrer, s, shutter, r.frame, judged); }
+};
+
+}  // namespace
+
 TEST_P(DeblurQuality, ZoomedLensWindowI)
 {
     DYNBLUR_REQUIRE_DATA(path, GetParam());
-    const SaccadeScene s(path, 2460.0, 1.0);
-    const RollingShutter shutter(-0.010, 0.008, 1.0 / 30 / 480, 480);
-    ASSERT_EQ(classifyExposure(s.plant, s.schedule, shutter), EXPOSURE_I);
-    const Restorations r = restoreBoth(s, shutter);
-    const Mat judged = judgedPixels(r.valid, Range(0, 480));
+    const ZoomedLensFrame z(path);
+    const SaccadeScene& s = z.s;
+    const RollingShutter& shutter = z.shutter;
+    const Restorations& r = z.r;
+    const Mat& judged = z.judged;
     const std::array<double, 3> p = r.psnr(s.truth, judged);
     const double tiles = modelPsnr(s, shutter, r.frame, judged, PSF_TILES);
     const double rows = modelPsnr(s, shutter, r.frame, judged, PSF_ROWS);
     EXPECT_GE(p[2] - std::max(tiles, rows), -kAutoGap);
-    Ptr<DynamicDeblurrer> preset = DynamicDeblurrer::create(s.plant, s.camera);
-    preset->setPreset(DEBLUR_PRESET_FRAME_RATE);
-    Mat restored;
-    preset->deblur(r.frame, s.schedule, shutter, restored);
-    const double fast = maskedPsnr(s.truth, restored, judged, 255);
+    const double fast = z.psnr(*presetDeblurrer(s));
     const double rowWise = frameRatePsnr(s, shutter, r.frame, judged, PSF_ROWS, RL_BLUR_BFLOAT16,
                                          DEBLUR_COLOR_HALF_RESOLUTION);
     std::printf("[ measured ] %s: zoomed lens, window I: blurred %.2f dB, PSF_AUTO %.2f dB (tiles in %.0f %% of the "
@@ -371,34 +397,28 @@ TEST_P(DeblurQuality, ZoomedLensWindowI)
 TEST_P(DeblurQuality, DISABLED_ZoomedLensTolerances)
 {
     DYNBLUR_REQUIRE_DATA(path, GetParam());
-    const SaccadeScene s(path, 2460.0, 1.0);
-    const RollingShutter shutter(-0.010, 0.008, 1.0 / 30 / 480, 480);
-    const Restorations r = restoreBoth(s, shutter);
-    const Mat judged = judgedPixels(r.valid, Range(0, 480));
+    const ZoomedLensFrame z(path);
     for (int resolution : {DEBLUR_COLOR_HALF_RESOLUTION, DEBLUR_COLOR_FULL_RESOLUTION})
     {
-        Ptr<DynamicDeblurrer> d = DynamicDeblurrer::create(s.plant, s.camera);
-        d->setPreset(DEBLUR_PRESET_FRAME_RATE);
+        const Ptr<DynamicDeblurrer> d = presetDeblurrer(z.s);
         d->setColorResolution(resolution);
-        Mat restored;
-        d->deblur(r.frame, s.schedule, shutter, restored);
         std::printf("[ measured ] %s: zoomed lens, the frame-rate preset with the color at %s resolution: %.2f dB\n",
                     imageName(GetParam()).c_str(), resolution == DEBLUR_COLOR_HALF_RESOLUTION ? "half" : "full",
-                    maskedPsnr(s.truth, restored, judged, 255));
+                    z.psnr(*d));
     }
+    const double tiles = modelPsnr(z.s, z.shutter, z.r.frame, z.judged, PSF_TILES);
     for (double tolerance : {0.5, 0.35, 0.25, 0.15, 0.1})
     {
-        Ptr<DynamicDeblurrer> d = DynamicDeblurrer::create(s.plant, s.camera);
+        const Ptr<DynamicDeblurrer> d = DynamicDeblurrer::create(z.s.plant, z.s.camera);
         d->getPsfGenerator()->setAutoTolerance(tolerance);
-        Mat restored;
-        d->deblur(r.frame, s.schedule, shutter, restored);
+        const double psnr = z.psnr(*d);
         std::printf("[ measured ] %s: zoomed lens, PSF_AUTO at a tolerance of %.2f px: tiles in %.0f %% of the rows, "
                     "%.2f dB (tiles %.2f dB)\n",
-                    imageName(GetParam()).c_str(), tolerance, 100 * d->getLastPlan().rowShare(PSF_TILES),
-                    maskedPsnr(s.truth, restored, judged, 255), modelPsnr(s, shutter, r.frame, judged, PSF_TILES));
+                    imageName(GetParam()).c_str(), tolerance, 100 * d->getLastPlan().rowShare(PSF_TILES), psnr, tiles);
     }
 }
 
+// building and fruits have been looked at while the restoration was developed; board is held out.
 INSTANTIATE_TEST_SUITE_P(SharedImages, DeblurQuality, testing::Values("building.jpg", "fruits.jpg", "board.jpg"),
                          [](const testing::TestParamInfo<std::string>& info) { return imageName(info.param); });
 

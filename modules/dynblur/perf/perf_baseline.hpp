@@ -9,14 +9,20 @@
 
 namespace dynblur_perf {
 
-/* The frame-rate benchmarks' move and camera: a C270-sized camera (1280x960) on the speed targets'
-   plant, a robust 10° saccade, and a rolling shutter that puts the exposure in window III. */
+/* The frame-rate benchmarks' move and camera: a C270-sized camera (1280x960, fx = `focalPx`) on the
+   speed targets' plant, a robust saccade of `moveDeg` degrees, and a rolling shutter that puts the
+   exposure of the 10° saccade in window III. */
 struct SaccadeScene
 {
+    explicit SaccadeScene(double focalPx = 1230, double moveDeg = 10)
+        : camera(cv::dynblur::CameraModel::create(focalPx, focalPx, 639.5, 479.5, 1280, 960)),
+          schedule(cv::dynblur::SwitchPlanner::create(plant, 16, cv::dynblur::PLAN_ROBUST)
+                       ->plan(0.0, moveDeg * CV_PI / 180, 0.0))
+    {
+    }
     cv::Ptr<cv::dynblur::Plant> plant = cv::dynblur::Plant::create(14.4, 0.12, CV_PI / 180);
-    cv::Ptr<cv::dynblur::CameraModel> camera = cv::dynblur::CameraModel::create(1230, 1230, 639.5, 479.5, 1280, 960);
-    cv::dynblur::SwitchSchedule schedule =
-        cv::dynblur::SwitchPlanner::create(plant, 16, cv::dynblur::PLAN_ROBUST)->plan(0.0, 10 * CV_PI / 180, 0.0);
+    cv::Ptr<cv::dynblur::CameraModel> camera;
+    cv::dynblur::SwitchSchedule schedule;
     cv::dynblur::RollingShutter shutter{0.012, 0.008, 1.0 / 30 / 960, 960};
 };
 
@@ -26,15 +32,12 @@ struct SaccadeFrame : SaccadeScene
     cv::Mat frame, frame8;  // linear float, and as a webcam delivers it: 8-bit sRGB
 
     /** `timing`: the frame's shutter instead of SaccadeScene's (its rows must be 960); `focalPx` and
-    `moveDeg`: the camera's focal length (pixels) and the saccade (degrees) instead of 1230 px and 10°. */
+    `moveDeg`: SaccadeScene's. */
     explicit SaccadeFrame(const cv::dynblur::RollingShutter* timing = nullptr, double focalPx = 1230, double moveDeg = 10)
+        : SaccadeScene(focalPx, moveDeg)
     {
         if (timing)
             shutter = *timing;
-        if (focalPx != 1230)
-            camera = cv::dynblur::CameraModel::create(focalPx, focalPx, 639.5, 479.5, 1280, 960);
-        if (moveDeg != 10)
-            schedule = cv::dynblur::SwitchPlanner::create(plant, 16, cv::dynblur::PLAN_ROBUST)->plan(0.0, moveDeg * CV_PI / 180, 0.0);
         // A textured linear-intensity scene.
         cv::Mat sharp(960, 1280, CV_32FC3), blurred;
         cv::randu(sharp, 0.05f, 0.95f);

@@ -4,7 +4,7 @@
 #define OPENCV_DYNBLUR_RESTORE_ROW_BANK_OPERATOR_HPP
 
 #include "restore/operators/blur_operator.hpp"
-#include "restore/operators/gather.hpp"
+#include "restore/operators/row_gathers.hpp"
 
 namespace cv {
 namespace dynblur {
@@ -38,8 +38,7 @@ public:
     void adjointOfOnes(Mat& latent, Mat& ones) CV_OVERRIDE;
 
 private:
-    Gather forward_, adjoint_;                      // float mode
-    PackedGather packedForward_, packedAdjoint_;    // packed mode
+    RowGathers gathers_;
 };
 
 }  // namespace detail

@@ -323,6 +323,66 @@ TEST(DeconvOperator, TilePackedPairsGiveThePlanesAdjoint)
     }
 }
 
+/* The bank with node rows `rows` one kernel wide, as PSF_AUTO's row bands are: node column 0's kernel
+   and shift in every column. */
+PsfBank withRowBands(PsfBank bank, const std::vector<int>& rows)
+{
+    const size_t nx = bank.nodeCols.size();
+    for (int j : rows)
+        for (size_t i = 1; i < nx; i++)
+        {
+            bank.kernels[size_t(j) * nx + i] = bank.kernels[size_t(j) * nx];
+            bank.shifts[size_t(j) * nx + i] = bank.shifts[size_t(j) * nx];
+        }
+    return bank;
+}
+
+/* A bank with row bands among its tile rows: the rows one kernel wide are gathered once across the
+   frame, the others per node column, and the result is the general operator's (both directions,
+   every instruction set, both boundaries, an odd height), in bfloat16 the float one's, and fed by
+   pairs the plane's. Shifts of 6 px leave latent rows that only row bands' frame rows read; of
+   41 px, the tile rows' reach covers more of them. */
+TEST(DeconvOperator, RowBandsOfATileBankAreGatheredOnce)
+{
+    for (int maxShift : {6, 41})
+    {
+        const PsfBank bank = withRowBands(unevenTaps(tileBank(Size(151, 111), 5, 6, maxShift), 6), {0, 1, 2, 5});
+        for (bool pad : {true, false})
+        {
+            SCOPED_TRACE(cv::format("shifts up to %d px, %s", maxShift, pad ? "pad" : "zero"));
+            cv::dynblur::detail::TileBankOperator exact(bank, pad), packed(bank, pad, true), pairFed(bank, pad, true);
+            for (bool adjoint : {false, true})
+                for (const cv::dynblur::detail::TileBankOperator* op : {&exact, &packed})
+                {
+                    EXPECT_GT(op->rowShare(adjoint), 0.2) << (adjoint ? "adjoint" : "forward");
+                    EXPECT_LT(op->rowShare(adjoint), 0.8) << (adjoint ? "adjoint" : "forward");
+                }
+            for (cv::dynblur::kernels::KernelIsa isa : cv::dynblur::kernels::availableKernelIsas())
+            {
+                SCOPED_TRACE(cv::dynblur::kernels::kernelIsaName(isa));
+                cv::dynblur::kernels::forceKernelIsa(isa);
+                expectAdjoint(exact, pad);
+                expectSameAsGeneral(exact, bank, pad);
+            }
+            cv::dynblur::kernels::forceKernelIsa(cv::dynblur::kernels::KERNELS_ISA_COUNT);
+            expectPackedAgrees(packed, exact, 1e-4, "row bands");
+
+            Mat y(packed.frameSize(), CV_32F), packedFrame, viaPlane, viaPairs;
+            RNG(12).fill(y, RNG::UNIFORM, 0.1, 1);
+            cv::dynblur::detail::packPlane(y, packedFrame);
+            const Range rows(0, packed.latentSize().height);
+            viaPlane.create(packed.latentSize(), CV_32F);
+            viaPairs.create(packed.latentSize(), CV_32F);
+            packed.prepareAdjointPacked(packedFrame);
+            packed.adjointPackedBlock(packedFrame, rows, viaPlane.ptr<float>(), viaPlane.step1());
+            for (int k = 0; k < packedFrame.rows; k++)
+                pairFed.takePackedPair(k, packedFrame.ptr<uint32_t>(k));
+            pairFed.adjointPackedBlock(Mat(), rows, viaPairs.ptr<float>(), viaPairs.step1());
+            EXPECT_EQ(norm(viaPlane, viaPairs, NORM_INF), 0.0);
+        }
+    }
+}
+
 // Odd heights (a last row without a partner), slanted kernels and large shifts, both boundaries.
 TEST(DeconvOperator, PackedBfloat16GathersAgreeWithFloat)
 {

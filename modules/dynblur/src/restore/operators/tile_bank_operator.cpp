@@ -141,10 +141,12 @@ size_t totalTaps(const std::vector<RowKernel>& kernels)
    2k + o (0 where none; term is called only where one of them is not), then pairEnd(k). The
    kernel and its blend are the frame row's: the output row's in the forward direction (source
    row = r + dy + originY, column colBase + dx), the source row's in the adjoint (source row =
-   r − originY − dy, column colBase − dx, read from the weighted copy). */
+   r − originY − dy, column colBase − dx, read from the weighted copy). Output rows where `skip` is
+   not 0 get no terms (rows the operator gathers otherwise). */
 template <typename Term, typename PairEnd>
-void walkColumn(const ColumnKernels& column, const std::vector<RowKernel>& rowKernels, bool adjoint, int outRows,
-                int sourceRows, int originY, int colBase, int group, const Term& term, const PairEnd& pairEnd)
+void walkColumn(const ColumnKernels& column, const std::vector<RowKernel>& rowKernels, const std::vector<uchar>& skip,
+                bool adjoint, int outRows, int sourceRows, int originY, int colBase, int group, const Term& term,
+                const PairEnd& pairEnd)
 {
     /* The source rows each output row reads: its kernel's rows, which the shifts move along the
        frame, so the whole column's span would visit mostly empty groups. */
@@ -167,6 +169,12 @@ void walkColumn(const ColumnKernels& column, const std::vector<RowKernel>& rowKe
             sourceTo[size_t(r)] = std::max(sourceTo[size_t(r)], row);
         }
     }
+    for (int r = 0; r < outRows; r++)
+        if (skip[size_t(r)])
+        {
+            sourceFrom[size_t(r)] = INT_MAX;
+            sourceTo[size_t(r)] = INT_MIN;
+        }
     struct Slot
     {
         float weight[2][2];
@@ -194,7 +202,7 @@ void walkColumn(const ColumnKernels& column, const std::vector<RowKernel>& rowKe
                 for (int half = 0; half < group; half++)
                 {
                     const int r = 2 * k + output, source = group * g + half;
-                    if (r >= outRows || source >= sourceRows)
+                    if (r >= outRows || source >= sourceRows || skip[size_t(r)])
                         continue;
                     const RowKernel& kernel = rowKernels[size_t(adjoint ? source : r)];
                     const int dy = adjoint ? r - originY - source : source - r - originY;
@@ -238,16 +246,16 @@ void walkColumn(const ColumnKernels& column, const std::vector<RowKernel>& rowKe
 /* The packed forward gather of one node column (walkColumn's pairs of source rows, weights as
    bfloat16; the adjoint is its transpose, transposePackedGather). `kernels`: rowKernels of every
    frame row. */
-void buildPackedColumn(const ColumnKernels& column, const std::vector<RowKernel>& kernels, int outRows,
-                       int sourceRows, int originY, int colBase, int outWidth, int sourceWidth,
-                       PackedGather& packed)
+void buildPackedColumn(const ColumnKernels& column, const std::vector<RowKernel>& kernels,
+                       const std::vector<uchar>& skip, int outRows, int sourceRows, int originY, int colBase,
+                       int outWidth, int sourceWidth, PackedGather& packed)
 {
     packed.pairs.assign(size_t((outRows + 1) / 2), GatherRow());
     packed.taps.clear();
     packed.taps.reserve(totalTaps(kernels));  // room once, instead of growing
     int begin = 0, safeBegin = 0, safeEnd = outWidth;
     walkColumn(
-        column, kernels, false, outRows, sourceRows, originY, colBase, 2,
+        column, kernels, skip, false, outRows, sourceRows, originY, colBase, 2,
         [&](int, int pair, int col, const float(&weight)[2][2]) {
             packed.taps.push_back({pair, col, {0u, 0u}});
             for (int o = 0; o < 2; o++)
@@ -270,8 +278,9 @@ void buildPackedColumn(const ColumnKernels& column, const std::vector<RowKernel>
 /* The float gather of one node column: each output row's taps (walkColumn's single source rows,
    zero weights left out) and each full pair's union, as buildPairs makes it. Safe columns are the
    caller's. `kernels`: rowKernels of every frame row. */
-void buildFloatColumn(const ColumnKernels& column, const std::vector<RowKernel>& kernels, bool adjoint, int outRows,
-                      int sourceRows, int originY, int colBase, Gather& gather)
+void buildFloatColumn(const ColumnKernels& column, const std::vector<RowKernel>& kernels,
+                      const std::vector<uchar>& skip, bool adjoint, int outRows, int sourceRows, int originY,
+                      int colBase, Gather& gather)
 {
     /* No list grows past the frame rows' node kernels, so they are sized once and written in place
        (growing them by push_back copied and faulted in each several times). */
@@ -283,7 +292,7 @@ void buildFloatColumn(const ColumnKernels& column, const std::vector<RowKernel>&
     std::vector<Tap> second;  // the pair's second row, appended after the first's
     int taps = 0, pairTaps = 0;
     walkColumn(
-        column, kernels, adjoint, outRows, sourceRows, originY, colBase, 1,
+        column, kernels, skip, adjoint, outRows, sourceRows, originY, colBase, 1,
         [&](int k, int row, int col, const float(&weight)[2][2]) {
             if (weight[0][0] != 0.f)
                 gather.taps[size_t(taps++)] = {row, col, weight[0][0]};
@@ -331,7 +340,98 @@ Range adjointWrites(const TapT* taps, int count, int margin, int supportWidth, i
     return begin < end ? Range(begin, end) : Range(0, 0);
 }
 
+/* Flags of `count` rows taken by pairs, as the packed gathers take them: a pair's where `holds` holds
+   for both its rows (for the last row alone when `count` is odd). */
+template <typename Holds>
+std::vector<uchar> byPairs(int count, const Holds& holds)
+{
+    std::vector<uchar> flags(static_cast<size_t>(count));
+    for (int r = 0; r < count; r += 2)
+        flags[size_t(r)] = flags[size_t(std::min(r + 1, count - 1))] = holds(r) && (r + 1 == count || holds(r + 1));
+    return flags;
+}
+
+//! Whether two kernels' taps (shift included) are the same.
+bool sameTaps(const KernelTap* a, size_t countA, const KernelTap* b, size_t countB)
+{
+    return countA == countB && std::equal(a, a + countA, b, [](const KernelTap& p, const KernelTap& q) {
+               return p.dy == q.dy && p.dx == q.dx && p.weight == q.weight;
+           });
+}
+
 }  // namespace
+
+void TileBankOperator::gatherSameRowsOnce(const NodeTaps& nodes, int nodeRows,
+                                          const std::vector<AxisWeight>& rowWeights)
+{
+    // Node rows whose kernel is the same in every node column, and each node row's dy over its columns.
+    std::vector<uchar> same(size_t(nodeRows), 1);
+    std::vector<int> dyLow(size_t(nodeRows), INT_MAX), dyHigh(size_t(nodeRows), INT_MIN);
+    for (int j = 0; j < nodeRows; j++)
+    {
+        const int first = j * nodeCols_;
+        for (int i = 0; i < nodeCols_; i++)
+        {
+            const KernelTap* taps = nodes.taps(first + i);
+            const size_t count = nodes.count(first + i);
+            if (count > 0)
+            {
+                dyLow[size_t(j)] = std::min(dyLow[size_t(j)], taps[0].dy);
+                dyHigh[size_t(j)] = std::max(dyHigh[size_t(j)], taps[count - 1].dy);
+            }
+            if (!sameTaps(taps, count, nodes.taps(first), nodes.count(first)))
+                same[size_t(j)] = 0;
+        }
+    }
+    /* A frame row has one kernel where the node rows it blends have; a latent row is gathered once
+       where only such frame rows read it (over every node column's taps). */
+    const int height = frame_.height, latentHeight = latent_.height;
+    std::vector<uchar> oneKernel(static_cast<size_t>(height));
+    std::vector<Range> reads(static_cast<size_t>(height), Range(0, 0));  // the latent rows each frame row reads
+    std::vector<int> tileReads(size_t(latentHeight) + 1, 0);  // per latent row, frame rows of tiles reading it
+    for (int y = 0; y < height; y++)
+    {
+        const AxisWeight& w = rowWeights[size_t(y)];
+        const bool second = w.node[1] != w.node[0] && w.weight[1] != 0.f;
+        const int n0 = w.node[0], n1 = second ? w.node[1] : n0;
+        oneKernel[size_t(y)] = same[size_t(n0)] && same[size_t(n1)];
+        const int low = std::min(dyLow[size_t(n0)], dyLow[size_t(n1)]);
+        const int high = std::max(dyHigh[size_t(n0)], dyHigh[size_t(n1)]);
+        if (low > high)
+            continue;  // an empty kernel reads nothing
+        reads[size_t(y)] = Range(std::max(0, y + origin_.y + low), std::min(latentHeight, y + origin_.y + high + 1));
+        if (!oneKernel[size_t(y)] && !reads[size_t(y)].empty())
+        {
+            tileReads[size_t(reads[size_t(y)].start)]++;
+            tileReads[size_t(reads[size_t(y)].end)]--;
+        }
+    }
+    for (int l = 1; l <= latentHeight; l++)
+        tileReads[size_t(l)] += tileReads[size_t(l - 1)];
+    forwardAsRows_ = byPairs(height, [&](int y) { return oneKernel[size_t(y)] != 0; });
+    adjointAsRows_ = byPairs(latentHeight, [&](int l) { return tileReads[size_t(l)] == 0; });
+    // The frame rows the adjoint's tile rows read: those keep their weighted copies.
+    std::vector<int> tileRowsBefore(size_t(latentHeight) + 1, 0);
+    for (int l = 0; l < latentHeight; l++)
+        tileRowsBefore[size_t(l) + 1] = tileRowsBefore[size_t(l)] + !adjointAsRows_[size_t(l)];
+    feedsTiles_.resize(size_t(height));
+    for (int y = 0; y < height; y++)
+    {
+        const Range r = reads[size_t(y)];
+        feedsTiles_[size_t(y)] = tileRowsBefore[size_t(r.end)] > tileRowsBefore[size_t(r.start)];
+    }
+    if (rowShare(false) == 0 && rowShare(true) == 0)
+        return;
+    rows_ = buildRowGathers(nodes, nodeCols_, 0, rowWeights, frame_, latent_, origin_, packed_, oneKernel);
+    if (packed_)
+        plainPacked_ = Mat::zeros((height + 1) / 2, frame_.width, CV_32SC1);
+}
+
+double TileBankOperator::rowShare(bool adjoint) const
+{
+    const std::vector<uchar>& asRows = adjoint ? adjointAsRows_ : forwardAsRows_;
+    return double(std::count(asRows.begin(), asRows.end(), 1)) / double(std::max<size_t>(1, asRows.size()));
+}
 
 TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
     : BlurOperator(bank.imageSize, packed)
@@ -348,6 +448,13 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
     colWeight_ = supportWeights(colWeights, colSupport_);
     reach_.resize(size_t(nodeCols_));
     adjointWritten_.resize(size_t(nodeCols_));
+    gatherSameRowsOnce(nodes, nodeRows, rowWeights);
+    /* The tile gathers skip the rows gathered once: in the forward, a frame row unless a tile row
+       of the adjoint reads it (the packed adjoint is the forward's transpose). */
+    std::vector<uchar> skipForward(size_t(frame_.height));
+    for (int y = 0; y < frame_.height; y++)
+        skipForward[size_t(y)] = forwardAsRows_[size_t(y)] && !(packed_ && feedsTiles_[size_t(y)]);
+    const std::vector<uchar>& skipAdjoint = adjointAsRows_;
 
     /* Each node column's taps for every frame row (forward) and every latent row (adjoint), with
        the row blend's weights applied: built once per bank, node columns in parallel. */
@@ -373,7 +480,7 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
             const int adjointColBase = margin - cols.start - origin_.x;  // frame column → weighted copy's
             if (packed_)
             {
-                buildPackedColumn(column, kernels, frame_.height, latent_.height, origin_.y, origin_.x,
+                buildPackedColumn(column, kernels, skipForward, frame_.height, latent_.height, origin_.y, origin_.x,
                                   frame_.width, latent_.width, packedForwardColumns_[size_t(i)]);
                 transposePackedGather(packedForwardColumns_[size_t(i)], origin_.x, latent_.height, adjointColBase,
                                       latent_.width, cols.size() + 2 * margin, packedAdjointColumns_[size_t(i)]);
@@ -392,7 +499,8 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
             }
             // Forward: frame row y reads latent row y + dy + origin.y at column x + dx + origin.x.
             Gather& fw = forwardParts[size_t(i)];
-            buildFloatColumn(column, kernels, false, frame_.height, latent_.height, origin_.y, origin_.x, fw);
+            buildFloatColumn(column, kernels, skipForward, false, frame_.height, latent_.height, origin_.y, origin_.x,
+                             fw);
             for (GatherRow& g : fw.rows)
             {
                 int colMin = INT_MAX, colMax = INT_MIN;
@@ -408,7 +516,8 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
                at its place in the node column's weighted copy, where every column it produces reads
                inside (zero margins). */
             Gather& aw = adjointParts[size_t(i)];
-            buildFloatColumn(column, kernels, true, latent_.height, frame_.height, origin_.y, adjointColBase, aw);
+            buildFloatColumn(column, kernels, skipAdjoint, true, latent_.height, frame_.height, origin_.y,
+                             adjointColBase, aw);
             std::vector<Range>& written = adjointWritten_[size_t(i)];
             written.resize(size_t(latent_.height));
             for (int l = 0; l < latent_.height; l++)
@@ -433,9 +542,26 @@ TileBankOperator::TileBankOperator(const PsfBank& bank, bool pad, bool packed)
     }
 }
 
-template <typename GatherColumn>
+template <typename GatherColumn, typename GatherRows>
 void TileBankOperator::blocks(bool adjoint, const Range& outRows, float* out, size_t outStep,
-                              const GatherColumn& gather) const
+                              const GatherColumn& gather, const GatherRows& gatherRows) const
+{
+    const std::vector<uchar>& asRows = adjoint ? adjointAsRows_ : forwardAsRows_;
+    for (int start = outRows.start, end; start < outRows.end; start = end)
+    {
+        for (end = start + 1; end < outRows.end && asRows[size_t(end)] == asRows[size_t(start)];)
+            end++;
+        float* dst = out + size_t(start - outRows.start) * outStep;
+        if (asRows[size_t(start)])
+            gatherRows(Range(start, end), dst);
+        else
+            tileBlocks(adjoint, Range(start, end), dst, outStep, gather);
+    }
+}
+
+template <typename GatherColumn>
+void TileBankOperator::tileBlocks(bool adjoint, const Range& outRows, float* out, size_t outStep,
+                                  const GatherColumn& gather) const
 {
     const int width = adjoint ? latent_.width : frame_.width;
     for (int start = outRows.start; start < outRows.end; start += kTileBlockRows)
@@ -493,6 +619,8 @@ void TileBankOperator::forwardBlock(const Mat& latent, const Range& frameRows, f
     blocks(false, frameRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* dst,
                                                const GatherFold& fold) {
         gatherBlock(latent, forwardColumns_[size_t(i)], rows, cols, dst, outStep, fold);
+    }, [&](const Range& rows, float* dst) {
+        gatherBlock(latent, rows_.forward, rows, Range(0, frame_.width), dst, outStep);
     });
 }
 
@@ -502,6 +630,8 @@ void TileBankOperator::forwardPackedBlock(const Mat& packedLatent, const Range& 
     blocks(false, frameRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* dst,
                                                const GatherFold& fold) {
         gatherPackedBlock(packedLatent, packedForwardColumns_[size_t(i)], rows, cols, dst, outStep, fold);
+    }, [&](const Range& rows, float* dst) {
+        gatherPackedBlock(packedLatent, rows_.packedForward, rows, Range(0, frame_.width), dst, outStep);
     });
 }
 
@@ -514,6 +644,8 @@ void TileBankOperator::prepareAdjoint(const Mat& frame)
     parallel_for_(Range(0, frame.rows), [&](const Range& rows) {
         for (int r = rows.start; r < rows.end; r++)
         {
+            if (!feedsTiles_[size_t(r)])
+                continue;
             const float* src = frame.ptr<float>(r);
             for (int i = 0; i < nodeCols_; i++)
             {
@@ -539,6 +671,11 @@ void TileBankOperator::prepareAdjointPacked(const Mat& packedFrame)
 
 void TileBankOperator::takePackedPair(int pair, const uint32_t* packedRow)
 {
+    if (!plainPacked_.empty())
+        std::copy(packedRow, packedRow + frame_.width, plainPacked_.ptr<uint32_t>(pair));
+    const size_t first = size_t(2 * pair), second = std::min(first + 1, feedsTiles_.size() - 1);
+    if (!feedsTiles_[first] && !feedsTiles_[second])
+        return;
     for (int i = 0; i < nodeCols_; i++)
     {
         const Range cols = colSupport_[size_t(i)];
@@ -547,21 +684,25 @@ void TileBankOperator::takePackedPair(int pair, const uint32_t* packedRow)
     }
 }
 
-void TileBankOperator::adjointBlock(const Mat& /*frame: read through prepareAdjoint's weighted copies*/,
-                                    const Range& latentRows, float* out, size_t outStep) const
+void TileBankOperator::adjointBlock(const Mat& frame, const Range& latentRows, float* out, size_t outStep) const
 {
+    // The tile rows read prepareAdjoint's weighted copies, the rows gathered once the frame.
     blocks(true, latentRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* dst,
                                                const GatherFold& fold) {
         gatherBlock(weighted_[size_t(i)], adjointColumns_[size_t(i)], rows, cols, dst, outStep, fold);
+    }, [&](const Range& rows, float* dst) {
+        gatherBlock(frame, rows_.adjoint, rows, Range(0, latent_.width), dst, outStep);
     });
 }
 
-void TileBankOperator::adjointPackedBlock(const Mat& /*packedFrame: read through the weighted copies*/,
+void TileBankOperator::adjointPackedBlock(const Mat& /*packedFrame: read through the copies takePackedPair made*/,
                                           const Range& latentRows, float* out, size_t outStep) const
 {
     blocks(true, latentRows, out, outStep, [&](int i, const Range& rows, const Range& cols, float* dst,
                                               const GatherFold& fold) {
         gatherPackedBlock(weighted_[size_t(i)], packedAdjointColumns_[size_t(i)], rows, cols, dst, outStep, fold);
+    }, [&](const Range& rows, float* dst) {
+        gatherPackedBlock(plainPacked_, rows_.packedAdjoint, rows, Range(0, latent_.width), dst, outStep);
     });
 }
 

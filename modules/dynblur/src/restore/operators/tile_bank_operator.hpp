@@ -4,7 +4,9 @@
 #define OPENCV_DYNBLUR_RESTORE_TILE_BANK_OPERATOR_HPP
 
 #include "restore/operators/blur_operator.hpp"
+#include "restore/operators/bank_geometry.hpp"
 #include "restore/operators/gather.hpp"
+#include "restore/operators/row_gathers.hpp"
 
 #include <vector>
 
@@ -25,6 +27,9 @@ copies are written from each ratio row pair as it is computed (takesPackedPairs)
 cache, instead of from a packed ratio plane written and read back.
 Each node column's gathered rows are folded into the output by the gathers themselves
 (GatherFold). Both directions' tap lists are built once per bank.
+Rows whose kernel is the same in every node column (PSF_AUTO's row bands) are gathered once across
+the frame, as RowBankOperator gathers them, instead of once per node column and weighted: so a frame
+whose motion needs tiles in a few bands costs about what its share of tile rows costs.
 Domains and padding as BankBlurOperator. The bank is trusted (validated by the caller). */
 class CV_EXPORTS TileBankOperator CV_FINAL : public BlurOperator
 {
@@ -45,12 +50,23 @@ public:
     bool takesPackedPairs() const CV_OVERRIDE { return packed_; }
     void takePackedPair(int pair, const uint32_t* packedRow) CV_OVERRIDE;
 
+    /** The share of frame rows (`adjoint`: latent rows) gathered once across the frame, as a row bank's
+    are, instead of once per node column: the rows whose kernel is the same in every node column. */
+    double rowShare(bool adjoint) const;
+
 private:
-    /* Rows `outRows` of A · latent (or of Aᵀ · frame with `adjoint`), where gather(i, rows, cols,
-       dst, fold) gathers node column i's rows, float or packed, into the output block at dst (step
-       outStep) as `fold` says. */
+    /* Rows `outRows` of A · latent (or of Aᵀ · frame with `adjoint`): runs of rows gathered once
+       by gatherRows(rows, dst), the others by tileBlocks. */
+    template <typename GatherColumn, typename GatherRows>
+    void blocks(bool adjoint, const Range& outRows, float* out, size_t outStep, const GatherColumn& gather,
+                const GatherRows& gatherRows) const;
+    /* Rows `outRows` gathered per node column: gather(i, rows, cols, dst, fold) gathers node column
+       i's rows, float or packed, into the output block at dst (step outStep) as `fold` says. */
     template <typename GatherColumn>
-    void blocks(bool adjoint, const Range& outRows, float* out, size_t outStep, const GatherColumn& gather) const;
+    void tileBlocks(bool adjoint, const Range& outRows, float* out, size_t outStep, const GatherColumn& gather) const;
+    /* Finds the rows whose kernel is the same in every node column (PSF_AUTO's row bands) and
+       builds their row gathers: forwardAsRows_, adjointAsRows_, feedsTiles_, rows_. */
+    void gatherSameRowsOnce(const NodeTaps& nodes, int nodeRows, const std::vector<AxisWeight>& rowWeights);
 
     //! A node column's column offsets (latent − frame), 0 included.
     struct Reach
@@ -71,6 +87,13 @@ private:
     std::vector<Range> colSupport_;                // frame columns each node column covers
     std::vector<std::vector<float>> colWeight_;    // per node column, over its support
     std::vector<Mat> weighted_;  // per node column: frame × its weight, zero margins (packed: built with the operator)
+    /* Rows gathered once across the frame, as RowBankOperator gathers them, instead of once per
+       node column: frame rows whose kernel is the same in every node column (forwardAsRows_),
+       latent rows only such frame rows read (adjointAsRows_); both by row pairs. */
+    std::vector<uchar> forwardAsRows_, adjointAsRows_;
+    std::vector<uchar> feedsTiles_;  // per frame row: a tile row of the adjoint reads it (its weighted copies are made)
+    RowGathers rows_;
+    Mat plainPacked_;  // packed: the frame's pairs as takePackedPair took them, which rows_'s adjoint reads
 };
 
 }  // namespace detail

@@ -397,10 +397,11 @@ void TileBankOperator::gatherSameRowsOnce(const NodeTaps& nodes, int nodeRows,
         oneKernel[size_t(y)] = same[size_t(n0)] && same[size_t(n1)];
         const int low = std::min(dyLow[size_t(n0)], dyLow[size_t(n1)]);
         const int high = std::max(dyHigh[size_t(n0)], dyHigh[size_t(n1)]);
-        if (low > high)
-            continue;  // an empty kernel reads nothing
-        reads[size_t(y)] = Range(std::max(0, y + origin_.y + low), std::min(latentHeight, y + origin_.y + high + 1));
-        if (!oneKernel[size_t(y)] && !reads[size_t(y)].empty())
+        const int from = std::max(0, y + origin_.y + low), to = std::min(latentHeight, y + origin_.y + high + 1);
+        if (from >= to)
+            continue;  // an empty kernel, or one reading only outside an unpadded domain
+        reads[size_t(y)] = Range(from, to);
+        if (!oneKernel[size_t(y)])
         {
             tileReads[size_t(reads[size_t(y)].start)]++;
             tileReads[size_t(reads[size_t(y)].end)]--;

@@ -5,6 +5,8 @@
 
 #include "image_metrics.hpp"
 #include "pipeline/frame_rate_preset.hpp"
+#include "pipeline/half_color.hpp"
+#include "restore/rl/frame_planes.hpp"
 #include "saccade_scene.hpp"
 
 #include <opencv2/dynblur.hpp>
@@ -415,6 +417,64 @@ TEST_P(DeblurQuality, DISABLED_ZoomedLensTolerances)
         std::printf("[ measured ] %s: zoomed lens, PSF_AUTO at a tolerance of %.2f px: tiles in %.0f %% of the rows, "
                     "%.2f dB (tiles %.2f dB)\n",
                     imageName(GetParam()).c_str(), tolerance, 100 * d->getLastPlan().rowShare(PSF_TILES), psnr, tiles);
+    }
+}
+
+/* Why no rule chooses the preset's color resolution (docs/quality.md, "PSF_AUTO and the frame-rate
+   preset"): per frame, the color detail halving loses (the mean square residual of a halve-and-upsample
+   round trip, in 8-bit units, less what the chroma noise explains: 0.82 × its variance, Immerkær's
+   estimate on the channels minus their mean) over that noise, the truth's own round trip, and the
+   preset with the color at full minus at half resolution. */
+TEST_P(DeblurQuality, DISABLED_ColorResolution)
+{
+    DYNBLUR_REQUIRE_DATA(path, GetParam());
+    const auto roundTrip = [](const Mat& image, Mat& back) {
+        Mat half, luminance;
+        cv::dynblur::detail::halveAndAverageChannels(image, half, luminance);
+        cv::dynblur::detail::combineLuminanceAndHalfColor(luminance, half, 1e-6f, CV_8U, back);
+    };
+    const auto row = [&](const char* frameName, const SaccadeScene& s, const RollingShutter& shutter, const Mat& frame,
+                         const Mat& judged) {
+        Mat back, truthBack, f, chroma;
+        roundTrip(frame, back);
+        roundTrip(s.truth, truthBack);
+        const double residual = std::pow(norm(frame, back, NORM_L2), 2) / double(frame.total() * 3);
+        frame.convertTo(f, CV_32F);
+        std::vector<Mat> planes;
+        split(f, planes);
+        const Mat mean = (planes[0] + planes[1] + planes[2]) / 3;
+        for (Mat& p : planes)
+            p -= mean;
+        merge(planes, chroma);
+        std::vector<Mat> pool;
+        const double sigma = cv::dynblur::detail::observeFrame(chroma, pool, true).noiseSigma;
+        const double noise = 0.8164 * sigma * sigma;
+        double psnr[2];
+        for (int resolution : {DEBLUR_COLOR_HALF_RESOLUTION, DEBLUR_COLOR_FULL_RESOLUTION})
+        {
+            const Ptr<DynamicDeblurrer> d = presetDeblurrer(s);
+            d->setColorResolution(resolution);
+            psnr[resolution == DEBLUR_COLOR_FULL_RESOLUTION] = restoredPsnr(*d, s, shutter, frame, judged);
+        }
+        std::printf("[ measured ] %s, %s: color detail over chroma noise %.2f, the truth's round trip %.2f dB, "
+                    "preset with full - half resolution color %+.2f dB (%.2f vs %.2f dB)\n",
+                    imageName(GetParam()).c_str(), frameName, (residual - noise) / noise,
+                    maskedPsnr(s.truth, truthBack, judged, 255), psnr[1] - psnr[0], psnr[1], psnr[0]);
+    };
+    {
+        const ZoomedLensFrame z(path);
+        row("zoomed lens, window I", z.s, z.shutter, z.r.frame, z.judged);
+    }
+    const SaccadeScene s(path);
+    const std::pair<const char*, RollingShutter> frames[] = {
+        {"III rolling", s.shutterInWindow(EXPOSURE_III, 1.0 / 30 / 480)},
+        {"III global", s.shutterInWindow(EXPOSURE_III, 0.0)},
+        {"I rolling", s.shutterInWindow(EXPOSURE_I, 1.0 / 30 / 480)},
+        {"II rolling", s.shutterInWindow(EXPOSURE_II, 0.006 / 480)}};
+    for (const auto& [name, shutter] : frames)
+    {
+        const Restorations r = restoreBoth(s, shutter);
+        row(name, s, shutter, r.frame, judgedPixels(r.valid, Range(0, 480)));
     }
 }
 

@@ -294,7 +294,8 @@ def main():
     # PSF_AUTO and the frame-rate preset, per window (BM_AutoPaired; the frames are described there).
     for arg, window in ((0, "window III rolling"), (1, "window I rolling"), (2, "window III global"),
                         (3, "window III rolling, late (short blur)"),
-                        (4, "window III rolling, 15 deg field of view, 1 deg saccade")):
+                        (4, "window III rolling, 15 deg field of view, 1 deg saccade"),
+                        (5, "window III rolling, 15 deg field of view, 1 deg saccade, late (short blur)")):
         a = entry(f"BM_AutoPaired/window:{arg}")
         tiles_share = a["auto_tiles_share"]
         if tiles_share == 0:
@@ -311,8 +312,10 @@ def main():
                         f"{100 * a['preset_tiles_share']:.0f} % of the rows; medians {a['preset_ms']:.0f} vs "
                         f"{a['frame_rate_ms']:.0f} ms)", f"{a['preset_over_frame_rate']:.2f}x", "<= 1.2x",
                         a["preset_over_frame_rate"] <= 1.2))
+        # Out of reach: where rows suffice the preset still runs the iterations and color the frame's
+        # quality needs, more than the row-wise setting's 10 (docs/performance.md).
         if a["preset_tiles_share"] == 0:
-            targets.append(("held", f"RL with cv::filter2D / frame-rate preset, {window} (rows suffice)",
+            targets.append(("out of reach", f"RL with cv::filter2D / frame-rate preset, {window} (rows suffice)",
                             f"{a['filter2d_over_preset']:.2f}x", ">= 4x", a["filter2d_over_preset"] >= 4))
     for name, link in (("BM_BusStartTcp", "TCP"), ("BM_BusStartRtuPty", "RTU on a pty")):
         b = bus[name]

@@ -5,12 +5,14 @@
 // tile-wise restorations, the filter2D reference and the float-blur row-wise one back to back.
 #include "paired_rounds.hpp"
 #include "perf_baseline.hpp"
+#include "pipeline/frame_rate_preset.hpp"
 #include "restore/kernels/kernel_table.hpp"
 
 #include <benchmark/benchmark.h>
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <functional>
 #include <string>
 #include <vector>
@@ -117,20 +119,24 @@ BENCHMARK(BM_FrameRatePaired)->Unit(benchmark::kMillisecond)->UseRealTime()->Ite
    window: 0 the benchmark's window III rolling frame, 1 window I rolling (starts 20.7 ms before the
    move), 2 window III global (starts 42.9 ms after it starts; the demo's frames), 3 a frame late in
    the settling (rolling, starts 40 ms after), whose blur is short, 4 a window III rolling frame of a
-   zoomed lens (15° field of view) 25 ms into a 1° saccade, whose rows each need one kernel. Each round restores it with the
+   zoomed lens (15° field of view) 25 ms into a 1° saccade, whose rows mostly need one kernel, 5 the
+   same lens 50 ms into it, where one kernel per row suffices everywhere. Each round restores it with the
    default settings (20 iterations, full color) as PSF_AUTO, PSF_ROWS and PSF_TILES, with
    DEBLUR_PRESET_FRAME_RATE, with the frame-rate setting of old (setFrameRate: rows, 10 iterations)
    and with the filter2D reference. Counters: the medians (ms), the median ratios, and the share of
    rows PSF_AUTO gave rows and tiles (the default's, then the preset's). */
 void BM_AutoPaired(benchmark::State& state)
 {
-    static const RollingShutter timings[5] = {SaccadeScene().shutter, RollingShutter(-0.0207, 0.008, 1.0 / 30 / 960, 960),
+    static const RollingShutter timings[6] = {SaccadeScene().shutter,
+                                              RollingShutter(-0.0207, 0.008, 1.0 / 30 / 960, 960),
                                               RollingShutter(0.0429, 0.008, 0, 960),
                                               RollingShutter(0.040, 0.008, 1.0 / 30 / 960, 960),
-                                              RollingShutter(0.025, 0.008, 1.0 / 30 / 960, 960)};
+                                              RollingShutter(0.025, 0.008, 1.0 / 30 / 960, 960),
+                                              RollingShutter(0.050, 0.008, 1.0 / 30 / 960, 960)};
     const int window = static_cast<int>(state.range(0));
-    const SaccadeFrame f(&timings[window], window == 4 ? 4920 : 1230, window == 4 ? 1 : 10);
-    const int expected[5] = {EXPOSURE_III, EXPOSURE_I, EXPOSURE_III, EXPOSURE_III, EXPOSURE_III};
+    const bool zoomed = window >= 4;
+    const SaccadeFrame f(&timings[window], zoomed ? 4920 : 1230, zoomed ? 1 : 10);
+    const int expected[6] = {EXPOSURE_III, EXPOSURE_I, EXPOSURE_III, EXPOSURE_III, EXPOSURE_III, EXPOSURE_III};
     if (classifyExposure(f.plant, f.schedule, f.shutter) != expected[window])
         state.SkipWithError("the frame is not in the window it stands for");
     const auto withModel = [&](int model) {
@@ -161,9 +167,13 @@ void BM_AutoPaired(benchmark::State& state)
     state.counters["auto_rows_share"] = plan.rowShare(PSF_ROWS) + plan.rowShare(PSF_UNIFORM);
     state.counters["auto_tiles_share"] = plan.rowShare(PSF_TILES);
     state.counters["preset_tiles_share"] = fast.rowShare(PSF_TILES);
+    // What the preset's iterations are decided by: the longest kernel L and the most spread one's N.
+    const PsfBank bank = preset->getLastPsfBank();
+    state.counters["preset_longest_kernel_px"] = std::max(bank.maxKernelSize().width, bank.maxKernelSize().height);
+    state.counters["preset_most_spread_px"] = cv::dynblur::detail::mostSpreadKernelPx(bank);
 }
-BENCHMARK(BM_AutoPaired)->ArgName("window")->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond)
-    ->UseRealTime()->Iterations(5)->Repetitions(1);
+BENCHMARK(BM_AutoPaired)->ArgName("window")->DenseRange(0, 5)->Unit(benchmark::kMillisecond)->UseRealTime()
+    ->Iterations(5)->Repetitions(1);
 
 /* The test command's short speed check (scripts/benchmark.sh --ci): the row-wise restoration and the
    filter2D reference alone, paired as in BM_FrameRatePaired (order alternating by round), over a few

@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -475,6 +476,37 @@ TEST_P(DeblurQuality, DISABLED_ColorResolution)
     {
         const Restorations r = restoreBoth(s, shutter);
         row(name, s, shutter, r.frame, judgedPixels(r.valid, Range(0, 480)));
+    }
+}
+
+/* A short blur (docs/quality.md, "Where the preset falls short"): the zoomed lens 4 ms into its 1°
+   saccade, window III, kernels up to 1×9 px. Prints the blurred frame, the default, the preset and
+   RL in full color (bfloat16, the automatic stop) at a few iterations. */
+TEST_P(DeblurQuality, DISABLED_ShortBlur)
+{
+    DYNBLUR_REQUIRE_DATA(path, GetParam());
+    const SaccadeScene s(path, 2460.0, 1.0);
+    const RollingShutter shutter(0.004, 0.008, 1.0 / 30 / 480, 480);
+    EXPECT_EQ(classifyExposure(s.plant, s.schedule, shutter), EXPOSURE_III);
+    const Restorations r = restoreBoth(s, shutter);
+    const Mat judged = judgedPixels(r.valid, Range(0, 480));
+    const std::array<double, 3> p = r.psnr(s.truth, judged);
+    const Ptr<DynamicDeblurrer> preset = presetDeblurrer(s);
+    const double fast = restoredPsnr(*preset, s, shutter, r.frame, judged);
+    const PsfBank& bank = preset->getLastPsfBank();
+    std::printf("[ measured ] %s: short blur (kernels up to %dx%d px, N = %.1f px): blurred %.2f dB, default %.2f dB, "
+                "preset %.2f dB; full color RL of", imageName(GetParam()).c_str(), bank.maxKernelSize().width,
+                bank.maxKernelSize().height, cv::dynblur::detail::mostSpreadKernelPx(bank), p[0], p[2], fast);
+    for (int iterations : {2, 4, 8})
+    {
+        const Ptr<DynamicDeblurrer> d = DynamicDeblurrer::create(s.plant, s.camera);
+        RLParams params = cv::dynblur::detail::frameRatePresetParams();
+        params.damping = std::numeric_limits<double>::quiet_NaN();
+        params.iterations = iterations;
+        params.colorIterations = -1;
+        d->setRLParams(params);
+        std::printf(" %d iterations %.2f dB%s", iterations, restoredPsnr(*d, s, shutter, r.frame, judged),
+                    iterations == 8 ? "\n" : ",");
     }
 }
 

@@ -28,8 +28,9 @@ cache, instead of from a packed ratio plane written and read back.
 Each node column's gathered rows are folded into the output by the gathers themselves
 (GatherFold). Both directions' tap lists are built once per bank.
 Rows whose kernel is the same in every node column (PSF_AUTO's row bands) are gathered once across
-the frame, as RowBankOperator gathers them, instead of once per node column and weighted: so a frame
-whose motion needs tiles in a few bands costs about what its share of tile rows costs.
+the frame, as RowBankOperator gathers them, instead of once per node column and weighted: a frame
+whose motion needs tiles in a few bands no longer costs what tiles everywhere cost
+(docs/performance.md, BM_AutoPaired frames 3 and 4).
 Domains and padding as BankBlurOperator. The bank is trusted (validated by the caller). */
 class CV_EXPORTS TileBankOperator CV_FINAL : public BlurOperator
 {

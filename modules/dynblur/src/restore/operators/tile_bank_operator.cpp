@@ -403,8 +403,8 @@ void TileBankOperator::gatherSameRowsOnce(const NodeTaps& nodes, int nodeRows,
         reads[size_t(y)] = Range(from, to);
         if (!oneKernel[size_t(y)])
         {
-            tileReads[size_t(reads[size_t(y)].start)]++;
-            tileReads[size_t(reads[size_t(y)].end)]--;
+            tileReads[size_t(from)]++;
+            tileReads[size_t(to)]--;
         }
     }
     for (int l = 1; l <= latentHeight; l++)

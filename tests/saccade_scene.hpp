@@ -27,7 +27,7 @@ inline const double kDeg = CV_PI / 180.0;
 struct SaccadeScene
 {
     Ptr<Plant> plant = Plant::create(14.4, 0.12, kDeg);
-    Ptr<CameraModel> camera = CameraModel::create(615.0, 615.0, 319.5, 239.5, 640, 480);
+    Ptr<CameraModel> camera;
     SwitchSchedule schedule;
     Mat sceneLinear;  // the view at θ_ref, wider than the frame
     Mat truth;        // 8-bit sRGB frame-sized view at θ_ref
@@ -36,8 +36,8 @@ struct SaccadeScene
     /** `focalPx` and `moveDeg`: another lens (focal length, pixels) and saccade (degrees) than the
     C270's 615 px and 10°. */
     explicit SaccadeScene(const std::string& imagePath, double focalPx = 615.0, double moveDeg = 10)
+        : camera(CameraModel::create(focalPx, focalPx, 319.5, 239.5, 640, 480))
     {
-        camera = CameraModel::create(focalPx, focalPx, 319.5, 239.5, 640, 480);
         schedule = SwitchPlanner::create(plant, 16)->plan(0.0, moveDeg * kDeg, 0.0);
         marginY = static_cast<int>(std::ceil(focalPx * std::tan(moveDeg * kDeg))) + 24;
         const Size sceneSize(640 + 2 * marginX, 480 + 2 * marginY);

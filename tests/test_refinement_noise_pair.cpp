@@ -175,6 +175,16 @@ TEST_P(RefinementNoisePair, DISABLED_Consistencies)
                 std::numeric_limits<double>::infinity());
 }
 
+namespace {
+
+//! A case's name: the image, then how its frames were stored.
+std::string caseName(const testing::TestParamInfo<std::tuple<std::string, int>>& info)
+{
+    return imageName(std::get<0>(info.param)) + (std::get<1>(info.param) ? "_jpeg80" : "_rendered");
+}
+
+}  // namespace
+
 /* Each case takes about 40 restorations: the test command runs the cases that failed before the
    pair (baboon's wrong models passed Immerkær's limit; building's drifted frames were refused after
    JPEG with the full-resolution estimate halved per level) and baboon after JPEG. Every image and
@@ -182,14 +192,8 @@ TEST_P(RefinementNoisePair, DISABLED_Consistencies)
 INSTANTIATE_TEST_SUITE_P(SharedImages, RefinementNoisePair,
                          testing::Values(std::make_tuple("baboon.jpg", 0), std::make_tuple("baboon.jpg", 80),
                                          std::make_tuple("building.jpg", 80)),
-                         [](const testing::TestParamInfo<std::tuple<std::string, int>>& info) {
-                             return imageName(std::get<0>(info.param)) +
-                                    (std::get<1>(info.param) ? "_jpeg80" : "_rendered");
-                         });
+                         caseName);
 INSTANTIATE_TEST_SUITE_P(DISABLED_AllImages, RefinementNoisePair,
                          testing::Combine(testing::Values("building.jpg", "fruits.jpg", "baboon.jpg"),
                                           testing::Values(0, 80)),
-                         [](const testing::TestParamInfo<std::tuple<std::string, int>>& info) {
-                             return imageName(std::get<0>(info.param)) +
-                                    (std::get<1>(info.param) ? "_jpeg80" : "_rendered");
-                         });
+                         caseName);

@@ -3,7 +3,7 @@
 #include "precomp.hpp"
 
 #include "imaging/pinhole.hpp"
-#include "imaging/axis_rotation.hpp"
+#include "motion/axis_rotation.hpp"
 
 namespace cv {
 namespace dynblur {

@@ -4,7 +4,7 @@
 // with the PSF generator (it warps images; the generator splats paths).
 #include "precomp.hpp"
 
-#include "imaging/axis_rotation.hpp"
+#include "motion/axis_rotation.hpp"
 #include "imaging/trajectory.hpp"
 #include "motion/camera_motion.hpp"
 #include "motion/shutter_check.hpp"

@@ -2,7 +2,7 @@
 // CameraMotion: the plant's motion about one axis (fromPlant), and the checks every motion shares.
 #include "precomp.hpp"
 
-#include "imaging/axis_rotation.hpp"
+#include "motion/axis_rotation.hpp"
 #include "motion/camera_motion.hpp"
 
 namespace cv {

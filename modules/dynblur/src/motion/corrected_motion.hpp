@@ -7,7 +7,7 @@
 #include "opencv2/dynblur/camera_motion.hpp"
 #include "opencv2/dynblur/refinement.hpp"
 
-#include "imaging/trajectory.hpp"
+#include "motion/view_motion.hpp"
 
 namespace cv {
 namespace dynblur {

@@ -3,7 +3,7 @@
 // schedule per axis.
 #include "precomp.hpp"
 
-#include "imaging/axis_rotation.hpp"
+#include "motion/axis_rotation.hpp"
 #include "motion/camera_motion.hpp"
 
 #include "opencv2/dynblur/mount.hpp"

@@ -10,7 +10,7 @@
 #include "restore/operators/blur_operator.hpp"
 #include "restore/operators/displacement.hpp"
 #include "restore/operators/packed_gather.hpp"
-#include "restore/rl/row_arithmetic.hpp"
+#include "restore/row_arithmetic.hpp"
 #include "restore/operators/row_bank_operator.hpp"
 #include "restore/operators/tile_bank_operator.hpp"
 #include "restore/operators/uniform_operator.hpp"

@@ -2,7 +2,7 @@
 #include "restore/operators/displacement.hpp"
 
 #include "restore/operators/bank_geometry.hpp"
-#include "restore/rl/row_arithmetic.hpp"
+#include "restore/row_arithmetic.hpp"
 #include "restore/simd_clones.hpp"
 
 #include <opencv2/core/utility.hpp>

@@ -4,7 +4,7 @@
 #include "restore/operators/bank_geometry.hpp"
 #include "restore/operators/gather.hpp"
 #include "restore/operators/packed_gather.hpp"
-#include "restore/rl/row_arithmetic.hpp"
+#include "restore/row_arithmetic.hpp"
 #include "restore/kernels/gather_taps.hpp"
 
 #include <opencv2/core/utility.hpp>

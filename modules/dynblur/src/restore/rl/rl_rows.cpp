@@ -2,7 +2,7 @@
 #include "restore/rl/rl_rows.hpp"
 
 #include "restore/rl/rl_terms.hpp"
-#include "restore/rl/row_arithmetic.hpp"
+#include "restore/row_arithmetic.hpp"
 #include "restore/simd_clones.hpp"
 #include "restore/kernels/kernel_table.hpp"
 

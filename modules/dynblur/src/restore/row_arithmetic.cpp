@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "restore/rl/row_arithmetic.hpp"
+#include "restore/row_arithmetic.hpp"
 
 #include "restore/simd_clones.hpp"
 

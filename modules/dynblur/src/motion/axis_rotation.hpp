@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Private: a rotation about a unit axis, without cv::Rodrigues's allocations.
-#ifndef OPENCV_DYNBLUR_IMAGING_AXIS_ROTATION_HPP
-#define OPENCV_DYNBLUR_IMAGING_AXIS_ROTATION_HPP
+#ifndef OPENCV_DYNBLUR_MOTION_AXIS_ROTATION_HPP
+#define OPENCV_DYNBLUR_MOTION_AXIS_ROTATION_HPP
 
 #include <opencv2/core.hpp>
 

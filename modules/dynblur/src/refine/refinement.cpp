@@ -1,0 +1,418 @@
+// SPDX-License-Identifier: Apache-2.0
+// MotionCorrection, TimingCalibration and the calls that estimate them (refinement.hpp).
+#include "precomp.hpp"
+
+#include "motion/camera_motion.hpp"
+#include "motion/corrected_motion.hpp"
+#include "motion/shutter_check.hpp"
+#include "imaging/camera_frame.hpp"
+#include "refine/blind_fit.hpp"
+#include "refine/motion_fit.hpp"
+
+#include <cstdio>
+
+namespace cv {
+namespace dynblur {
+
+MotionCorrection::MotionCorrection()
+    : timeOffset(0), lineDelayScale(1), naturalFreqScale(1), dampingScale(1),
+      consistency(std::numeric_limits<double>::quiet_NaN()), held(REFINE_NONE), stillGain(1), applied(true)
+{
+}
+
+RollingShutter MotionCorrection::correctShutter(const RollingShutter& shutter) const
+{
+    RollingShutter corrected = shutter;
+    corrected.frameStart += timeOffset;
+    corrected.lineDelay *= lineDelayScale;
+    return corrected;
+}
+
+Ptr<Plant> MotionCorrection::correctPlant(const Ptr<Plant>& plant) const
+{
+    CV_Assert(!plant.empty() && "MotionCorrection::correctPlant: 'plant' is null");
+    if (naturalFreqScale == 1 && dampingScale == 1)
+        return plant;
+    return Plant::create(plant->getNaturalFreqHz() * naturalFreqScale, plant->getDampingRatio() * dampingScale,
+                         plant->getGain());
+}
+
+void MotionCorrection::validate() const
+{
+    if (!std::isfinite(timeOffset))
+        CV_Error(Error::StsOutOfRange, format("MotionCorrection: timeOffset = %g s must be finite", timeOffset));
+    const std::pair<const char*, double> scales[] = {
+        {"lineDelayScale", lineDelayScale}, {"naturalFreqScale", naturalFreqScale}, {"dampingScale", dampingScale}};
+    for (const auto& scale : scales)
+        if (!(scale.second > 0 && scale.second < 10))
+            CV_Error(Error::StsOutOfRange,
+                     format("MotionCorrection: %s = %g must be in (0, 10)", scale.first, scale.second));
+    for (int i = 0; i < 3; i++)
+        if (!(std::abs(gyroBias[i]) <= 1))
+            CV_Error(Error::StsOutOfRange, format("MotionCorrection: gyroBias[%d] = %g rad/s must be finite and "
+                                                  "within [-1, 1] rad/s",
+                                                  i, gyroBias[i]));
+}
+
+TimingCalibration::TimingCalibration()
+    : timeOffsetStd(0), lineDelayScaleStd(0), naturalFreqScaleStd(0), dampingScaleStd(0)
+{
+}
+
+void TimingCalibration::save(const String& filename) const
+{
+    correction.validate();
+    // Written beside the target and renamed over it: a reader never sees half a file.
+    const size_t dot = filename.find_last_of('.');
+    const String temporary = filename + ".partial" + (dot == String::npos ? String(".yml") : filename.substr(dot));
+    {
+        FileStorage fs(temporary, FileStorage::WRITE);
+        if (!fs.isOpened())
+            CV_Error(Error::StsError, "TimingCalibration::save: cannot open '" + temporary + "' for writing");
+        fs.writeComment("dynblur timing calibration: the camera clock's offset to the actuator's (s), and scales of "
+                        "the nominal line delay, natural frequency and damping ratio");
+        fs << "timeOffset" << correction.timeOffset << "lineDelayScale" << correction.lineDelayScale
+           << "naturalFreqScale" << correction.naturalFreqScale << "dampingScale" << correction.dampingScale;
+        if (correction.gyroBias != Vec3d() || gyroBiasStd != Vec3d())  // a measured motion's (rad/s)
+            fs << "gyroBias" << std::vector<double>{correction.gyroBias[0], correction.gyroBias[1],
+                                                    correction.gyroBias[2]}
+               << "gyroBiasStd" << std::vector<double>{gyroBiasStd[0], gyroBiasStd[1], gyroBiasStd[2]};
+        if (std::isfinite(correction.consistency))
+            fs << "consistency" << correction.consistency;
+        fs << "timeOffsetStd" << timeOffsetStd << "lineDelayScaleStd" << lineDelayScaleStd << "naturalFreqScaleStd"
+           << naturalFreqScaleStd << "dampingScaleStd" << dampingScaleStd;
+        // A frame left out (still) has no consistency: written as −1, which no consistency is.
+        std::vector<double> consistency = frameConsistency;
+        for (double& value : consistency)
+            value = std::isfinite(value) ? value : -1.0;
+        fs << "frameUsed" << frameUsed << "frameConsistency" << consistency;
+    }
+    if (std::rename(temporary.c_str(), filename.c_str()) != 0)
+    {
+        std::remove(temporary.c_str());
+        CV_Error(Error::StsError, "TimingCalibration::save: cannot write '" + filename + "'");
+    }
+}
+
+TimingCalibration TimingCalibration::load(const String& filename)
+{
+    const ParameterFile file = ParameterFile::load(filename, "TimingCalibration::load: timing file");
+    TimingCalibration calibration;
+    MotionCorrection& c = calibration.correction;
+    c.timeOffset = file.real("timeOffset");
+    c.lineDelayScale = file.real("lineDelayScale");
+    c.naturalFreqScale = file.real("naturalFreqScale");
+    c.dampingScale = file.real("dampingScale");
+    if (file.has("consistency"))
+        c.consistency = file.real("consistency");
+    const std::pair<const char*, double*> deviations[] = {{"timeOffsetStd", &calibration.timeOffsetStd},
+                                                          {"lineDelayScaleStd", &calibration.lineDelayScaleStd},
+                                                          {"naturalFreqScaleStd", &calibration.naturalFreqScaleStd},
+                                                          {"dampingScaleStd", &calibration.dampingScaleStd}};
+    for (const auto& d : deviations)
+        if (file.has(d.first))
+            *d.second = file.real(d.first);
+    const std::pair<const char*, Vec3d*> vectors[] = {{"gyroBias", &c.gyroBias},
+                                                      {"gyroBiasStd", &calibration.gyroBiasStd}};
+    for (const auto& v : vectors)
+        if (file.has(v.first))
+        {
+            const std::vector<double> values = file.reals(v.first);
+            if (values.size() != 3)
+                CV_Error(Error::StsParseError, format("TimingCalibration::load: '%s': %s has %zu values; 3 "
+                                                      "(rad/s, camera axes x, y, z) are expected",
+                                                      filename.c_str(), v.first, values.size()));
+            *v.second = Vec3d(values[0], values[1], values[2]);
+        }
+    if (file.has("frameUsed"))
+        calibration.frameUsed = file.integers("frameUsed");
+    if (file.has("frameConsistency"))
+        calibration.frameConsistency = file.reals("frameConsistency");
+    for (double& value : calibration.frameConsistency)
+        value = value < 0 ? std::numeric_limits<double>::quiet_NaN() : value;
+    try
+    {
+        c.validate();
+    }
+    catch (const cv::Exception& e)
+    {
+        CV_Error(Error::StsParseError, "TimingCalibration::load: '" + filename + "': " + e.err);
+    }
+    return calibration;
+}
+
+namespace {
+
+const int kCoarseWidth = detail::kFitCoarseWidth, kFineWidth = detail::kFitFineWidth;
+
+/* The pyramids of one (reference, frame) pair and the frame's shutter, checked; `reference` must
+   outlive the FitFrame. */
+detail::FitFrame pairFrames(const Mat& reference, const Mat& frame, const Ptr<CameraModel>& camera,
+                            const RollingShutter& shutter, detail::LuminancePyramid& referencePyramid, const char* fn,
+                            int index, int coarsestWidth)
+{
+    const String referenceName = index < 0 ? String("reference") : format("references[%d]", index);
+    const String frameName = index < 0 ? String("frame") : format("frames[%d]", index);
+    detail::checkCameraFrame(reference, *camera, fn, referenceName.c_str());
+    detail::checkCameraFrame(frame, *camera, fn, frameName.c_str());
+    if (reference.type() != frame.type())
+        CV_Error(Error::StsUnmatchedFormats,
+                 format("%s: '%s' is %s but '%s' is %s; a still frame must come from the same camera stream", fn,
+                        referenceName.c_str(), typeToString(reference.type()).c_str(), frameName.c_str(),
+                        typeToString(frame.type()).c_str()));
+    detail::checkShutter(shutter, fn, ("the shutter of '" + frameName + "': ").c_str(), frame.rows);
+    referencePyramid = detail::buildPyramid(detail::linearLuminance(reference), camera, coarsestWidth, true);
+    detail::FitFrame f;
+    f.reference = &referencePyramid;
+    f.frame = detail::buildPyramid(detail::linearLuminance(frame), camera, coarsestWidth, false);
+    f.shutter = shutter;
+    return f;
+}
+
+//! pairFrames for a plant's frame: its schedule and its still's angle, checked.
+detail::FitFrame makeFitFrame(const Mat& reference, const Mat& frame, const Ptr<CameraModel>& camera,
+                              const Ptr<Plant>& plant, const SwitchSchedule& schedule, const RollingShutter& shutter,
+                              double referenceAngle, detail::LuminancePyramid& referencePyramid, const char* fn,
+                              int index, int coarsestWidth = kCoarseWidth)
+{
+    schedule.validate();
+    const double angle = std::isnan(referenceAngle) ? plant->restingAngle(schedule.initialLevel) : referenceAngle;
+    if (!std::isfinite(angle) || std::abs(angle) > CV_PI / 2)
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: the angle of '%s' = %g rad must be finite and within [-pi/2, pi/2]", fn,
+                        (index < 0 ? String("reference") : format("references[%d]", index)).c_str(), angle));
+    detail::FitFrame f =
+        pairFrames(reference, frame, camera, shutter, referencePyramid, fn, index, coarsestWidth);
+    f.schedule = schedule;
+    f.referenceAngle = angle;
+    return f;
+}
+
+/* Refuses `flags` unless they combine only flags of `allowed` (any of the table's, when
+   `ignored` lists those that do not apply to this motion) and at least one of `allowed`. */
+void checkFlags(int flags, int allowed, int ignored, const char* fn)
+{
+    const int accepted = allowed | ignored;
+    if ((flags & ~accepted) != 0 || !(flags & allowed))
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: flags = %d must combine %s, at least one of them%s: a value in [1, %d]", fn, flags,
+                        detail::refinementFlagList(allowed).c_str(),
+                        ignored ? format(" (%s is ignored for this motion)",
+                                         detail::refinementFlagList(ignored).c_str()).c_str()
+                                : "",
+                        accepted));
+}
+
+void checkSearch(double maxTimeOffset, double maxConsistency, const char* fn)
+{
+    if (!(maxTimeOffset > 0 && maxTimeOffset <= 1))
+        CV_Error(Error::StsOutOfRange, format("%s: maxTimeOffset = %g s must be in (0, 1]", fn, maxTimeOffset));
+    if (!(maxConsistency > 1) || std::isnan(maxConsistency))
+        CV_Error(Error::StsOutOfRange, format("%s: maxConsistency = %g must be > 1", fn, maxConsistency));
+}
+
+/* The common correction of the moving frames `fit` (`index`: their places among the `n` frames
+   given), fitted again without the frames it leaves above `maxConsistency`, as a TimingCalibration
+   with its offset scan. `plant` is null for a measured motion. */
+TimingCalibration calibrateFrames(const Ptr<Plant>& plant, const std::vector<detail::FitFrame>& fit,
+                                  const std::vector<size_t>& index, size_t n, const detail::FitSettings& settings,
+                                  double maxConsistency, const char* fn)
+{
+    if (fit.size() < 2)
+        CV_Error(Error::StsBadArg,
+                 format("%s: fewer than two usable frames: %zu of the %zu frames are taken during a move (the others "
+                        "are in window IV, still); give at least two moving frames",
+                        fn, fit.size(), n));
+    detail::FitResult result = fitMotionCorrection(plant, fit, MotionCorrection(), settings);
+
+    // Frames the common model cannot explain (another schedule, something moving) leave the fit.
+    std::vector<detail::FitFrame> kept;
+    std::vector<size_t> keptIndex;
+    for (size_t k = 0; k < fit.size(); k++)
+        if (result.frameConsistency[k] <= maxConsistency)
+            kept.push_back(fit[k]), keptIndex.push_back(index[k]);
+    if (kept.size() < 2)
+        CV_Error(Error::StsBadArg,
+                 format("%s: fewer than two usable frames: at the best common correction only %zu of %zu moving "
+                        "frames have a consistency within maxConsistency = %g",
+                        fn, kept.size(), fit.size(), maxConsistency));
+    if (kept.size() < fit.size())  // afresh: the first fit was pulled toward the frames now left out
+        result = fitMotionCorrection(plant, kept, MotionCorrection(), settings);
+
+    TimingCalibration calibration;
+    calibration.correction = result.correction;
+    calibration.correction.reason = format("calibrated over %zu frames", kept.size());
+    calibration.correction.held = result.held;
+    if (result.held)
+        calibration.correction.reason += format("; the frames cannot separate %s: kept as told along what they "
+                                                "do not determine (frames at different phases of their moves "
+                                                "separate them)",
+                                                detail::refinementFlagNames(result.held).c_str());
+    if (result.pinned)
+        calibration.correction.reason += "; " + result.pinnedNote;
+    for (int j = 0; j < detail::kFitParameters; j++)
+        detail::kFitTable[j].deviation(calibration) = result.deviation[j];
+    calibration.frameUsed.assign(n, 0);
+    for (size_t i : keptIndex)
+        calibration.frameUsed[i] = 1;
+    calibration.frameConsistency.assign(n, std::numeric_limits<double>::quiet_NaN());
+    const std::vector<double> consistency = detail::frameConsistency(plant, fit, result.correction, kFineWidth);
+    for (size_t k = 0; k < fit.size(); k++)
+        calibration.frameConsistency[index[k]] = consistency[k];
+
+    std::vector<MotionCorrection> scan;
+    for (int k = -40; k <= 40; k++)
+    {
+        scan.push_back(result.correction);
+        scan.back().timeOffset += k * 1e-3 / 40;  // ±1 ms around the result
+        calibration.scanTimeOffsets.push_back(scan.back().timeOffset);
+    }
+    calibration.scanObjective = detail::meanSquaredResiduals(plant, kept, result.correction, scan, kFineWidth);
+    return calibration;
+}
+
+}  // namespace
+
+TimingCalibration calibrateTiming(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera,
+                                  InputArrayOfArrays references, InputArrayOfArrays frames,
+                                  const std::vector<SwitchSchedule>& schedules,
+                                  const std::vector<RollingShutter>& shutters, int flags,
+                                  const std::vector<double>& referenceAngles, double maxTimeOffset,
+                                  double maxConsistency)
+{
+    const char* fn = "calibrateTiming";
+    if (plant.empty() || camera.empty())
+        CV_Error(Error::StsNullPtr, format("%s: '%s' is null", fn, plant.empty() ? "plant" : "camera"));
+    checkFlags(flags, detail::refinementFlagsFor(detail::FIT_PLANT_MOTION), 0, fn);
+    checkSearch(maxTimeOffset, maxConsistency, fn);
+    std::vector<Mat> stills, blurred;
+    references.getMatVector(stills);
+    frames.getMatVector(blurred);
+    const size_t n = blurred.size();
+    if (stills.size() != n || schedules.size() != n || shutters.size() != n ||
+        (!referenceAngles.empty() && referenceAngles.size() != n))
+        CV_Error(Error::StsBadSize,
+                 format("%s: frames has %zu entries but references %zu, schedules %zu, shutters %zu and "
+                        "referenceAngles %zu (empty or one per frame)",
+                        fn, n, stills.size(), schedules.size(), shutters.size(), referenceAngles.size()));
+
+    std::vector<detail::LuminancePyramid> pyramids(n);
+    std::vector<detail::FitFrame> fit;
+    std::vector<size_t> index;
+    for (size_t i = 0; i < n; i++)
+    {
+        const double angle = referenceAngles.empty() ? std::numeric_limits<double>::quiet_NaN() : referenceAngles[i];
+        detail::FitFrame f = makeFitFrame(stills[i], blurred[i], camera, plant, schedules[i], shutters[i], angle,
+                                          pyramids[i], fn, int(i));
+        if (classifyExposure(plant, schedules[i], shutters[i]) == EXPOSURE_IV)
+            continue;  // a still frame says nothing about the motion
+        fit.push_back(std::move(f));
+        index.push_back(i);
+    }
+    detail::FitSettings settings;
+    settings.flags = flags;
+    settings.maxTimeOffset = maxTimeOffset;
+    settings.coarseWidth = kCoarseWidth;
+    settings.fineWidth = kFineWidth;
+    return calibrateFrames(plant, fit, index, n, settings, maxConsistency, fn);
+}
+
+TimingCalibration calibrateTiming(const Ptr<CameraMotion>& motion, const Ptr<CameraModel>& camera,
+                                  InputArrayOfArrays references, InputArrayOfArrays frames,
+                                  const std::vector<RollingShutter>& shutters,
+                                  const std::vector<RollingShutter>& referenceShutters, int flags,
+                                  double maxTimeOffset, double maxConsistency)
+{
+    const char* fn = "calibrateTiming";
+    if (motion.empty() || camera.empty())
+        CV_Error(Error::StsNullPtr, format("%s: '%s' is null", fn, motion.empty() ? "motion" : "camera"));
+    if (motion->isPlantMotion())
+        CV_Error(Error::StsBadArg, format("%s: 'motion' is a plant's (CameraMotion::fromPlant); calibrate it with "
+                                          "calibrateTiming(plant, camera, references, frames, schedules, shutters), "
+                                          "which refines the plant too",
+                                          fn));
+    const int measurable = detail::refinementFlagsFor(detail::FIT_MEASURED_MOTION);
+    checkFlags(flags, measurable, detail::allRefinementFlags() & ~measurable, fn);
+    checkSearch(maxTimeOffset, maxConsistency, fn);
+    std::vector<Mat> stills, blurred;
+    references.getMatVector(stills);
+    frames.getMatVector(blurred);
+    const size_t n = blurred.size();
+    if (stills.size() != n || shutters.size() != n || referenceShutters.size() != n)
+        CV_Error(Error::StsBadSize, format("%s: frames has %zu entries but references %zu, shutters %zu and "
+                                           "referenceShutters %zu (one per frame)",
+                                           fn, n, stills.size(), shutters.size(), referenceShutters.size()));
+
+    std::vector<detail::LuminancePyramid> pyramids(n);
+    std::vector<detail::FitFrame> fit;
+    std::vector<size_t> index;
+    for (size_t i = 0; i < n; i++)
+    {
+        detail::FitFrame f = pairFrames(stills[i], blurred[i], camera, shutters[i], pyramids[i], fn, int(i),
+                                        kCoarseWidth);
+        const String stillName = format("referenceShutters[%zu]", i);
+        detail::checkShutter(referenceShutters[i], fn, (stillName + ".").c_str(), stills[i].rows);
+        detail::checkMotionCoversSearch(motion, shutters[i], maxTimeOffset, fn, format("'frames[%zu]'", i));
+        detail::checkMotionCoversSearch(motion, referenceShutters[i], maxTimeOffset, fn, format("'references[%zu]'", i));
+        if (classifyExposure(motion, shutters[i]) == EXPOSURE_IV)
+            continue;  // a frame taken at rest says nothing about the clock
+        f.motion = motion;
+        f.referenceTime = detail::midExposure(referenceShutters[i]);
+        fit.push_back(std::move(f));
+        index.push_back(i);
+    }
+    detail::FitSettings settings;
+    settings.flags = flags & measurable;
+    settings.maxTimeOffset = maxTimeOffset;
+    settings.coarseWidth = kCoarseWidth;
+    settings.fineWidth = kFineWidth;
+    return calibrateFrames(Ptr<Plant>(), fit, index, n, settings, maxConsistency, fn);
+}
+
+std::vector<double> motionConsistency(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera, InputArray reference,
+                                      InputArray frame, const SwitchSchedule& schedule, const RollingShutter& shutter,
+                                      const std::vector<MotionCorrection>& candidates, double referenceAngle,
+                                      int maxWidth)
+{
+    const char* fn = "motionConsistency";
+    if (plant.empty() || camera.empty())
+        CV_Error(Error::StsNullPtr, format("%s: '%s' is null", fn, plant.empty() ? "plant" : "camera"));
+    if (maxWidth < 16)
+        CV_Error(Error::StsOutOfRange, format("%s: maxWidth = %d px must be at least 16", fn, maxWidth));
+    for (const MotionCorrection& c : candidates)
+        c.validate();
+    detail::LuminancePyramid pyramid;
+    std::vector<detail::FitFrame> fit{makeFitFrame(reference.getMat(), frame.getMat(), camera, plant, schedule,
+                                                   shutter, referenceAngle, pyramid, fn, -1,
+                                                   std::min(kCoarseWidth, maxWidth))};
+    std::vector<double> values =
+        detail::meanSquaredResiduals(plant, fit, candidates.empty() ? MotionCorrection() : candidates[0], candidates,
+                                     maxWidth);
+    for (double& v : values)
+        v = std::sqrt(v);
+    return values;
+}
+
+std::vector<double> blindMotionConsistency(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera, InputArray frame,
+                                           const SwitchSchedule& schedule, const RollingShutter& shutter,
+                                           const std::vector<MotionCorrection>& candidates, int maxWidth)
+{
+    const char* fn = "blindMotionConsistency";
+    if (plant.empty() || camera.empty())
+        CV_Error(Error::StsNullPtr, format("%s: '%s' is null", fn, plant.empty() ? "plant" : "camera"));
+    CV_CheckGE(maxWidth, 64, "blindMotionConsistency: maxWidth (pixels) must be in [64, 4096]");
+    CV_CheckLE(maxWidth, 4096, "blindMotionConsistency: maxWidth (pixels) must be in [64, 4096]");
+    const Mat image = frame.getMat();
+    detail::checkCameraFrame(image, *camera, fn, "frame");
+    schedule.validate();
+    detail::checkShutter(shutter, fn, "shutter.", image.rows);
+    for (const MotionCorrection& c : candidates)
+        c.validate();
+    if (candidates.empty())
+        return std::vector<double>();
+    return detail::blindObjective(plant, detail::prepareBlindFrame(image, camera, maxWidth), schedule, shutter,
+                                  candidates);
+}
+
+}  // namespace dynblur
+}  // namespace cv

@@ -33,6 +33,36 @@ enum MotionRefinement
     REFINE_GYRO_BIAS = 8
 };
 
+/** @brief One parameter the refinement estimates (refinementParameters): the MotionCorrection field
+it sets, the MotionRefinement flag that turns it on, and where it applies. */
+struct CV_EXPORTS_W_SIMPLE RefinementParameter
+{
+    CV_WRAP RefinementParameter();
+    CV_PROP_RW String name;      //!< what it is: "time offset", "natural frequency", "gyro bias x"
+    CV_PROP_RW String group;     //!< its flag's name in messages: "time offset", "plant", "gyro bias"
+    CV_PROP_RW String key;       //!< its flag's short name in command lines: "offset", "line-delay", "plant", "bias"
+    CV_PROP_RW String flagName;  //!< "REFINE_TIME_OFFSET"
+    CV_PROP_RW int flag;         //!< the MotionRefinement flag (several parameters may share one)
+    CV_PROP_RW String unit;      //!< the field's unit: "s", "" (a scale of a nominal value) or "rad/s"
+    /** how far from its value as told the refinement searches it, `unit`; 0 for the time offset,
+        whose search the caller sets (maxTimeOffset) */
+    CV_PROP_RW double searchHalfWidth;
+    CV_PROP_RW bool plantMotion;         //!< it corrects a plant's motion
+    CV_PROP_RW bool measuredMotion;      //!< it corrects a measured motion (a gyro log, orientations)
+    CV_PROP_RW bool rollingShutterOnly;  //!< only a rolling shutter observes it (a global one holds it)
+    CV_PROP_RW bool inRefineAll;         //!< REFINE_ALL includes its flag
+};
+
+/** @brief The parameters the refinement estimates, in the order it fits them: the table that
+DynamicDeblurrer::setRefinement, calibrateTiming and their reports read. */
+CV_EXPORTS_W std::vector<RefinementParameter> refinementParameters();
+
+/** @brief MotionRefinement flags from a comma-separated list of RefinementParameter::key values,
+"all" (REFINE_ALL) and "none": "offset,line-delay" gives REFINE_TIME_OFFSET | REFINE_LINE_DELAY.
+Throws cv::Exception naming the unknown item and the allowed ones.
+@param names the list, e.g. from a command line. */
+CV_EXPORTS_W int refinementFlags(const String& names);
+
 /** @brief A correction of the predicted motion: the difference between the model a deblurrer is
 told and the one that moved the camera (DESIGN §2, "What is known on real hardware").
 

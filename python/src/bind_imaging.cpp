@@ -9,7 +9,6 @@
 #include <opencv2/dynblur/psf.hpp>
 #include <opencv2/dynblur/render.hpp>
 
-#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -18,8 +17,6 @@ namespace dynblur_py {
 using namespace cv::dynblur;
 
 namespace {
-
-const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 //! Points of shape (..., 2) → N×2 CV_64F, call, and back to the input's shape.
 template <typename View>

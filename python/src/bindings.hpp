@@ -5,6 +5,7 @@
 #include "convert.hpp"
 
 #include <exception>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -17,6 +18,16 @@ cv::Ptr<T> required(const std::shared_ptr<T>& p, const char* name)
     if (!p)
         throw py::value_error(std::string("argument '") + name + "' is None");
     return cv::Ptr<T>(p);
+}
+
+//! NaN, the default of reference angles and times: the schedule's or the motion's own reference.
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+//! A library object as the shared_ptr its Python class holds.
+template <typename T>
+std::shared_ptr<T> shared(const cv::Ptr<T>& p)
+{
+    return std::shared_ptr<T>(p);
 }
 
 void bindMotion(py::module_& m);

@@ -75,6 +75,16 @@ unit quaternions (w, x, y, z), (N, 9) row-major or (N, 3, 3) rotation matrices.)
             return o.str();
         });
 
+    m.def("classifyExposure",
+          [](const std::shared_ptr<CameraMotion>& motion, const RollingShutter& sh, double a, double v) {
+              if (!motion)
+                  throw py::value_error("argument 'motion' is None");
+              return classifyExposure(cv::Ptr<CameraMotion>(motion), sh, a, v);
+          },
+          py::arg("motion"), py::arg("shutter"), py::arg("angleTol") = 2e-4, py::arg("velocityTol") = 0.02,
+          R"doc(The exposure window of a frame for any camera motion: a plant's motion as the plant form; any
+other is "moving" where its rate |ω| exceeds velocityTol (rad/s), sampled every 0.25 ms.)doc");
+
     // ---------------------------------------------------------------- Mount
     py::class_<Mount, std::shared_ptr<Mount>>(m, "Mount", R"doc(A chain of rotation axes, each turned by its own plant (a pan-tilt
 head, a gimbal): Q(q) = R_a1(q1)·R_a2(q2)·…, axes in the camera frame at rest, base first.)doc")

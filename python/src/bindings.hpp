@@ -30,7 +30,10 @@ std::shared_ptr<T> shared(const cv::Ptr<T>& p)
     return std::shared_ptr<T>(p);
 }
 
-void bindMotion(py::module_& m);
+void bindSchedule(py::module_& m);
+void bindPlant(py::module_& m);
+void bindPlanner(py::module_& m);
+void bindShutter(py::module_& m);
 void bindCameraMotion(py::module_& m);
 void bindImaging(py::module_& m);
 void bindCalibration(py::module_& m);

@@ -60,7 +60,10 @@ PYBIND11_MODULE(_dynblur, m)
         cv::Mat mat = toMat(a, "a").mat;
         return py::make_tuple(mat.rows, mat.cols, mat.channels(), mat.depth());
     }, py::arg("a"));
-    bindMotion(m);
+    bindSchedule(m);
+    bindPlant(m);
+    bindPlanner(m);
+    bindShutter(m);
     bindCameraMotion(m);
     bindRefinement(m);
     bindImaging(m);

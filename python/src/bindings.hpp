@@ -35,6 +35,8 @@ void bindPlant(py::module_& m);
 void bindPlanner(py::module_& m);
 void bindShutter(py::module_& m);
 void bindCameraMotion(py::module_& m);
+void bindMount(py::module_& m);
+void bindGyroLog(py::module_& m);
 void bindImaging(py::module_& m);
 void bindCalibration(py::module_& m);
 void bindRefinement(py::module_& m);

@@ -65,6 +65,8 @@ PYBIND11_MODULE(_dynblur, m)
     bindPlanner(m);
     bindShutter(m);
     bindCameraMotion(m);
+    bindMount(m);
+    bindGyroLog(m);
     bindRefinement(m);
     bindImaging(m);
     bindCalibration(m);

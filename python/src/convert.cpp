@@ -190,4 +190,31 @@ py::array_t<double, py::array::c_style> toDoubleArray(py::handle obj, const char
     return numpy().attr("ascontiguousarray")(a, py::arg("dtype") = "float64");
 }
 
+cv::Mat timesArg(py::handle obj, Doubles& keep, const char* name)
+{
+    keep = toDoubleArray(obj, name);
+    if (keep.ndim() != 1)
+        throw py::value_error(std::string("argument '") + name + "' must have shape (N,): sample times, seconds");
+    return cv::Mat(int(keep.shape(0)), 1, CV_64F, keep.mutable_data());
+}
+
+/** Per-sample rows of shape (N, C), C in `columns` (or (N, 3, 3) when 9 is allowed: matrices), as an
+    N×C Mat over `keep`'s data. */
+cv::Mat rowsArg(py::handle obj, Doubles& keep, const char* name, std::initializer_list<int> columns,
+                const char* allowed)
+{
+    keep = toDoubleArray(obj, name);
+    int cols = -1;
+    if (keep.ndim() == 2)
+        cols = int(keep.shape(1));
+    else if (keep.ndim() == 3 && keep.shape(1) == 3 && keep.shape(2) == 3)
+        cols = 9;
+    bool ok = false;
+    for (int c : columns)
+        ok = ok || c == cols;
+    if (!ok)
+        throw py::value_error(std::string("argument '") + name + "' must have shape " + allowed);
+    return cv::Mat(int(keep.shape(0)), cols, CV_64F, keep.mutable_data());
+}
+
 }  // namespace dynblur_py

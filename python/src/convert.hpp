@@ -14,6 +14,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <initializer_list>
 #include <string>
 
 namespace dynblur_py {
@@ -47,6 +48,17 @@ py::array fromMat(const cv::Mat& m);
 
 //! Float64 numpy array of any shape from an array-like argument (ValueError naming it otherwise).
 py::array_t<double, py::array::c_style> toDoubleArray(py::handle obj, const char* name);
+
+//! A float64 C-contiguous numpy array: what keeps the data of timesArg's and rowsArg's Mats alive.
+using Doubles = py::array_t<double, py::array::c_style>;
+
+//! Sample times of shape (N,) as an N×1 Mat over `keep`'s data.
+cv::Mat timesArg(py::handle obj, Doubles& keep, const char* name = "times");
+
+/** Per-sample rows of shape (N, C), C in `columns` (or (N, 3, 3) when 9 is allowed: matrices), as an
+    N×C Mat over `keep`'s data. */
+cv::Mat rowsArg(py::handle obj, Doubles& keep, const char* name, std::initializer_list<int> columns,
+                const char* allowed);
 
 }  // namespace dynblur_py
 

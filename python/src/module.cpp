@@ -60,9 +60,19 @@ PYBIND11_MODULE(_dynblur, m)
         cv::Mat mat = toMat(a, "a").mat;
         return py::make_tuple(mat.rows, mat.cols, mat.channels(), mat.depth());
     }, py::arg("a"));
-    bindMotion(m);
+    // In bindings.hpp's order: each type is registered before a binding that uses it.
+    bindSchedule(m);
+    bindPlant(m);
+    bindPlanner(m);
+    bindShutter(m);
     bindCameraMotion(m);
+    bindMount(m);
+    bindGyroLog(m);
+    bindCamera(m);
     bindRefinement(m);
-    bindImaging(m);
+    bindRender(m);
+    bindPsf(m);
+    bindDeconv(m);
+    bindDeblurrer(m);
     bindCalibration(m);
 }

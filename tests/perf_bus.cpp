@@ -12,7 +12,7 @@
 #include <vector>
 
 using namespace cv::dynblur;
-using namespace dynblur_test;
+using namespace dynblur_samples;
 
 namespace {
 

@@ -54,7 +54,7 @@ struct SaccadeScene
     RollingShutter shutterInWindow(int window, double lineDelay) const
     {
         RollingShutter shutter(0.0, 0.008, lineDelay, 480);
-        EXPECT_TRUE(dynblur_test::frameStartInWindow(plant, schedule, shutter, window, shutter.frameStart))
+        EXPECT_TRUE(dynblur_samples::frameStartInWindow(plant, schedule, shutter, window, shutter.frameStart))
             << "no frame start gives window " << window;
         return shutter;
     }

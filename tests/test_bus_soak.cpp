@@ -33,7 +33,7 @@
 #include <vector>
 
 using namespace cv::dynblur;
-using namespace dynblur_test;
+using namespace dynblur_samples;
 
 // AddressSanitizer's build (scripts/sanitize.sh): GCC says so with __SANITIZE_ADDRESS__, clang 14
 // only through __has_feature, which GCC 12's preprocessor does not know.

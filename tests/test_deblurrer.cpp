@@ -21,7 +21,7 @@
 
 using namespace cv;
 using namespace cv::dynblur;
-using dynblur_test::maskedPsnr;
+using dynblur_samples::maskedPsnr;
 using dynblur_test::judgedPixels;
 using dynblur_test::kDeg;
 using dynblur_test::SaccadeScene;

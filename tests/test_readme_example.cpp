@@ -58,7 +58,7 @@ cv::Mat blurredFrame(cv::Mat& sharpLinear)
     SwitchSchedule move = SwitchPlanner::create(plant, 16)->plan(0.0, 10 * CV_PI / 180, 0.0);
     cv::Ptr<CameraModel> camera = CameraModel::create(615, 615, 319.5, 239.5, 640, 480);
     RollingShutter shutter(0.005, 0.008, 62.5e-6, 480);
-    const cv::Mat scene = dynblur_test::makeScene(cv::Size(640, 480));
+    const cv::Mat scene = dynblur_samples::makeScene(cv::Size(640, 480));
     srgbToLinear(scene, sharpLinear);
     cv::Mat blurred, out;
     renderBlurred(sharpLinear, plant, move, camera, shutter, blurred);
@@ -129,7 +129,7 @@ TEST(ReadmeExample, HandHeldFrameRestoredFromAGyroLog)
         }
     }
     cv::Ptr<CameraModel> camera = CameraModel::create(615, 615, 319.5, 239.5, 640, 480);
-    const cv::Mat scene = dynblur_test::makeScene(cv::Size(640 + 96, 480 + 96));
+    const cv::Mat scene = dynblur_samples::makeScene(cv::Size(640 + 96, 480 + 96));
     cv::Mat sharpLinear, blurred, frame;
     srgbToLinear(scene, sharpLinear);
     renderBlurred(sharpLinear, GyroLog::load(path).toMotion(), camera, RollingShutter(0.100, 0.020, 62.5e-6, 480),

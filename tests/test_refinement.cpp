@@ -13,7 +13,7 @@
 
 using namespace cv;
 using namespace cv::dynblur;
-using dynblur_test::maskedPsnr;
+using dynblur_samples::maskedPsnr;
 using dynblur_test::judgedPixels;
 using dynblur_test::kDeg;
 using dynblur_test::SaccadeScene;
@@ -522,7 +522,7 @@ TEST(Refinement, SmallFrameFindsTheClockOffset)
 {
     SmallScene s;
     RollingShutter told(0.0, 0.008, 1.0 / 30 / 120, 120);
-    ASSERT_TRUE(dynblur_test::frameStartInWindow(s.plant, s.schedule, told, EXPOSURE_III, told.frameStart));
+    ASSERT_TRUE(dynblur_samples::frameStartInWindow(s.plant, s.schedule, told, EXPOSURE_III, told.frameStart));
     const RollingShutter truth(told.frameStart + 2e-3, told.exposure, told.lineDelay, told.rows);
     ASSERT_EQ(classifyExposure(s.plant, s.schedule, told), EXPOSURE_III);
     const Mat frame = s.render(truth, s.plant, 1);
@@ -566,7 +566,7 @@ TEST(Refinement, SmallFrameBlindFindsTheClockOffset)
 {
     SmallScene s;
     RollingShutter told(0.0, 0.008, 1.0 / 30 / 120, 120);
-    ASSERT_TRUE(dynblur_test::frameStartInWindow(s.plant, s.schedule, told, EXPOSURE_III, told.frameStart));
+    ASSERT_TRUE(dynblur_samples::frameStartInWindow(s.plant, s.schedule, told, EXPOSURE_III, told.frameStart));
     const RollingShutter truth(told.frameStart + 2e-3, told.exposure, told.lineDelay, told.rows);
     const Mat frame = s.render(truth, s.plant, 1);
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(s.plant, s.camera);
@@ -599,7 +599,7 @@ TEST(Refinement, SmallFrameBlindFindsTheClockOffset)
 
     // A global shutter moving throughout its exposure has no still rows: restored as told.
     RollingShutter global(0.0, 0.008, 0.0, 120);
-    ASSERT_TRUE(dynblur_test::frameStartInWindow(s.plant, s.schedule, global, EXPOSURE_III, global.frameStart));
+    ASSERT_TRUE(dynblur_samples::frameStartInWindow(s.plant, s.schedule, global, EXPOSURE_III, global.frameStart));
     deblurrer->deblur(s.render(global, s.plant, 2), s.schedule, global, restored);
     c = deblurrer->getLastCorrection();
     EXPECT_TRUE(c.applied);
@@ -612,7 +612,7 @@ TEST(RefinementBadInput, ArgumentsAreCheckedAndNamed)
     using dynblur_test::expectErrorNaming;
     SmallScene s;
     RollingShutter told(0.0, 0.008, 1.0 / 30 / 120, 120);
-    ASSERT_TRUE(dynblur_test::frameStartInWindow(s.plant, s.schedule, told, EXPOSURE_III, told.frameStart));
+    ASSERT_TRUE(dynblur_samples::frameStartInWindow(s.plant, s.schedule, told, EXPOSURE_III, told.frameStart));
     Ptr<DynamicDeblurrer> d = DynamicDeblurrer::create(s.plant, s.camera);
     const Mat still(120, 160, CV_32F, Scalar(0.5));
     expectErrorNaming([&] { d->setReferenceFrame(Mat(100, 160, CV_32F, Scalar(0.5))); }, "'still' is 160x100");

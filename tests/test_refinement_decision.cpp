@@ -15,7 +15,7 @@
 using namespace cv;
 using namespace cv::dynblur;
 using namespace dynblur_test;
-using dynblur_test::maskedPsnr;
+using dynblur_samples::maskedPsnr;
 
 namespace {
 

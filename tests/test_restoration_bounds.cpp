@@ -608,7 +608,7 @@ TEST(RestorationBounds, DynamicDeblurrer)
     for (int window = EXPOSURE_I; window <= EXPOSURE_IV; ++window)
     {
         RollingShutter shutter(0.0, 0.008, 0.020 / size.height, size.height);
-        ASSERT_TRUE(dynblur_test::frameStartInWindow(plant, move, shutter, window, shutter.frameStart)) << window;
+        ASSERT_TRUE(dynblur_samples::frameStartInWindow(plant, move, shutter, window, shutter.frameStart)) << window;
         for (int model : {PSF_UNIFORM, PSF_ROWS, PSF_TILES})
             for (int method : {DEBLUR_RICHARDSON_LUCY, DEBLUR_WIENER})
             {

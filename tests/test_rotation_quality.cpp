@@ -18,7 +18,7 @@
 
 using namespace cv;
 using namespace cv::dynblur;
-using dynblur_test::maskedPsnr;
+using dynblur_samples::maskedPsnr;
 using dynblur_test::ShakeScene;
 
 namespace {

@@ -17,7 +17,6 @@ namespace dynblur_samples {
 
 using namespace cv;
 using namespace cv::dynblur;
-using namespace dynblur_test;
 
 namespace {
 

@@ -15,7 +15,6 @@
 
 using namespace cv::dynblur;
 using namespace dynblur_samples;
-using namespace dynblur_test;
 
 namespace {
 

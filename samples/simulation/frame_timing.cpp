@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "frame_timing.hpp"
 
-namespace dynblur_test {
+namespace dynblur_samples {
 
 const char* exposureWindowName(int window)
 {
@@ -34,4 +34,4 @@ bool frameStartInWindow(const cv::Ptr<cv::dynblur::Plant>& plant, const cv::dynb
     return true;
 }
 
-}  // namespace dynblur_test
+}  // namespace dynblur_samples

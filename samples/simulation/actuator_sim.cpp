@@ -25,7 +25,7 @@
 #include <thread>
 #include <vector>
 
-namespace dynblur_test {
+namespace dynblur_samples {
 
 using namespace cv::dynblur;
 using namespace cv::dynblur::busmap;
@@ -699,4 +699,4 @@ std::string ActuatorSim::statusLine() const
                       s.thetaAt(s.clockUs() * 1e-6) * 180.0 / CV_PI, s.requests, s.starts);
 }
 
-}  // namespace dynblur_test
+}  // namespace dynblur_samples

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Image quality over a region: PSNR and SSIM restricted to a mask, so restorations are judged
 // only where the frame observed the scene. Used by the demo and by the quality tests.
-#ifndef DYNBLUR_TEST_SUPPORT_IMAGE_METRICS_HPP
-#define DYNBLUR_TEST_SUPPORT_IMAGE_METRICS_HPP
+#ifndef DYNBLUR_SAMPLES_IMAGE_METRICS_HPP
+#define DYNBLUR_SAMPLES_IMAGE_METRICS_HPP
 
 #include <opencv2/core.hpp>
 #include <opencv2/quality/qualityssim.hpp>
@@ -10,7 +10,7 @@
 #include <cmath>
 #include <limits>
 
-namespace dynblur_test {
+namespace dynblur_samples {
 
 /** PSNR in dB of `test` against `reference` (same size and type, values in [0, peak]) over the
     non-zero pixels of `mask` (CV_8U, empty: everywhere). */
@@ -45,6 +45,6 @@ inline double maskedSsim(const cv::Mat& reference, const cv::Mat& test, const cv
     return total / reference.channels();
 }
 
-}  // namespace dynblur_test
+}  // namespace dynblur_samples
 
 #endif

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 // Choosing when a frame is taken so that it falls in a given exposure window.
-#ifndef DYNBLUR_TEST_SUPPORT_FRAME_TIMING_HPP
-#define DYNBLUR_TEST_SUPPORT_FRAME_TIMING_HPP
+#ifndef DYNBLUR_SAMPLES_FRAME_TIMING_HPP
+#define DYNBLUR_SAMPLES_FRAME_TIMING_HPP
 
 #include <opencv2/dynblur.hpp>
 
-namespace dynblur_test {
+namespace dynblur_samples {
 
 /** Finds a frame start (seconds) whose readout falls in exposure window `window`: the middle of
     the first run of such starts, scanned in `step` seconds from one readout before the first
@@ -18,6 +18,6 @@ bool frameStartInWindow(const cv::Ptr<cv::dynblur::Plant>& plant, const cv::dynb
 //! "I", "II", "III", "IV" for cv::dynblur::ExposureWindow values, "?" otherwise.
 const char* exposureWindowName(int window);
 
-}  // namespace dynblur_test
+}  // namespace dynblur_samples
 
 #endif

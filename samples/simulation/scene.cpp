@@ -3,7 +3,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-namespace dynblur_test {
+namespace dynblur_samples {
 
 cv::Mat makeScene(const cv::Size& size, unsigned seed)
 {
@@ -80,4 +80,4 @@ cv::Mat makeScene(const cv::Size& size, unsigned seed)
     return scene;
 }
 
-}  // namespace dynblur_test
+}  // namespace dynblur_samples

@@ -3,8 +3,8 @@
 // TCP (127.0.0.1 only) and Modbus RTU on a pseudo-terminal, runs the plant in real time while a
 // schedule runs, logs θ(t) as CSV (t,theta,level) and injects faults for tests. Used by the
 // dynblur_actuator_sim program and, in-process, by tests/test_bus.cpp.
-#ifndef DYNBLUR_TEST_SUPPORT_ACTUATOR_SIM_HPP
-#define DYNBLUR_TEST_SUPPORT_ACTUATOR_SIM_HPP
+#ifndef DYNBLUR_SAMPLES_ACTUATOR_SIM_HPP
+#define DYNBLUR_SAMPLES_ACTUATOR_SIM_HPP
 
 #include <opencv2/dynblur.hpp>
 
@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace dynblur_test {
+namespace dynblur_samples {
 
 //! Kinds of injected faults (bit i of SimFaults::randomKinds enables kind i).
 enum SimFaultKind
@@ -122,6 +122,6 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace dynblur_test
+}  // namespace dynblur_samples
 
 #endif

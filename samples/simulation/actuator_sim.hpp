@@ -2,7 +2,7 @@
 // The actuator controller simulator: serves the register map of docs/actuator-bus.md over Modbus
 // TCP (127.0.0.1 only) and Modbus RTU on a pseudo-terminal, runs the plant in real time while a
 // schedule runs, logs θ(t) as CSV (t,theta,level) and injects faults for tests. Used by the
-// dynblur_actuator_sim program and, in-process, by tests/test_bus.cpp.
+// dynblur_actuator_sim program and, in-process, by tests/bus/test_bus.cpp.
 #ifndef DYNBLUR_SAMPLES_ACTUATOR_SIM_HPP
 #define DYNBLUR_SAMPLES_ACTUATOR_SIM_HPP
 

@@ -4,7 +4,7 @@
 #include "test_common.hpp"
 
 #include "restore/kernels/kernel_table.hpp"
-#include "restore/kernels/test/kernel_check.hpp"
+#include "kernel_check.hpp"
 
 #include <opencv2/core/utility.hpp>
 

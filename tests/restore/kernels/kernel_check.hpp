@@ -3,11 +3,11 @@
    taps and sources: each column width from 1 to 3 blocks of the widest vectors (every block size
    and tail), each way of folding (written, added, weighted, split mid-vector). Float kernels agree to
    1e-6 of a bound of what a column sums; so do the packed ones, whose products of bfloat16s are exact in
-   float; the update of a row (update_terms.hpp) likewise. Shared by tests/restore/kernels/test_kernels.cpp (every instruction set this CPU runs, through the
-   library's dispatch) and kernels_check.cpp (the header-only build scripts/arm_check.sh makes
-   for AArch64 and for each x86 instruction set). */
-#ifndef OPENCV_DYNBLUR_RESTORE_KERNELS_TEST_KERNEL_CHECK_HPP
-#define OPENCV_DYNBLUR_RESTORE_KERNELS_TEST_KERNEL_CHECK_HPP
+   float; the update of a row (update_terms.hpp) likewise. Shared by test_kernels.cpp (every instruction set
+   this CPU runs, through the library's dispatch) and kernels_check.cpp (the header-only build
+   scripts/arm_check.sh makes for AArch64 and for each x86 instruction set). */
+#ifndef DYNBLUR_TEST_KERNEL_CHECK_HPP
+#define DYNBLUR_TEST_KERNEL_CHECK_HPP
 
 #include "restore/kernels/kernel_table.hpp"
 #include "restore/kernels/gather_reference.hpp"

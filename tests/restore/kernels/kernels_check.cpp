@@ -3,7 +3,7 @@
 // under qemu, and each x86 flag set) against their reference; exits non-zero on a mismatch.
 #define DYNBLUR_KERNELS_ISA checked
 #include "restore/kernels/gather_simd.hpp"
-#include "restore/kernels/test/kernel_check.hpp"
+#include "kernel_check.hpp"
 
 int main()
 {

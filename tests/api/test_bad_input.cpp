@@ -7,7 +7,7 @@
 //
 // The per-idea tests already refuse many of these (expectErrorNaming in test_psf.cpp and
 // test_render.cpp, the schedule/plant/bus checks of test_plant.cpp, test_planner.cpp, test_bus.cpp,
-// samples/test/test_plant_identification.cpp); this file holds the rest, one table row per input, and checks the
+// programs/test_plant_identification.cpp); this file holds the rest, one table row per input, and checks the
 // message of those the per-idea tests only check for an exception. Rows print as
 // "[ refused ] entry point | input | message" lines: docs/reliability.md's table is built from them.
 #include "bad_input_rows.hpp"

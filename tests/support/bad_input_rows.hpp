@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Table-driven bad-input checks (docs/reliability.md): one row per refused input, printed as
 // "[ refused ] entry point | input | message" lines, from which the reliability table is built.
-// Shared by the module's tests (tests/api/test_bad_input.cpp) and the programs' (samples/test/).
+// Shared by the module's tests (tests/api/test_bad_input.cpp) and the programs' (tests/programs/).
 #ifndef DYNBLUR_TEST_BAD_INPUT_ROWS_HPP
 #define DYNBLUR_TEST_BAD_INPUT_ROWS_HPP
 

@@ -231,7 +231,7 @@ TEST(CalibPlant, IdentifiesFromScheduleFileWithoutLevelColumn)
 TEST(CalibPlant, SeedPlantFileLoads)
 {
     std::string root = __FILE__;
-    root = root.substr(0, root.rfind("/samples/test/"));
+    root = root.substr(0, root.rfind("/tests/programs/"));
     cv::FileStorage fs(root + "/calib/seed_plant.yml", cv::FileStorage::READ);
     ASSERT_TRUE(fs.isOpened());
     EXPECT_DOUBLE_EQ(static_cast<double>(fs["naturalFreqHz"]), 14.4);

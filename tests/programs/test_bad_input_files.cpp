@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Bad input to the programs' files and command lines (samples/support: plant file, response log,
-// option reader), one table row per input as in tests/test_bad_input.cpp.
+// option reader), one table row per input as in tests/api/test_bad_input.cpp.
 #include "bad_input_rows.hpp"
 
 #include "cli_args.hpp"

@@ -7,7 +7,7 @@
 set(dir ${WORK}/programs)
 file(REMOVE_RECURSE ${dir})
 file(MAKE_DIRECTORY ${dir})
-include(${CMAKE_CURRENT_LIST_DIR}/../calib/cli_test_run.cmake)
+include(${CMAKE_CURRENT_LIST_DIR}/cli_test_run.cmake)
 
 function(expect pattern what)
   if(NOT last_output MATCHES "${pattern}")

@@ -8,7 +8,7 @@ cmake_policy(SET CMP0007 NEW)  # empty CSV fields keep their place
 set(dir ${WORK}/restore_truth)
 file(REMOVE_RECURSE ${dir})
 file(MAKE_DIRECTORY ${dir})
-include(${CMAKE_CURRENT_LIST_DIR}/../calib/cli_test_run.cmake)
+include(${CMAKE_CURRENT_LIST_DIR}/cli_test_run.cmake)
 
 run(0 ${BIN}/dynblur_restore_video --recording ${REC} --truth ${REC}/truth --out ${dir}/restored.avi)
 if(NOT last_output MATCHES "truth: gain over the recording, mean [-+][0-9.]+ dB")

@@ -4,7 +4,7 @@
 # simulator, a virtual camera, the chessboard views of the test data. Then checks what each step
 # wrote.
 # -DBIN=build/samples -DCALIB=build/calib -DDATA=test data -DDOC=docs/your-rig.md -DWORK=scratch folder
-include(${CMAKE_CURRENT_LIST_DIR}/../calib/cli_test_run.cmake)
+include(${CMAKE_CURRENT_LIST_DIR}/cli_test_run.cmake)
 require_test_data(left01.jpg)
 file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})

@@ -34,7 +34,6 @@
 using namespace cv;
 using namespace cv::dynblur;
 using namespace dynblur_samples;
-using namespace dynblur_test;
 
 static const char* const kUsage =
     "Usage: dynblur_calibrate_timing --video V --frames FRAMES.csv --commands COMMANDS.csv [options]\n"

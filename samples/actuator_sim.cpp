@@ -17,7 +17,6 @@
 #include <thread>
 
 using namespace dynblur_samples;
-using namespace dynblur_test;
 
 static std::atomic<int> gSignal{0};
 

@@ -29,7 +29,6 @@
 
 using namespace cv::dynblur;
 using namespace dynblur_samples;
-using namespace dynblur_test;
 
 namespace {
 

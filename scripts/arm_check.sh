@@ -2,9 +2,10 @@
 # SPDX-License-Identifier: Apache-2.0
 # The restoration kernels' test, on aarch64 under qemu and natively on each x86 instruction set.
 #
-# What: every modules/dynblur/src/restore/kernels/test/*.cpp is a self-contained program (its own
-# main(), the kernel headers of modules/dynblur/src/restore/kernels/ and their plain C++ references)
-# that exits non-zero when a vector kernel and its reference disagree. This script builds each one
+# What: every tests/restore/kernels/*_check.cpp is a self-contained program (its own main(), the
+# kernel headers of modules/dynblur/src/restore/kernels/ and their plain C++ references) that exits
+# non-zero when a vector kernel and its reference disagree (the folder's test_*.cpp belong to
+# dynblur_test's GoogleTest suite instead). This script builds each one
 #   - for aarch64 with Debian's g++-aarch64-linux-gnu, -static, and runs it under qemu-aarch64-static
 #     (package qemu-user-static), and
 #   - for the host, once per x86 flag set: baseline (SSE2), -mavx2 -mfma, and
@@ -39,7 +40,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 usage() {
   cat <<'EOF'
 Usage: scripts/arm_check.sh [--arm-only | --native-only] [--no-install] [--help]
-Builds every modules/dynblur/src/restore/kernels/test/*.cpp for aarch64 (static, run under
+Builds every tests/restore/kernels/*_check.cpp for aarch64 (static, run under
 qemu-aarch64-static) and for the host once per x86 flag set (sse2, avx2, avx512; a set the CPU lacks
 is built but not run), runs them and exits non-zero if any build or test fails.
   --arm-only      only the aarch64 build and run
@@ -60,10 +61,10 @@ for arg in "$@"; do
   esac
 done
 
-src="$here/modules/dynblur/src/restore/kernels/test"
+src="$here/tests/restore/kernels"
 out="${DYNBLUR_BUILD_DIR:-$here/build}/kernel-check"
 shopt -s nullglob
-tests=("$src"/*.cpp)
+tests=("$src"/*_check.cpp)
 if [ ${#tests[@]} -eq 0 ]; then
   echo "[arm_check] no kernel tests in $src" >&2
   exit 1

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
 # libFuzzer targets (docs/reliability.md): builds fuzz/ with clang in build-fuzz/ (DYNBLUR_BUILD_FUZZ=ON: the
-# library, modules/dynblur/test_support, samples/support and samples/simulation compiled with
-# ASan + UBSan + coverage), runs every file of fuzz/corpus/<target>/ and fuzz/regressions/<target>/
-# once (CTest), then fuzzes each target for a bounded time. Any crash, sanitizer report, leak, hang
-# (> 10 s per input) or out-of-memory fails the run; the input that caused it is kept in
-# build-fuzz/artifacts/<target>/. Called by run_tests.sh.
+# library, samples/support and samples/simulation compiled with ASan + UBSan + coverage), runs every
+# file of fuzz/corpus/<target>/ and fuzz/regressions/<target>/ once (CTest), then fuzzes each target
+# for a bounded time. Any crash, sanitizer report, leak, hang (> 10 s per input) or out-of-memory
+# fails the run; the input that caused it is kept in build-fuzz/artifacts/<target>/. Called by
+# run_tests.sh.
 #
 #   DYNBLUR_FUZZ_SECONDS    fuzzing time per target (default 20; 0: corpus and regressions only)
 #   DYNBLUR_FUZZ_BUILD_DIR  build folder (default build-fuzz/)

@@ -17,13 +17,12 @@ namespace dynblur_samples {
 
 using namespace cv;
 using namespace cv::dynblur;
-using namespace dynblur_test;
 
 namespace {
 
 const double kDeg = CV_PI / 180;
 
-/* The hand's body rates at t, rad/s: two sines per axis (as tests/rotation_motion.hpp's handShake),
+/* The hand's body rates at t, rad/s: two sines per axis (as tests/support/rotation_motion.hpp's handShake),
    faded out for 0.3 s in every 0.8 s by raised-cosine ramps of 50 ms: the hand held still. */
 Vec3d handRates(double t)
 {

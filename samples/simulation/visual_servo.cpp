@@ -26,7 +26,6 @@
 
 using namespace cv;
 using namespace cv::dynblur;
-using namespace dynblur_test;
 
 namespace dynblur_samples {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // The closed loop of the visual-servoing sample, shared by samples/visual_servo.cpp and
-// tests/test_visual_servo.cpp: a textured plane carrying a target (a column of AprilTags 36h11,
+// tests/programs/test_visual_servo.cpp: a textured plane carrying a target (a column of AprilTags 36h11,
 // ids 0..2), a camera on the tilt positioner, a rolling-shutter sensor rendered with renderBlurred +
 // addSensorNoise, and each cycle: detect the target in the latest restored frame → vpServo
 // (image-based, the target's centre) → ωx →

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Private: the linear blur operators that Richardson–Lucy inverts, and their exact adjoints.
-// tests/test_deconv.cpp includes this header to check <A x, y> == <x, Aᵀ y>.
+// tests/restore/test_deconv_*.cpp include this header to check <A x, y> == <x, Aᵀ y>.
 #ifndef OPENCV_DYNBLUR_DECONV_OPERATOR_HPP
 #define OPENCV_DYNBLUR_DECONV_OPERATOR_HPP
 

@@ -291,6 +291,22 @@ def richardsonLucyVariant(blurred: ArrayLike, bank: PsfBank, params: RLParams = 
 def applyPsfBank(latent: ArrayLike, bank: PsfBank) -> NDArray[np.float32]: ...
 def wienerDeconvolve(blurred: ArrayLike, bank: PsfBank, noiseToSignal: float = 0.01) -> NDArray[np.float32]: ...
 
+class RefinementParameter:
+    name: str
+    group: str
+    key: str
+    flagName: str
+    flag: int
+    unit: str
+    searchHalfWidth: float
+    plantMotion: bool
+    measuredMotion: bool
+    rollingShutterOnly: bool
+    inRefineAll: bool
+
+def refinementParameters() -> list[RefinementParameter]: ...
+def refinementFlags(names: str) -> int: ...
+
 class MotionCorrection:
     timeOffset: float
     lineDelayScale: float

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// Bindings of refinement.hpp: MotionCorrection, TimingCalibration, calibrateTiming, motionConsistency,
-// blindMotionConsistency.
+// Bindings of refinement.hpp: RefinementParameter, refinementParameters, refinementFlags, MotionCorrection,
+// TimingCalibration, calibrateTiming, motionConsistency, blindMotionConsistency.
 #include "bindings.hpp"
 
 #include <opencv2/dynblur/refinement.hpp>
@@ -43,12 +43,38 @@ std::vector<cv::Mat> toMats(py::handle list, const char* name)
 
 void bindRefinement(py::module_& m)
 {
+    // The flags from the refinement's table of parameters: one constant per flag it names.
     m.attr("REFINE_NONE") = int(REFINE_NONE);
-    m.attr("REFINE_TIME_OFFSET") = int(REFINE_TIME_OFFSET);
-    m.attr("REFINE_LINE_DELAY") = int(REFINE_LINE_DELAY);
-    m.attr("REFINE_PLANT") = int(REFINE_PLANT);
     m.attr("REFINE_ALL") = int(REFINE_ALL);
-    m.attr("REFINE_GYRO_BIAS") = int(REFINE_GYRO_BIAS);
+    for (const RefinementParameter& p : refinementParameters())
+        m.attr(p.flagName.c_str()) = p.flag;
+
+    py::class_<RefinementParameter>(m, "RefinementParameter", R"doc(One parameter the refinement estimates (refinementParameters):
+the MotionCorrection field it sets, the MotionRefinement flag that turns it on, and where it applies.)doc")
+        .def_readonly("name", &RefinementParameter::name, "what it is: 'time offset', 'natural frequency', 'gyro bias x'")
+        .def_readonly("group", &RefinementParameter::group, "its flag's name in messages: 'time offset', 'plant'")
+        .def_readonly("key", &RefinementParameter::key, "its flag's short name in command lines: 'offset', 'plant'")
+        .def_readonly("flagName", &RefinementParameter::flagName, "'REFINE_TIME_OFFSET'")
+        .def_readonly("flag", &RefinementParameter::flag, "the MotionRefinement flag (parameters may share one)")
+        .def_readonly("unit", &RefinementParameter::unit, "the field's unit: 's', '' (a scale) or 'rad/s'")
+        .def_readonly("searchHalfWidth", &RefinementParameter::searchHalfWidth,
+                      "how far from its value as told it is searched, in unit (0 for the time offset: the "
+                      "caller's maxTimeOffset)")
+        .def_readonly("plantMotion", &RefinementParameter::plantMotion, "it corrects a plant's motion")
+        .def_readonly("measuredMotion", &RefinementParameter::measuredMotion, "it corrects a measured motion")
+        .def_readonly("rollingShutterOnly", &RefinementParameter::rollingShutterOnly,
+                      "only a rolling shutter observes it")
+        .def_readonly("inRefineAll", &RefinementParameter::inRefineAll, "REFINE_ALL includes its flag")
+        .def("__repr__", [](const RefinementParameter& p) {
+            return "RefinementParameter(name='" + p.name + "', flagName='" + p.flagName + "', key='" + p.key + "')";
+        });
+    m.def("refinementParameters", &refinementParameters,
+          "The parameters the refinement estimates, in the order it fits them: the table setRefinement, "
+          "calibrateTiming and their reports read.");
+    m.def("refinementFlags", &refinementFlags, py::arg("names"),
+          "MotionRefinement flags from a comma-separated list of RefinementParameter.key values, 'all' and 'none' "
+          "('offset,line-delay' gives REFINE_TIME_OFFSET | REFINE_LINE_DELAY); raises dynblur.error naming an "
+          "unknown item.");
 
     py::class_<MotionCorrection>(m, "MotionCorrection", R"doc(A correction of the predicted motion: the shutter
 starts timeOffset seconds later and reads its rows with lineDelayScale times the line delay; the

@@ -204,3 +204,16 @@ def test_noise_frames_measure_the_noise_from_two_stills(db, tele):
     d.setConsistencyLimit(3.0)
     d.deblur(frame, sched, told)
     assert d.getLastCorrection().consistency == pytest.approx(estimated.consistency, rel=1e-6)
+
+
+def test_refinement_parameters_table(db):
+    """The flags and their command-line names come from the refinement's one table of parameters."""
+    table = db.refinementParameters()
+    assert [p.flagName for p in table][:2] == ["REFINE_TIME_OFFSET", "REFINE_LINE_DELAY"]
+    for p in table:
+        assert getattr(db, p.flagName) == p.flag
+        assert db.refinementFlags(p.key) == p.flag
+    assert db.refinementFlags("offset,line-delay") == db.REFINE_TIME_OFFSET | db.REFINE_LINE_DELAY
+    assert db.refinementFlags("all") == db.REFINE_ALL
+    with pytest.raises(db.error, match="'offest'"):
+        db.refinementFlags("offest")

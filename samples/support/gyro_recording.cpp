@@ -75,7 +75,7 @@ void GyroRecording::open(const CliArgs& args, const std::string& defaultCameraPa
     if (bias != Vec3d())
         r.gyro.bias = bias;
     r.motion = r.gyro.toMotion();
-    r.timingPath = args.str("timing", "");
+    r.timingPath = args.declares("timing") ? args.str("timing") : "";
     const Vec2d span = r.motion->getTimeSpan();
     const int rows = r.camera->getImageSize().height;
     for (const FrameRecord& f : r.log)

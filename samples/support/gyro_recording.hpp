@@ -31,7 +31,8 @@ estimate|none|BX,BY,BZ (rad/s, camera axes; `estimate`: from still intervals of 
 cv::dynblur::GyroLogOptions gyroOptions(const CliArgs& args, cv::Vec3d& bias);
 
 /** @brief A recording whose motion is a gyro log: --gyro LOG, --video, --frames (all required),
---camera, --timing, --exposure, --line-delay and the options of gyroOptions. Throws
+--camera, --exposure, --line-delay, the options of gyroOptions, and --timing where the program
+declares it. Throws
 cv::Exception naming the file and what is wrong (a frame outside the log's time span included),
 std::runtime_error naming the option on bad usage. */
 struct GyroRecording

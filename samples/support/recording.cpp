@@ -222,7 +222,7 @@ void OpenedRecording::open(const CliArgs& args, const std::string& defaultCamera
         std::fprintf(stderr, "note: no --plant%s: using the seed's plant (14.4 Hz, zeta 0.12, 1 deg per level)\n",
                      args.has("recording") ? " and no plant.yml in the recording" : "");
     r.plant = plant.empty() ? cv::dynblur::Plant::create(14.4, 0.12, CV_PI / 180) : loadPlantFile(plant).plant;
-    r.timingPath = args.str("timing", folder.timing);
+    r.timingPath = args.declares("timing") ? args.str("timing", folder.timing) : folder.timing;
     const std::string video = args.str("video", folder.video);
     r.videoOption = args.has("video") ? "--video" : "--recording";  // what the user typed
     // A missing file is named here: VideoCapture would try every backend on it (and GStreamer's

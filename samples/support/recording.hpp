@@ -78,8 +78,8 @@ void checkFramesMeetCommands(const std::vector<FrameRecord>& frames, const Comma
 class CliArgs;
 
 /** @brief A recording opened by a program: its logs, camera and nominal plant, from `--recording DIR`
-and/or `--video`, `--frames`, `--commands`, `--camera`, `--plant`, `--timing`, `--exposure`,
-`--line-delay` (an option given beside --recording wins). A default camera or plant is announced on
+and/or `--video`, `--frames`, `--commands`, `--camera`, `--plant`, `--exposure`, `--line-delay`, and
+`--timing` where the program declares it (an option given beside --recording wins). A default camera or plant is announced on
 stderr. Throws cv::Exception naming what is missing, malformed or cannot be opened, and for logs
 that cannot belong together (checkFramesMeetCommands). */
 struct OpenedRecording

@@ -36,58 +36,55 @@ using namespace cv::dynblur;
 using namespace dynblur_samples;
 using namespace dynblur_test;
 
-static const char* const kUsage =
-    "Usage: dynblur_restore_video --video V --frames FRAMES.csv --commands COMMANDS.csv [options]\n"
-    "       dynblur_restore_video --recording DIR [options]\n"
-    "Restores the frames of a recording that a move blurred, with the blur predicted from the plant and\n"
-    "the commands, corrected per frame against the still frame before the move (a frame that starts at\n"
-    "rest) or after it (one that ends at rest), in units of the noise measured from the last two\n"
-    "consecutive still frames. A frame no correction explains is written unchanged.\n"
-    "Each frame is restored to the view at the angle of its middle row's mid-exposure. A frame that\n"
-    "needs the still after its move is held until that still arrives (the rest of the move and one\n"
-    "frame; the progress line shows how many frames wait).\n"
-    "\n"
-    "  --recording DIR      a recording folder (frames.avi or frame_%04d.png, frames.csv, commands.csv,\n"
-    "                       camera.xml, plant.yml, and timing.yml when calibrated)\n"
-    "  --video V            the frames: a video file or an image sequence (frame_%04d.png)\n"
-    "  --frames FILE.csv    frame log: frame,frame_start[,exposure,line_delay] (docs/recording-format.md)\n"
-    "  --commands FILE.csv  command log: t,level on the actuator's clock\n"
-    "  --camera FILE.xml    camera (ViSP XML); default calib/c270_nominal.xml\n"
-    "  --plant FILE.yml     nominal plant file (default: 14.4 Hz, zeta 0.12, 1 deg per level)\n"
-    "  --timing FILE.yml    the recording's calibration (dynblur_calibrate_timing); each frame then refines\n"
-    "                       its clock's jitter only, unless --refine says otherwise\n"
-    "  --exposure S, --line-delay S   when the frame log lacks those columns\n"
-    "  --refine LIST        offset, line-delay, plant, all or none, comma-separated (default: offset with\n"
-    "                       --timing, all without)\n"
-    "  --preset NAME        frame-rate (default: iterations by the blur's length, color at half resolution)\n"
-    "                       or default (20 iterations, full color); docs/quality.md gives both per window\n"
-    "%MODEL%"
-    "  --no-still-after WHAT  a frame that ends its move at rest (window III) but has no still after it\n"
-    "                       (the recording ends, or another move starts) cannot be refined: as-told\n"
-    "                       (default) restores it with the model as told (and --timing), unchanged writes\n"
-    "                       it as recorded; the tool lists those frames either way\n"
-    "  --unobserved WHAT    where a frame never saw the restored view (content beyond its edges): recorded\n"
-    "                       (default) keeps the frame's pixels, marked paints them black, nearest repeats the\n"
-    "                       nearest observed pixel (streaks across a wide band)\n"
-    "  --truth DIR          a rendered recording's truth (scene.png, truth.yml: dynblur_calibrate_timing\n"
-    "                       --simulate writes them): each moving frame's PSNR against the view it is\n"
-    "                       restored to, as recorded and restored, its true window, and a summary\n"
-    "  --out FILE           restored video (default restored.avi; MJPG at the frame log's rate); beside it\n"
-    "                       OUT_frames.png, the most blurred moving frames as recorded and restored\n"
-    "  --csv FILE           per-frame log (default: OUT's name with .csv); window is the frame's exposure\n"
-    "                       window under the motion it was restored with, window_as_told under the model\n"
-    "                       as given, blur_px the largest image motion during one row's exposure\n"
-    "  --help               this help\n"
-    "\n"
-    "Usage: dynblur_restore_video --gyro LOG --video V --frames FRAMES.csv [options]\n"
-    "A recording whose motion is a gyro log: every frame is restored with the log's motion, on the clock,\n"
-    "line delay and bias of --timing (dynblur_calibrate_timing --gyro; without it, as the logs tell), to\n"
-    "the view at its middle row's mid-exposure. --camera, --timing, --exposure, --line-delay, --preset, --model,\n"
-    "--out\n"
-    "and --csv as above; frames the log shows still pass through.\n"
-    "%GYRO%"
-    "Output is written to temporary files and renamed into place only when the whole recording is done.\n"
-    "Exit status: 0 restored, 1 bad or unusable recording (the message says why), 2 bad usage.\n";
+static CliOptions restoreVideoOptions()
+{
+    CliOptions options("dynblur_restore_video");
+    options.synopsis("--video V --frames FRAMES.csv --commands COMMANDS.csv [options]")
+        .synopsis("--recording DIR [options]")
+        .synopsis("--gyro LOG --video V --frames FRAMES.csv [options]")
+        .description("Restores the frames of a recording that a move blurred, with the blur predicted from the plant "
+                     "and the commands, corrected per frame against the still frame before the move (a frame that "
+                     "starts at rest) or after it (one that ends at rest), in units of the noise measured from the "
+                     "last two consecutive still frames. A frame no correction explains is written unchanged.")
+        .description("Each frame is restored to the view at the angle of its middle row's mid-exposure. A frame that "
+                     "needs the still after its move is held until that still arrives (the rest of the move and one "
+                     "frame; the progress line shows how many frames wait).")
+        .group(recordingOptions())
+        .option("timing", "FILE.yml", "",
+                "the recording's calibration (dynblur_calibrate_timing); each frame then refines its clock's jitter "
+                "only, unless --refine says otherwise")
+        .option("refine", "LIST", "",
+                "offset, line-delay, plant, all or none, comma-separated (default: offset with --timing, all without)")
+        .group(restorationOptions())
+        .option("no-still-after", "WHAT", "as-told",
+                "a frame that ends its move at rest (window III) but has no still after it (the recording ends, or "
+                "another move starts) cannot be refined: as-told restores it with the model as told (and --timing), "
+                "unchanged writes it as recorded; the tool lists those frames either way")
+        .option("unobserved", "WHAT", "recorded",
+                "where a frame never saw the restored view (content beyond its edges): recorded keeps the frame's "
+                "pixels, marked paints them black, nearest repeats the nearest observed pixel (streaks across a wide "
+                "band)")
+        .option("truth", "DIR", "",
+                "a rendered recording's truth (scene.png, truth.yml: dynblur_calibrate_timing --simulate writes "
+                "them): each moving frame's PSNR against the view it is restored to, as recorded and restored, its "
+                "true window, and a summary")
+        .option("out", "FILE", "restored.avi",
+                "restored video (MJPG at the frame log's rate); beside it OUT_frames.png, the most blurred moving "
+                "frames as recorded and restored")
+        .option("csv", "FILE", "",
+                "per-frame log (default: OUT's name with .csv); window is the frame's exposure window under the "
+                "motion it was restored with, window_as_told under the model as given, blur_px the largest image "
+                "motion during one row's exposure")
+        .group(gyroLogOptions(
+            "Gyro mode (--gyro):",
+            "A recording whose motion is a gyro log: every frame is restored with the log's motion, on the clock, line "
+            "delay and bias of --timing (dynblur_calibrate_timing --gyro; without it, as the logs tell), to the view "
+            "at its middle row's mid-exposure. --camera, --timing, --exposure, --line-delay, --preset, --model, --out "
+            "and --csv as above; frames the log shows still pass through."))
+        .footer("Output is written to temporary files and renamed into place only when the whole recording is done.")
+        .footer("Exit status: 0 restored, 1 bad or unusable recording (the message says why), 2 bad usage.");
+    return options;
+}
 
 static int usageError(const std::string& message)
 {
@@ -103,8 +100,8 @@ struct RestorationSettings
     int preset, psfModel;
 
     explicit RestorationSettings(const CliArgs& args)
-        : preset(deblurPresetFromName(args.str("preset", "frame-rate"))),
-          psfModel(psfModelFromName(args.str("model", "auto")))
+        : preset(deblurPresetFromName(args.str("preset"))),
+          psfModel(psfModelFromName(args.str("model")))
     {
     }
     //! The preset, then the model over the preset's PSF_AUTO.
@@ -121,10 +118,10 @@ static int restoreGyroRecording(const CliArgs& args, const RestorationSettings& 
 {
     GyroRecording recording;
     GyroRecording::open(args, std::string(DYNBLUR_CALIB_DIR) + "/c270_nominal.xml", recording);
-    if (args.has("refine") && args.str("refine", "") != "none")
+    if (args.has("refine") && args.str("refine") != "none")
         return usageError("--refine: a gyro recording is restored with --timing's calibration (per-frame "
                           "refinement needs stills: DynamicDeblurrer::setReferenceFrame(still, stillShutter))");
-    const std::string videoOut = args.str("out", "restored.avi"), csvOut = args.str("csv", pathStem(videoOut) + ".csv");
+    const std::string videoOut = args.str("out"), csvOut = args.str("csv", pathStem(videoOut) + ".csv");
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(recording.camera);
     settings.apply(*deblurrer);
     MotionCorrection calibration;
@@ -282,19 +279,10 @@ int main(int argc, char** argv)
     std::string videoOut, csvOut, videoTemporary, csvTemporary, sheetTemporary;
     try
     {
-        std::set<std::string> valued{"recording", "video", "frames", "commands", "camera", "plant", "timing",
-                                     "exposure", "line-delay", "refine", "preset", "model", "out", "csv", "no-still-after", "unobserved",
-                                     "truth"};
-        valued.insert(gyroOptionNames().begin(), gyroOptionNames().end());
-        CliArgs args(argc, argv, valued, {"help"});
-        if (args.has("help"))
-        {
-            std::string usage = kUsage;
-            usage.replace(usage.find("%GYRO%"), 6, kGyroOptionsHelp);
-            usage.replace(usage.find("%MODEL%"), 7, kModelOptionHelp);
-            std::cout << usage;
+        const CliOptions options = restoreVideoOptions();
+        const CliArgs args = options.parse(argc, argv);
+        if (options.printHelp(args))
             return 0;
-        }
         const RestorationSettings settings(args);
         if (args.has("gyro"))
         {
@@ -304,16 +292,16 @@ int main(int argc, char** argv)
         }
         if (!OpenedRecording::named(args))
             return usageError("--recording DIR, or --video, --frames and --commands, are required");
-        const std::string noStillAfterMode = args.str("no-still-after", "as-told");
+        const std::string noStillAfterMode = args.str("no-still-after");
         if (noStillAfterMode != "as-told" && noStillAfterMode != "unchanged")
             return usageError("--no-still-after must be as-told or unchanged");
-        const std::string unobservedName = args.str("unobserved", "recorded");
+        const std::string unobservedName = args.str("unobserved");
         const int unobserved = unobservedName == "recorded" ? UNOBSERVED_RECORDED
                                : unobservedName == "marked" ? UNOBSERVED_MARKED
                                : unobservedName == "nearest" ? UNOBSERVED_NEAREST : -1;
         if (unobserved < 0)
             return usageError("--unobserved must be recorded, marked or nearest");
-        videoOut = args.str("out", "restored.avi");
+        videoOut = args.str("out");
         csvOut = args.str("csv", pathStem(videoOut) + ".csv");
 
         OpenedRecording recording;
@@ -330,7 +318,7 @@ int main(int argc, char** argv)
 
         const Ptr<Plant> correctedPlant = calibration.correctPlant(plant);
         const bool hasTruth = args.has("truth");
-        const RecordingTruth truth = hasTruth ? RecordingTruth::load(args.str("truth", "")) : RecordingTruth();
+        const RecordingTruth truth = hasTruth ? RecordingTruth::load(args.str("truth")) : RecordingTruth();
         const Ptr<Plant> truePlant = truth.motion.correctPlant(plant);
         Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
         settings.apply(*deblurrer);

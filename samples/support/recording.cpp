@@ -198,6 +198,23 @@ RecordingFolder findRecording(const std::string& folder)
     return r;
 }
 
+CliOptionGroup recordingOptions()
+{
+    return {"", "",
+            {{"recording", "DIR", "",
+              "a recording folder (frames.avi or frame_%04d.png, frames.csv, commands.csv, camera.xml, plant.yml, "
+              "and timing.yml once calibrated)"},
+             {"video", "V", "", "the frames: a video file or an image sequence (frame_%04d.png), as cv::VideoCapture reads them"},
+             {"frames", "FILE.csv", "", "frame log: frame,frame_start[,exposure,line_delay] (docs/recording-format.md)"},
+             {"commands", "FILE.csv", "", "command log: t,level on the actuator's clock"},
+             {"camera", "FILE.xml", "", "camera (ViSP XML); default: the recording's camera.xml, else calib/c270_nominal.xml"},
+             {"plant", "FILE.yml", "",
+              "nominal plant file; default: the recording's plant.yml, else the seed's (14.4 Hz, zeta 0.12, 1 deg per "
+              "level)"},
+             {"exposure", "S", "", "exposure of one row, seconds, when the frame log has no exposure column"},
+             {"line-delay", "S", "", "line delay, seconds, when the frame log has no line_delay column"}}};
+}
+
 bool OpenedRecording::named(const CliArgs& args)
 {
     return args.has("recording") || (args.has("video") && args.has("frames") && args.has("commands"));

@@ -259,20 +259,6 @@ CliArgs CliOptions::parse(int argc, char** argv) const
 // ---------------------------------------------------------------------------------------------
 // Reading
 
-CliArgs::CliArgs(int argc, char** argv, const std::set<std::string>& valued, const std::set<std::string>& flags,
-                 bool allowPositional)
-{
-    CliOptions options("");
-    for (const std::string& name : valued)
-        options.option(name, "VALUE", "", "");
-    for (const std::string& name : flags)
-        if (name != "help")
-            options.flag(name, "");
-    if (allowPositional)
-        options.positional();
-    *this = options.parse(argc, argv);
-}
-
 const CliOption& CliArgs::declared(const std::string& name) const
 {
     const auto it = declared_.find(name);

@@ -8,7 +8,6 @@
 #define DYNBLUR_SAMPLES_CLI_ARGS_HPP
 
 #include <map>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -93,11 +92,6 @@ private:
 class CliArgs
 {
 public:
-    /** @brief A program that gives only its options' names: `valued` take a value, `flags` do not
-    (no defaults, no usage text). Throws as CliOptions::parse does. */
-    CliArgs(int argc, char** argv, const std::set<std::string>& valued, const std::set<std::string>& flags,
-            bool allowPositional = false);
-
     //! Whether the option was given on the command line.
     bool has(const std::string& name) const;
     //! Whether the program declares the option (code shared by programs that do and do not).
@@ -117,7 +111,6 @@ public:
 
 private:
     friend class CliOptions;
-    CliArgs() = default;
     const CliOption& declared(const std::string& name) const;
     //! The text a numeric read parses: the value given or the declared default.
     std::string numberSource(const std::string& name) const;

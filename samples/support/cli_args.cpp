@@ -47,7 +47,8 @@ std::string optionLine(const CliOption& option)
 {
     std::string left = "  --" + option.name + (option.value.empty() ? "" : " " + option.value);
     left += left.size() + 2 <= kHelpColumn ? std::string(kHelpColumn - left.size(), ' ') : "  ";
-    const std::string help = option.help + (option.defaultValue.empty() ? "" : " (default " + option.defaultValue + ")");
+    const std::string help =
+        option.help + (option.defaultValue.empty() ? "" : " (default " + option.defaultValue + ")");
     return left + wrap(help, left.size(), kHelpColumn);
 }
 

@@ -148,7 +148,8 @@ TEST(CliArgs, PositionalOnlyWhereDeclared)
 
 TEST(CliArgs, GroupsDeclaredOnceReused)
 {
-    const CliOptionGroup shared{"Shared:", "", {{"preset", "NAME", "frame-rate", "a preset"}, {"quiet", "", "", "hush"}}};
+    const CliOptionGroup shared{"Shared:", "",
+                                {{"preset", "NAME", "frame-rate", "a preset"}, {"quiet", "", "", "hush"}}};
     const CliOptions options = CliOptions("x").option("a", "N", "1", "a").group(shared).option("b", "N", "2", "b");
     const CliArgs args = parse(options, {"--quiet"});
     EXPECT_EQ(args.str("preset"), "frame-rate");
@@ -163,7 +164,8 @@ TEST(CliArgs, UsageListsEveryOptionWithItsDefault)
 {
     const std::string usage = exampleOptions().usage();
     EXPECT_EQ(usage.rfind("Usage: dynblur_example --a N [options]\nDoes an example thing.\n", 0), 0u) << usage;
-    for (const char* line : {"  --a N                a number of things\n", "  --rate HZ            a rate (default 30)\n",
+    for (const char* line : {"  --a N                a number of things\n",
+                             "  --rate HZ            a rate (default 30)\n",
                              "  --name TEXT          a name (default none)\n", "  --fast               go fast\n",
                              "  --help               this help\n\nMore:\nA section of its own.\n  --count N"})
         EXPECT_NE(usage.find(line), std::string::npos) << line << " in\n" << usage;

@@ -18,7 +18,7 @@ struct CliOption
 {
     std::string name;          //!< without the dashes: "line-delay"
     std::string value;         //!< the value's placeholder in the usage ("S", "FILE.yml"); empty: a flag
-    std::string defaultValue;  //!< what a read returns when the option is absent, shown as "(default X)"; empty: none
+    std::string defaultValue;  //!< returned by a read when the option is absent, shown as "(default X)"; "": none
     std::string help;          //!< one paragraph (a '\n' breaks the line); the usage wraps it
 };
 
@@ -36,7 +36,8 @@ std::string numberText(double value);
 class CliArgs;
 
 /** @brief A program's options, declared once: CliOptions("dynblur_x").synopsis(...).option(...)...,
-then parse(argc, argv) and, on --help, usage(). Every program has --help (and -h). */
+then parse(argc, argv) and printHelp(args). Every program has --help (and -h). Declaring a name twice,
+or an option without its value's placeholder, is a programming error (std::logic_error). */
 class CliOptions
 {
 public:
@@ -65,8 +66,7 @@ public:
 
     //! The --help text: synopsis, description, one wrapped block per option with its default, footer.
     std::string usage() const;
-    /** Throws std::runtime_error naming an unknown option, a missing value or an unexpected argument.
-    (Throws std::logic_error for a declaration twice of one name: a programming error.) */
+    //! Throws std::runtime_error naming an unknown option, a missing value, a flag's value or a stray argument.
     CliArgs parse(int argc, char** argv) const;
     //! Prints usage() when --help (or -h) was given; returns whether it did (the program then exits 0).
     bool printHelp(const CliArgs& args) const;

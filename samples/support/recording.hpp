@@ -83,8 +83,7 @@ CliOptionGroup recordingOptions();
 
 /** @brief A recording opened by a program: its logs, camera and nominal plant, from `--recording DIR`
 and/or the options of recordingOptions() and `--timing` where the program declares it (an option
-given beside --recording wins). A default camera or plant is announced on
-stderr. Throws cv::Exception naming what is missing, malformed or cannot be opened, and for logs
+given beside --recording wins). A default camera or plant is announced on stderr. Throws cv::Exception naming what is missing, malformed or cannot be opened, and for logs
 that cannot belong together (checkFramesMeetCommands). */
 struct OpenedRecording
 {

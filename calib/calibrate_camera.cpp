@@ -29,24 +29,28 @@ using dynblur_samples::pathStem;
 using dynblur_samples::renameIntoPlace;
 using dynblur_samples::temporaryPathFor;
 
-static const char* const kUsage =
-    "Usage: dynblur_calibrate_camera [options] IMAGE|'GLOB'...\n"
-    "Calibrates the camera intrinsics (px, py, u0, v0 and ViSP's radial kud/kdu) from chessboard\n"
-    "images: corners found with OpenCV, solved with ViSP's vpCalibration (virtual visual servoing,\n"
-    "per view, then all views with distortion). Views without the board, unreadable ones and\n"
-    "outliers (residual > FACTOR x the median view's and > 0.5 px) are reported by name and left out.\n"
-    "\n"
-    "Images: file names, or quoted globs such as '../shared/data/left*.jpg' (expanded with cv::glob).\n"
-    "Options (--name value or --name=value):\n"
-    "  --board WxH          inner corners per row x per column (default 9x6; a board of 10x7 squares is 9x6)\n"
-    "  --square METRES      side of one square (default 0.025)\n"
-    "  --out FILE.xml       ViSP camera XML to write (default camera.xml); also writes FILE.yml\n"
-    "                       (OpenCV camera_matrix, distortion_coefficients) and FILE_views.png\n"
-    "  --name NAME          camera name in the XML (default Camera)\n"
-    "  --outlier-factor F   residual rejection factor, > 1; 0 keeps every view (default 3)\n"
-    "  --no-png             do not write the views mosaic\n"
-    "  --help               this help\n"
-    "Exit status: 0 calibrated, 1 calibration failed (e.g. fewer than 3 usable views), 2 bad usage.\n";
+static dynblur_samples::CliOptions calibrateCameraOptions()
+{
+    dynblur_samples::CliOptions options("dynblur_calibrate_camera");
+    options.synopsis("[options] IMAGE|'GLOB'...")
+        .description("Calibrates the camera intrinsics (px, py, u0, v0 and ViSP's radial kud/kdu) from chessboard "
+                     "images: corners found with OpenCV, solved with ViSP's vpCalibration (virtual visual servoing, "
+                     "per view, then all views with distortion). Views without the board, unreadable ones and outliers "
+                     "(residual > FACTOR x the median view's and > 0.5 px) are reported by name and left out.")
+        .description("Images: file names, or quoted globs such as '../shared/data/left*.jpg' (expanded with cv::glob). "
+                     "Options take --name value or --name=value.")
+        .option("board", "WxH", "9x6", "inner corners per row x per column (a board of 10x7 squares is 9x6)")
+        .option("square", "METRES", "0.025", "side of one square")
+        .option("out", "FILE.xml", "camera.xml",
+                "ViSP camera XML to write; also writes FILE.yml (OpenCV camera_matrix, distortion_coefficients) and "
+                "FILE_views.png")
+        .option("name", "NAME", "Camera", "camera name in the XML")
+        .option("outlier-factor", "F", "3", "residual rejection factor, > 1; 0 keeps every view")
+        .flag("no-png", "do not write the views mosaic")
+        .positional()
+        .footer("Exit status: 0 calibrated, 1 calibration failed (e.g. fewer than 3 usable views), 2 bad usage.");
+    return options;
+}
 
 static int usageError(const std::string& message)
 {
@@ -139,33 +143,30 @@ static void writeMosaic(const std::string& path, const std::vector<Mat>& images,
 int main(int argc, char** argv)
 {
     std::vector<std::string> inputs;
-    Size board(9, 6);
-    double square = 0.025, outlierFactor = 3.0;
+    Size board;
+    double square = 0, outlierFactor = 0;
     std::string out, name;
     bool png = true;
     try
     {
-        dynblur_samples::CliArgs args(argc, argv, {"board", "square", "out", "name", "outlier-factor"}, {"help", "no-png"},
-                                      true);
-        if (args.has("help"))
-        {
-            std::cout << kUsage;
+        const dynblur_samples::CliOptions options = calibrateCameraOptions();
+        const dynblur_samples::CliArgs args = options.parse(argc, argv);
+        if (options.printHelp(args))
             return 0;
-        }
-        const std::string boardText = args.str("board", "9x6");
+        const std::string boardText = args.str("board");
         int w = 0, h = 0;
         char tail = 0;
         if (std::sscanf(boardText.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 2 || h < 2)
             return usageError("--board '" + boardText + "' must be WxH inner corners, each >= 2 (e.g. 9x6)");
         board = Size(w, h);
-        square = args.num("square", 0.025);
+        square = args.num("square");
         if (!(square > 0))
             return usageError(format("--square %g must be > 0 (metres)", square));
-        outlierFactor = args.num("outlier-factor", 3.0);
+        outlierFactor = args.num("outlier-factor");
         if (!(outlierFactor == 0 || outlierFactor > 1))
             return usageError(format("--outlier-factor %g must be > 1 (or 0 to keep every view)", outlierFactor));
-        out = args.str("out", "camera.xml");
-        name = args.str("name", "Camera");
+        out = args.str("out");
+        name = args.str("name");
         png = !args.has("no-png");
         inputs = args.positional();
     }

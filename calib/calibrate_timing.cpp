@@ -35,44 +35,40 @@ using namespace cv;
 using namespace cv::dynblur;
 using namespace dynblur_samples;
 
-static const char* const kUsage =
-    "Usage: dynblur_calibrate_timing --video V --frames FRAMES.csv --commands COMMANDS.csv [options]\n"
-    "       dynblur_calibrate_timing --recording DIR [options]\n"
-    "Estimates, from a recording, the offset between the camera's clock and the actuator's (s), the\n"
-    "line delay and optionally the plant's natural frequency and damping, as one correction for the\n"
-    "whole recording (calibrateTiming): frames taken during moves are compared with the still frame\n"
-    "before the move (a frame that starts at rest) or after it (a frame that ends at rest).\n"
-    "\n"
-    "  --recording DIR      a recording folder (frames.avi or frame_%04d.png, frames.csv, commands.csv,\n"
-    "                       camera.xml, plant.yml); the timing file goes to DIR/timing.yml\n"
-    "  --video V            the frames: a video file or an image sequence (frame_%04d.png), as\n"
-    "                       cv::VideoCapture reads them\n"
-    "  --frames FILE.csv    frame log: frame,frame_start[,exposure,line_delay] (docs/recording-format.md)\n"
-    "  --commands FILE.csv  command log: t,level on the actuator's clock\n"
-    "  --camera FILE.xml    camera (ViSP XML; default calib/c270_nominal.xml beside this program's source)\n"
-    "  --plant FILE.yml     nominal plant file (default: 14.4 Hz, zeta 0.12, 1 deg per level)\n"
-    "  --exposure S         exposure (s) when the frame log has no exposure column\n"
-    "  --line-delay S       line delay (s) when the frame log has no line_delay column\n"
-    "  --refine LIST        what to estimate: offset, line-delay, plant, comma-separated (default\n"
-    "                       offset,line-delay)\n"
-    "  --max-frames N       moving frames used, at most (default 10)\n"
-    "  --max-offset S       the offset is searched within +-S seconds (default 0.02)\n"
-    "  --out FILE.yml       timing file to write (default timing.yml)\n"
-    "  --plot FILE.png      objective around the result (default: OUT_objective.png); --no-png: none\n"
-    "  --help               this help\n"
-    "Simulation (writes a recording and exits; nothing is calibrated):\n"
-    "  --simulate DIR       renders frame_%04d.png, frames.csv, commands.csv, camera.xml and plant.yml\n"
-    "                       into DIR: saccades between 0 and 10 deg seen by a 640x480 webcam at 30 fps;\n"
-    "                       with --as-video the frames go to frames.avi (MJPG, as a C270 streams them);\n"
-    "                       DIR/truth/ gets the sharp scene and the truth that moved the camera\n"
-    "                       (dynblur_restore_video --truth DIR/truth compares each frame with it)\n"
-    "  --true-offset S --true-line-delay-scale X --true-hz-scale X --true-zeta-scale X --saccades N\n"
-    "                       the truth that moved the camera (defaults 0.0012, 0.95, 1.03, 1.1, 4)\n"
-    "\n"
-    "Usage: dynblur_calibrate_timing --gyro LOG --video V --frames FRAMES.csv [options]\n";
-static const char* const kUsageTail =
-    "Exit status: 0 calibrated (or simulated), 1 bad or unusable recording (the message says why),\n"
-    "2 bad usage.\n";
+static CliOptions calibrateTimingOptions()
+{
+    CliOptions options("dynblur_calibrate_timing");
+    options.synopsis("--video V --frames FRAMES.csv --commands COMMANDS.csv [options]")
+        .synopsis("--recording DIR [options]")
+        .synopsis("--gyro LOG --video V --frames FRAMES.csv [options]")
+        .synopsis("--simulate DIR [simulation options]")
+        .description("Estimates, from a recording, the offset between the camera's clock and the actuator's (s), the "
+                     "line delay and optionally the plant's natural frequency and damping, as one correction for the "
+                     "whole recording (calibrateTiming): frames taken during moves are compared with the still frame "
+                     "before the move (a frame that starts at rest) or after it (a frame that ends at rest).")
+        .group(recordingOptions())
+        .option("refine", "LIST", "offset,line-delay", "what to estimate: offset, line-delay, plant, comma-separated")
+        .option("max-frames", "N", "10", "moving frames used, at most")
+        .option("max-offset", "S", "0.02", "the offset is searched within +-S seconds")
+        .option("out", "FILE.yml", "timing.yml", "timing file to write (with --recording: DIR/timing.yml)")
+        .option("plot", "FILE.png", "", "objective around the result (default: OUT_objective.png)")
+        .flag("no-png", "do not write the plot")
+        .heading("Simulation (writes a recording and exits; nothing is calibrated):")
+        .option("simulate", "DIR", "",
+                "renders frame_%04d.png, frames.csv, commands.csv, camera.xml and plant.yml into DIR: saccades between "
+                "0 and 10 deg seen by a 640x480 webcam at 30 fps; DIR/truth/ gets the sharp scene and the truth that "
+                "moved the camera (dynblur_restore_video --truth DIR/truth compares each frame with it)")
+        .flag("as-video", "the frames go to frames.avi (MJPG, as a C270 streams them)")
+        .option("true-offset", "S", "0.0012", "the truth's clock offset, seconds")
+        .option("true-line-delay-scale", "X", "0.95", "the truth's line delay over the frame log's")
+        .option("true-hz-scale", "X", "1.03", "the truth's natural frequency over the plant file's")
+        .option("true-zeta-scale", "X", "1.1", "the truth's damping ratio over the plant file's")
+        .option("saccades", "N", "4", "saccades in the recording")
+        .group(gyroTimingOptions())
+        .footer("Exit status: 0 calibrated (or simulated), 1 bad or unusable recording (the message says why), 2 bad "
+                "usage.");
+    return options;
+}
 
 static int usageError(const std::string& message)
 {
@@ -106,11 +102,11 @@ static int simulate(const CliArgs& args, const std::string& dir)
 {
     // The truth that moved the camera, as the correction from the nominal model to it.
     MotionCorrection drift;
-    drift.timeOffset = args.num("true-offset", 0.0012);
-    drift.lineDelayScale = args.num("true-line-delay-scale", 0.95);
-    drift.naturalFreqScale = args.num("true-hz-scale", 1.03);
-    drift.dampingScale = args.num("true-zeta-scale", 1.1);
-    const int saccades = args.integer("saccades", 4);
+    drift.timeOffset = args.num("true-offset");
+    drift.lineDelayScale = args.num("true-line-delay-scale");
+    drift.naturalFreqScale = args.num("true-hz-scale");
+    drift.dampingScale = args.num("true-zeta-scale");
+    const int saccades = args.integer("saccades");
     if (!(std::abs(drift.timeOffset) < 0.1) || !(drift.lineDelayScale > 0.5 && drift.lineDelayScale < 1.5) ||
         !(drift.naturalFreqScale > 0.5 && drift.naturalFreqScale < 1.5) ||
         !(drift.dampingScale > 0.2 && drift.dampingScale < 3) || saccades < 1 || saccades > 20)
@@ -199,19 +195,12 @@ int main(int argc, char** argv)
 {
     try
     {
-        std::set<std::string> valued{"recording", "video", "frames", "commands", "camera", "plant", "exposure",
-                                     "line-delay", "refine", "max-frames", "max-offset", "out", "plot", "simulate",
-                                     "true-offset", "true-line-delay-scale", "true-hz-scale", "true-zeta-scale",
-                                     "saccades"};
-        valued.insert(gyroTimingOptionNames().begin(), gyroTimingOptionNames().end());
-        CliArgs args(argc, argv, valued, {"help", "no-png", "as-video"});
-        if (args.has("help"))
-        {
-            std::cout << kUsage << kGyroTimingHelp << kGyroOptionsHelp << kUsageTail;
+        const CliOptions options = calibrateTimingOptions();
+        const CliArgs args = options.parse(argc, argv);
+        if (options.printHelp(args))
             return 0;
-        }
         if (args.has("simulate"))
-            return simulate(args, args.str("simulate", ""));
+            return simulate(args, args.str("simulate"));
         if (args.has("simulate-gyro"))
             return simulateGyroTiming(args);
         if (args.has("gyro"))
@@ -219,14 +208,14 @@ int main(int argc, char** argv)
         if (!OpenedRecording::named(args))
             return usageError("--recording DIR, or --video, --frames and --commands, are required");
         int flags = 0;
-        if (!parseRefinementList(args.str("refine", "offset,line-delay"), flags) || flags == REFINE_NONE)
+        if (!parseRefinementList(args.str("refine"), flags) || flags == REFINE_NONE)
             return usageError("--refine takes offset, line-delay, plant (or all), comma-separated");
-        const int maxFrames = args.integer("max-frames", 10);
-        const double maxOffset = args.num("max-offset", 0.02);
+        const int maxFrames = args.integer("max-frames");
+        const double maxOffset = args.num("max-offset");
         if (maxFrames < 2 || !(maxOffset > 0 && maxOffset <= 1))
             return usageError("--max-frames must be >= 2 and --max-offset in (0, 1] s");
-        const std::string out = args.str("out", args.has("recording") ? args.str("recording", "") + "/timing.yml"
-                                                                        : std::string("timing.yml"));
+        const std::string out =
+            args.has("recording") && !args.has("out") ? args.str("recording") + "/timing.yml" : args.str("out");
         const std::string plotPath = args.str("plot", pathStem(out) + "_objective.png");
 
         OpenedRecording recording;

@@ -22,28 +22,31 @@ using namespace dynblur_samples;
 
 namespace {
 const double kDeg = CV_PI / 180;
+// What --refine estimates with --gyro unless told.
+const char* const kGyroRefinement = "offset,line-delay,bias";
 }
 
-const std::set<std::string>& gyroTimingOptionNames()
+dynblur_samples::CliOptionGroup gyroTimingOptions()
 {
-    static std::set<std::string> names = [] {
-        std::set<std::string> all = gyroOptionNames();
-        all.insert({"still-rate", "max-still-gap", "simulate-gyro", "true-bias"});
-        return all;
-    }();
-    return names;
+    const GyroSimulation truth;
+    CliOptionGroup options = gyroLogOptions(
+        "Gyro mode (--gyro LOG --video V --frames FRAMES.csv):",
+        "A recording whose motion is a gyro log: the log's clock offset to the camera's, the line delay and the gyro "
+        "bias (--refine " + std::string(kGyroRefinement) + ", the default), from frames taken while the hand moved, "
+        "each against the nearest frame the log shows held still (its rate below --still-rate over the whole "
+        "readout); the bias is observed through the turn it adds between the two.");
+    options.options.push_back({"still-rate", "D", "2", "deg/s below which a frame is a still"});
+    options.options.push_back({"max-still-gap", "S", "1", "a moving frame is used only with a still within S seconds"});
+    options.options.push_back(
+        {"simulate-gyro", "DIR", "",
+         "renders a hand-held recording with its gyro log into DIR (320x240, 2 s) and exits; its truth from "
+         "--true-offset (default " + numberText(truth.timeOffset) + " here), --true-line-delay-scale (default " +
+             numberText(truth.lineDelayScale) + " here) and --true-bias"});
+    options.options.push_back({"true-bias", "BX,BY,BZ", format("%g,%g,%g", truth.bias[0] / kDeg, truth.bias[1] / kDeg,
+                                                                 truth.bias[2] / kDeg),
+                               "the simulated gyro's bias, deg/s"});
+    return options;
 }
-
-const char* const kGyroTimingHelp =
-    "A recording whose motion is a gyro log (--gyro): the log's clock offset to the camera's, the line\n"
-    "delay and the gyro bias (--refine offset,line-delay,bias, the default), from frames taken while the\n"
-    "hand moved, each against the nearest frame the log shows held still (its rate below --still-rate\n"
-    "over the whole readout); the bias is observed through the turn it adds between the two.\n"
-    "  --still-rate D       deg/s below which a frame is a still (default 2)\n"
-    "  --max-still-gap S    a moving frame is used only with a still within S seconds (default 1)\n"
-    "  --simulate-gyro DIR  renders a hand-held recording with its gyro log into DIR (320x240, 2 s) and\n"
-    "                       exits; its truth from --true-offset (default 0.005), --true-line-delay-scale\n"
-    "                       (default 1.03) and --true-bias BX,BY,BZ deg/s (default 0.5,-0.5,0.5)\n";
 
 int simulateGyroTiming(const CliArgs& args)
 {
@@ -52,7 +55,7 @@ int simulateGyroTiming(const CliArgs& args)
     truth.lineDelayScale = args.num("true-line-delay-scale", truth.lineDelayScale);
     if (args.has("true-bias"))
     {
-        const std::string text = args.str("true-bias", "");
+        const std::string text = args.str("true-bias");
         double b[3];
         if (std::sscanf(text.c_str(), "%lf,%lf,%lf", &b[0], &b[1], &b[2]) != 3 || std::abs(b[0]) > 10 ||
             std::abs(b[1]) > 10 || std::abs(b[2]) > 10)
@@ -61,7 +64,7 @@ int simulateGyroTiming(const CliArgs& args)
     }
     if (!(std::abs(truth.timeOffset) <= 0.05) || !(truth.lineDelayScale > 0.8 && truth.lineDelayScale < 1.2))
         throw std::runtime_error("--true-offset must be within +-0.05 s and --true-line-delay-scale in (0.8, 1.2)");
-    const std::string dir = args.str("simulate-gyro", "");
+    const std::string dir = args.str("simulate-gyro");
     const int frames = simulateGyroRecording(dir, truth);
     std::printf("wrote %d frames (frame_%%04d.png), frames.csv, gyro.gcsv and camera.xml to %s\n"
                 "truth: clock offset %+.4f ms, line delay x%.4f, bias (%.3f, %.3f, %.3f) deg/s\n",
@@ -73,7 +76,7 @@ int simulateGyroTiming(const CliArgs& args)
 int calibrateGyroTiming(const CliArgs& args, const std::string& defaultCameraPath)
 {
     int flags = 0;
-    const std::string list = args.str("refine", "offset,line-delay,bias");
+    const std::string list = args.str("refine", kGyroRefinement);
     for (size_t start = 0; start <= list.size();)
     {
         const size_t end = std::min(list.find(',', start), list.size());
@@ -84,14 +87,14 @@ int calibrateGyroTiming(const CliArgs& args, const std::string& defaultCameraPat
         if (flags < 0)
             throw std::runtime_error("--refine takes offset, line-delay and bias with --gyro, comma-separated");
     }
-    const int maxFrames = args.integer("max-frames", 10);
-    const double maxOffset = args.num("max-offset", 0.02);
-    const double stillRate = args.num("still-rate", 2.0) * kDeg, maxGap = args.num("max-still-gap", 1.0);
+    const int maxFrames = args.integer("max-frames");
+    const double maxOffset = args.num("max-offset");
+    const double stillRate = args.num("still-rate") * kDeg, maxGap = args.num("max-still-gap");
     if (maxFrames < 2 || !(maxOffset > 0 && maxOffset <= 1))
         throw std::runtime_error("--max-frames must be >= 2 and --max-offset in (0, 1] s");
     if (!(stillRate > 0) || !(maxGap > 0))
         throw std::runtime_error("--still-rate (deg/s) and --max-still-gap (s) must be > 0");
-    const std::string out = args.str("out", "timing.yml");
+    const std::string out = args.str("out");
     const std::string plotPath = args.str("plot", pathStem(out) + "_objective.png");
 
     GyroRecording recording;

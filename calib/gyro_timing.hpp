@@ -4,17 +4,12 @@
 #ifndef DYNBLUR_CALIB_GYRO_TIMING_HPP
 #define DYNBLUR_CALIB_GYRO_TIMING_HPP
 
-#include <set>
+#include "cli_args.hpp"  // samples/support
+
 #include <string>
 
-namespace dynblur_samples {
-class CliArgs;
-}
-
-//! The options of the gyro path (valued), to add to the program's.
-const std::set<std::string>& gyroTimingOptionNames();
-//! Their help text.
-extern const char* const kGyroTimingHelp;
+//! The gyro path's options (the gyro log's, the stills', --simulate-gyro's) under their heading.
+dynblur_samples::CliOptionGroup gyroTimingOptions();
 /** Calibrates the recording the options name (--gyro ...), writes the timing file and the plot;
 returns the exit status. Throws as the program's main expects (std::runtime_error: usage). */
 int calibrateGyroTiming(const dynblur_samples::CliArgs& args, const std::string& defaultCameraPath);

@@ -27,30 +27,43 @@ using namespace cv;
 using namespace cv::dynblur;
 using namespace dynblur_samples;
 
-static const char* const kUsage =
-    "Usage: dynblur_identify_plant [options] LOG.csv\n"
-    "Identifies the positioner's natural frequency, damping ratio and gain (theta'' + 2 zeta wn theta' +\n"
-    "wn^2 theta = wn^2 g u) from a logged step response, by a least-squares fit of the closed form.\n"
-    "\n"
-    "LOG.csv: a header line naming the columns, then one sample per line: t (s), theta (rad) and,\n"
-    "optionally, level (the commanded level in force, integer cells). Lines starting with # are comments.\n"
-    "Options (--name value or --name=value):\n"
-    "  --schedule FILE.yml  the command as a SwitchSchedule file (SwitchSchedule::save); needed when the\n"
-    "                       log has no level column, and used instead of it when given\n"
-    "  --known-start        the log's clock is the command's clock: do not fit a delay (by default a\n"
-    "                       constant delay between command and motion is fitted and reported)\n"
-    "  --unknown-start      fit the delay (the default; accepted for clarity)\n"
-    "  --out FILE.yml       plant file to write (default plant.yml)\n"
-    "  --max-level N        largest |level| the actuator holds, written to the plant file (default 16)\n"
-    "  --plot FILE.png      plot of measured vs fitted theta and the residual (default: FILE_fit.png)\n"
-    "  --no-png             do not write the plot\n"
-    "  --help               this help\n"
-    "Simulation (writes a test log and exits; nothing is identified):\n"
-    "  --simulate FILE.csv  noisy step response of the linear plant: level 0 -> --step-level at --delay s\n"
-    "  --hz F --zeta Z --gain-deg G --step-level N --delay S --latency S --noise-deg N --duration S\n"
-    "  --rate HZ --seed K   (defaults 14.4, 0.12, 1, 4, 0.05, 0, 0.01, 1.0, 1000, 1); --latency: the plant\n"
-    "                       moves that long after the switch the level column shows (an unknown start)\n"
-    "Exit status: 0 identified, 1 bad or unusable log (the message says why), 2 bad usage.\n";
+static CliOptions identifyPlantOptions()
+{
+    CliOptions options("dynblur_identify_plant");
+    options.synopsis("[options] LOG.csv")
+        .synopsis("--simulate FILE.csv [simulation options]")
+        .description("Identifies the positioner's natural frequency, damping ratio and gain (theta'' + 2 zeta wn theta' "
+                     "+ wn^2 theta = wn^2 g u) from a logged step response, by a least-squares fit of the closed form.")
+        .description("LOG.csv: a header line naming the columns, then one sample per line: t (s), theta (rad) and, "
+                     "optionally, level (the commanded level in force, integer cells). Lines starting with # are "
+                     "comments. Options take --name value or --name=value.")
+        .option("schedule", "FILE.yml", "",
+                "the command as a SwitchSchedule file (SwitchSchedule::save); needed when the log has no level "
+                "column, and used instead of it when given")
+        .flag("known-start", "the log's clock is the command's clock: do not fit a delay (by default a constant "
+                             "delay between command and motion is fitted and reported)")
+        .flag("unknown-start", "fit the delay (the default; accepted for clarity)")
+        .option("out", "FILE.yml", "plant.yml", "plant file to write")
+        .option("max-level", "N", "16", "largest |level| the actuator holds, written to the plant file")
+        .option("plot", "FILE.png", "", "plot of measured vs fitted theta and the residual (default: OUT_fit.png)")
+        .flag("no-png", "do not write the plot")
+        .heading("Simulation (writes a test log and exits; nothing is identified):")
+        .option("simulate", "FILE.csv", "", "noisy step response of the linear plant: level 0 -> --step-level at --delay s")
+        .option("hz", "F", "14.4", "natural frequency, Hz")
+        .option("zeta", "Z", "0.12", "damping ratio")
+        .option("gain-deg", "G", "1", "gain, degrees per level")
+        .option("step-level", "N", "4", "the level stepped to")
+        .option("delay", "S", "0.05", "time of the switch the level column shows, seconds")
+        .option("latency", "S", "0",
+                "the plant moves that long after the switch the level column shows (an unknown start), seconds")
+        .option("noise-deg", "N", "0.01", "noise of theta, degrees (standard deviation)")
+        .option("duration", "S", "1.0", "length of the log, seconds")
+        .option("rate", "HZ", "1000", "samples per second")
+        .option("seed", "K", "1", "seed of the noise")
+        .positional()
+        .footer("Exit status: 0 identified, 1 bad or unusable log (the message says why), 2 bad usage.");
+    return options;
+}
 
 static int usageError(const std::string& message)
 {
@@ -64,15 +77,15 @@ static double deg(double rad)
     return rad * 180.0 / CV_PI;
 }
 
-static int simulate(const dynblur_samples::CliArgs& args, const std::string& path)
+static int simulate(const CliArgs& args, const std::string& path)
 {
-    const double hz = args.num("hz", 14.4), zeta = args.num("zeta", 0.12);
-    const double gain = args.num("gain-deg", 1.0) * CV_PI / 180.0;
-    const int stepLevel = args.integer("step-level", 4);
-    const double delay = args.num("delay", 0.05), noise = args.num("noise-deg", 0.01) * CV_PI / 180.0;
-    const double duration = args.num("duration", 1.0), rate = args.num("rate", 1000.0);
-    const int seed = args.integer("seed", 1);
-    const double latency = args.num("latency", 0.0);
+    const double hz = args.num("hz"), zeta = args.num("zeta");
+    const double gain = args.num("gain-deg") * CV_PI / 180.0;
+    const int stepLevel = args.integer("step-level");
+    const double delay = args.num("delay"), noise = args.num("noise-deg") * CV_PI / 180.0;
+    const double duration = args.num("duration"), rate = args.num("rate");
+    const int seed = args.integer("seed");
+    const double latency = args.num("latency");
     if (!(duration > 0 && rate > 0 && duration * rate >= 2 && duration * rate < 1e7))
         return usageError("--duration and --rate must be > 0 and give 2 to 1e7 samples");
     if (!(noise >= 0))
@@ -105,27 +118,22 @@ int main(int argc, char** argv)
 {
     try
     {
-        dynblur_samples::CliArgs args(argc, argv,
-                                      {"schedule", "out", "max-level", "plot", "simulate", "hz", "zeta", "gain-deg",
-                                       "step-level", "delay", "latency", "noise-deg", "duration", "rate", "seed"},
-                                      {"help", "known-start", "unknown-start", "no-png"}, true);
-        if (args.has("help"))
-        {
-            std::cout << kUsage;
+        const CliOptions options = identifyPlantOptions();
+        const CliArgs args = options.parse(argc, argv);
+        if (options.printHelp(args))
             return 0;
-        }
         if (args.has("simulate"))
         {
             if (!args.positional().empty())
                 return usageError("--simulate writes a log; give no input file");
-            return simulate(args, args.str("simulate", ""));
+            return simulate(args, args.str("simulate"));
         }
         if (args.positional().size() != 1)
             return usageError(args.positional().empty() ? "no log file given" : "give exactly one log file");
         const std::string logPath = args.positional()[0];
-        const std::string out = args.str("out", "plant.yml");
+        const std::string out = args.str("out");
         const std::string plotPath = args.str("plot", pathStem(out) + "_fit.png");
-        const int maxLevel = args.integer("max-level", 16);
+        const int maxLevel = args.integer("max-level");
         if (maxLevel < 1)
             return usageError("--max-level must be >= 1");
         if (args.has("known-start") && args.has("unknown-start"))
@@ -143,8 +151,8 @@ int main(int argc, char** argv)
             checkResponseLog(log);
             if (args.has("schedule"))
             {
-                schedule = SwitchSchedule::load(args.str("schedule", ""));
-                commandSource = "schedule " + args.str("schedule", "");
+                schedule = SwitchSchedule::load(args.str("schedule"));
+                commandSource = "schedule " + args.str("schedule");
             }
             else if (log.hasLevel())
             {

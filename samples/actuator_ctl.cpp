@@ -14,52 +14,52 @@
 using namespace cv::dynblur;
 using namespace dynblur_samples;
 
-static const char* const kHelp =
-    "dynblur_actuator_ctl: upload, start and watch a switching schedule on the actuator controller\n"
-    "\n"
-    "  --bus URI           tcp://HOST:PORT or rtu:DEVICE?baud=115200&slave=1 (required)\n"
-    "  --timeout S         response timeout, seconds (default 0.5)\n"
-    "  --retries N         extra attempts of a failed read (default 2)\n"
-    "  --max-level N       host limit on |level|, cells (default 16)\n"
-    "  --min-dwell S       host limit on the time between switches, seconds (default 0.001)\n"
-    "  --max-entries N     host limit on the schedule length (default 256)\n"
-    "  --safe-level N      level applied on stop and on errors (default 0)\n"
-    "  --upload FILE       schedule file (SwitchSchedule::save format: YAML/XML/JSON)\n"
-    "  --start             start the uploaded schedule; prints the start report\n"
-    "  --wait S            poll the status until the schedule is done (at most S seconds)\n"
-    "  --stop              apply the safe level\n"
-    "  --clear-fault       leave the FAULT state\n"
-    "  --status            print the status\n"
-    "  --help              this text\n"
-    "Exit status: 0 success, 1 the device or the link failed (message on stderr), 2 bad usage.\n";
+static CliOptions actuatorCtlOptions()
+{
+    const ActuatorLimits limits;
+    CliOptions options("dynblur_actuator_ctl");
+    options.synopsis("--bus URI [--upload FILE] [--start] [--wait S] [options]")
+        .description("Uploads, starts and watches a switching schedule on the actuator controller.")
+        .option("bus", "URI", "", "tcp://HOST:PORT or rtu:DEVICE?baud=115200&slave=1 (required)")
+        .option("timeout", "S", "0.5", "response timeout, seconds")
+        .option("retries", "N", "2", "extra attempts of a failed read")
+        .option("max-level", "N", std::to_string(limits.maxLevel), "host limit on |level|, cells")
+        .option("min-dwell", "S", numberText(limits.minDwell), "host limit on the time between switches, seconds")
+        .option("max-entries", "N", std::to_string(limits.maxEntries), "host limit on the schedule length")
+        .option("safe-level", "N", std::to_string(limits.safeLevel), "level applied on stop and on errors")
+        .option("upload", "FILE", "", "schedule file (SwitchSchedule::save format: YAML/XML/JSON)")
+        .flag("start", "start the uploaded schedule; prints the start report")
+        .option("wait", "S", "", "poll the status until the schedule is done (at most S seconds)")
+        .flag("stop", "apply the safe level")
+        .flag("clear-fault", "leave the FAULT state")
+        .flag("status", "print the status")
+        .alias("h", "help")
+        .footer("Exit status: 0 success, 1 the device or the link failed (message on stderr), 2 bad usage.");
+    return options;
+}
 
 int main(int argc, char** argv)
 {
     std::string stage = "arguments";
     try
     {
-        const CliArgs args(argc, argv,
-                           {"bus", "timeout", "retries", "max-level", "min-dwell", "max-entries", "safe-level", "upload",
-                            "wait"},
-                           {"help", "h", "start", "stop", "clear-fault", "status"});
-        if (args.has("help") || args.has("h"))
-        {
-            std::cout << kHelp;
+        const CliOptions options = actuatorCtlOptions();
+        const CliArgs args = options.parse(argc, argv);
+        if (options.printHelp(args))
             return 0;
-        }
         if (!args.has("bus"))
             throw std::runtime_error("--bus URI is required (see --help)");
         ActuatorLimits limits;
-        limits.maxLevel = args.integer("max-level", limits.maxLevel);
-        limits.minDwell = args.num("min-dwell", limits.minDwell);
-        limits.maxEntries = args.integer("max-entries", limits.maxEntries);
-        limits.safeLevel = args.integer("safe-level", limits.safeLevel);
+        limits.maxLevel = args.integer("max-level");
+        limits.minDwell = args.num("min-dwell");
+        limits.maxEntries = args.integer("max-entries");
+        limits.safeLevel = args.integer("safe-level");
         SwitchSchedule schedule;
         if (args.has("upload"))
-            schedule = SwitchSchedule::load(args.str("upload", ""));
+            schedule = SwitchSchedule::load(args.str("upload"));
 
         stage = "device";
-        cv::Ptr<ActuatorBus> bus = ActuatorBus::create(args.str("bus", ""), args.num("timeout", 0.5), args.integer("retries", 2));
+        cv::Ptr<ActuatorBus> bus = ActuatorBus::create(args.str("bus"), args.num("timeout"), args.integer("retries"));
         cv::Ptr<ActuatorDriver> driver = ActuatorDriver::create(bus, limits);
         const ActuatorInfo info = driver->connect();
         std::printf("device: protocol %d.%d, max level %d, min dwell %.6f s, capacity %d, round trip %.6f s\n",
@@ -80,7 +80,7 @@ int main(int argc, char** argv)
                         r.hostStartTime, r.uncertainty, r.controllerStartTime, r.scheduleOrigin, r.commandRoundTrip);
         }
         if (args.has("wait"))
-            std::printf("status: %s\n", driver->waitUntilDone(args.num("wait", 0)).describe().c_str());
+            std::printf("status: %s\n", driver->waitUntilDone(args.num("wait")).describe().c_str());
         if (args.has("stop"))
             driver->stop();
         if (args.has("status"))

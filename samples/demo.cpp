@@ -21,7 +21,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cstdio>
-#include <iostream>
 
 using namespace cv;
 using namespace cv::dynblur;
@@ -29,29 +28,35 @@ using namespace dynblur_samples;
 
 namespace {
 
-const char* const kUsage =
-    "dynblur_demo: restore frames blurred by a robotic camera's own motion, with the blur predicted from the\n"
-    "plant dynamics and the commands. Without --frame it runs the synthetic demo (10 deg saccade, rolling\n"
-    "shutter windows I-III and a global shutter). Options take --name value or --name=value.\n"
-    "\n"
-    "  --out DIR            folder for the pictures and the restored frames (default demo_out)\n"
-    "  --image FILE         scene image (any size; scaled to fill the view) instead of the generated scene\n"
-    "  --iterations N       Richardson-Lucy iterations (default 20)\n"
-    "  --mode NAME          planner mode: robust (tolerates a 10% error in the natural frequency, default) or fast\n"
-    "%MODEL%"
-    "  --camera FILE.xml    camera (ViSP format); default: the nominal C270 at 1280x960\n"
-    "  --plant FILE.yml     plant file (naturalFreqHz, dampingRatio, gain, maxLevel); default: the seed's\n"
-    "  --exposure S         exposure of one row, seconds (default 0.008)\n"
-    "  --line-delay S       rolling-shutter line delay, seconds (default 34.7e-6; 0: global shutter)\n"
-    "Real-frame mode:\n"
-    "  --frame FILE         the blurred frame to restore\n"
-    "  --schedule FILE.yml  its switching schedule (dynblur_plan writes one; SwitchSchedule::save format)\n"
-    "  --frame-start S      start of row 0's exposure, seconds, on the schedule's clock\n"
-    "  --timing FILE.yml    the recording's calibration (dynblur_calibrate_timing): clock offset, line delay\n"
-    "                       and plant corrections applied to the model\n"
-    "  --theta-ref RAD      reference angle, radians (default: the schedule's final angle)\n"
-    "  --help               this help\n"
-    "Exit status: 0 done, 1 a file or value the demo cannot use (the message says why), 2 bad usage.\n";
+CliOptions demoOptions()
+{
+    CliOptions options("dynblur_demo");
+    options.synopsis("[options]")
+        .synopsis("--frame FILE --schedule FILE.yml --frame-start S [options]")
+        .description("Restores frames blurred by a robotic camera's own motion, with the blur predicted from the plant "
+                     "dynamics and the commands. Without --frame it runs the synthetic demo (10 deg saccade, rolling "
+                     "shutter windows I-III and a global shutter). Options take --name value or --name=value.")
+        .option("out", "DIR", "demo_out", "folder for the pictures and the restored frames")
+        .option("image", "FILE", "", "scene image (any size; scaled to fill the view) instead of the generated scene")
+        .option("iterations", "N", "20", "Richardson-Lucy iterations")
+        .option("mode", "NAME", "robust",
+                "planner mode: robust (tolerates a 10% error in the natural frequency) or fast")
+        .option(modelOption())
+        .option("camera", "FILE.xml", "", "camera (ViSP format); default: the nominal C270 at 1280x960")
+        .option("plant", "FILE.yml", "", "plant file (naturalFreqHz, dampingRatio, gain, maxLevel); default: the seed's")
+        .option("exposure", "S", "0.008", "exposure of one row, seconds")
+        .option("line-delay", "S", "34.7e-6", "rolling-shutter line delay, seconds (0: global shutter)")
+        .heading("Real-frame mode:")
+        .option("frame", "FILE", "", "the blurred frame to restore")
+        .option("schedule", "FILE.yml", "", "its switching schedule (dynblur_plan writes one; SwitchSchedule::save format)")
+        .option("frame-start", "S", "", "start of row 0's exposure, seconds, on the schedule's clock")
+        .option("timing", "FILE.yml", "",
+                "the recording's calibration (dynblur_calibrate_timing): clock offset, line delay and plant corrections "
+                "applied to the model")
+        .option("theta-ref", "RAD", "", "reference angle, radians (default: the schedule's final angle)")
+        .footer("Exit status: 0 done, 1 a file or value the demo cannot use (the message says why), 2 bad usage.");
+    return options;
+}
 
 const double kDeg = CV_PI / 180.0;
 
@@ -444,21 +449,21 @@ void runDriftedHardware(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera,
 
 int runSynthetic(const CliArgs& args)
 {
-    const std::string outDir = args.str("out", "demo_out");
+    const std::string outDir = args.str("out");
     utils::fs::createDirectories(outDir);
-    const int iterations = args.integer("iterations", 20);
-    const int model = psfModelFromName(args.str("model", "auto"));
-    const double exposure = args.num("exposure", 0.008), lineDelay = args.num("line-delay", 34.7e-6);
+    const int iterations = args.integer("iterations");
+    const int model = psfModelFromName(args.str("model"));
+    const double exposure = args.num("exposure"), lineDelay = args.num("line-delay");
 
     PlantFile plantFile;
     plantFile.plant = Plant::create(14.4, 0.12, kDeg);
     if (args.has("plant"))
-        plantFile = loadPlantFile(args.str("plant", ""));
+        plantFile = loadPlantFile(args.str("plant"));
     const Ptr<Plant> plant = plantFile.plant;
-    const Ptr<CameraModel> camera = args.has("camera") ? CameraModel::load(args.str("camera", "")) : defaultCamera();
+    const Ptr<CameraModel> camera = args.has("camera") ? CameraModel::load(args.str("camera")) : defaultCamera();
     const Size frameSize = camera->getImageSize();
 
-    const std::string modeName = args.str("mode", "robust");
+    const std::string modeName = args.str("mode");
     if (modeName != "robust" && modeName != "fast")
         CV_Error(Error::StsBadArg, "--mode must be robust or fast (got '" + modeName + "')");
     std::printf("[demo] planning a 10 deg saccade, %s mode (plant %.1f Hz, zeta %.2f, %.2f deg/level, max level %d)\n",
@@ -478,7 +483,7 @@ int runSynthetic(const CliArgs& args)
     Mat scene;
     if (args.has("image"))
     {
-        const std::string imagePath = args.str("image", "");
+        const std::string imagePath = args.str("image");
         Mat image = imread(imagePath, IMREAD_COLOR);
         if (image.empty())
             CV_Error(Error::StsError, "cannot read --image '" + imagePath + "'");
@@ -557,7 +562,7 @@ int runSynthetic(const CliArgs& args)
         std::vector<Mat> cells{labelled(frame, c.name + ": blurred", cellWidth),
                                labelled(shadeUnobserved(restoredUniform, valid), "uniform PSF (seed)", cellWidth),
                                labelled(shadeUnobserved(restoredVariant, valid),
-                                        std::string("spatially variant (") + args.str("model", "auto") + ")", cellWidth),
+                                        std::string("spatially variant (") + args.str("model") + ")", cellWidth),
                                labelled(truth, "truth (view at theta_ref)", cellWidth)};
         Mat row;
         hconcat(cells, row);
@@ -591,28 +596,28 @@ int runRealFrame(const CliArgs& args)
     for (const char* required : {"schedule", "frame-start"})
         if (!args.has(required))
             throw std::runtime_error(std::string("--frame needs --") + required);
-    const std::string framePath = args.str("frame", "");
+    const std::string framePath = args.str("frame");
     Mat frame = imread(framePath, IMREAD_UNCHANGED);
     if (frame.empty())
         CV_Error(Error::StsError, "cannot read --frame '" + framePath + "'");
-    const SwitchSchedule schedule = SwitchSchedule::load(args.str("schedule", ""));
+    const SwitchSchedule schedule = SwitchSchedule::load(args.str("schedule"));
     // A default is said aloud: a frame restored with another camera's or plant's model comes out wrong.
     if (!args.has("camera"))
         std::fprintf(stderr, "note: no --camera: using the nominal C270 at 1280x960 (fx 1230 px)\n");
     if (!args.has("plant"))
         std::fprintf(stderr, "note: no --plant: using the seed's plant (14.4 Hz, zeta 0.12, 1 deg per level)\n");
-    const Ptr<CameraModel> camera = args.has("camera") ? CameraModel::load(args.str("camera", "")) : defaultCamera();
-    const Ptr<Plant> plant = args.has("plant") ? loadPlantFile(args.str("plant", "")).plant : Plant::create(14.4, 0.12, kDeg);
-    const RollingShutter shutter(args.num("frame-start", NAN), args.num("exposure", 0.008),
-                                 args.num("line-delay", 34.7e-6), frame.rows);
+    const Ptr<CameraModel> camera = args.has("camera") ? CameraModel::load(args.str("camera")) : defaultCamera();
+    const Ptr<Plant> plant = args.has("plant") ? loadPlantFile(args.str("plant")).plant : Plant::create(14.4, 0.12, kDeg);
+    const RollingShutter shutter(args.num("frame-start", NAN), args.num("exposure"),
+                                 args.num("line-delay"), frame.rows);
     const double thetaRef = args.num("theta-ref", NAN);  // NaN: the schedule's final angle
 
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(plant, camera);
     if (args.has("timing"))  // a single frame has no still to refine against: the calibration as told
-        deblurrer->setCalibration(TimingCalibration::load(args.str("timing", "")).correction);
-    deblurrer->setPsfModel(psfModelFromName(args.str("model", "auto")));
+        deblurrer->setCalibration(TimingCalibration::load(args.str("timing")).correction);
+    deblurrer->setPsfModel(psfModelFromName(args.str("model")));
     RLParams params = deblurrer->getRLParams();
-    params.iterations = args.integer("iterations", 20);
+    params.iterations = args.integer("iterations");
     deblurrer->setRLParams(params);
     std::printf("[demo] restoring %s (%dx%d, %d channels)...\n", framePath.c_str(), frame.cols, frame.rows, frame.channels());
     Mat restored, valid;
@@ -620,7 +625,7 @@ int runRealFrame(const CliArgs& args)
     timer.start();
     deblurrer->deblur(frame, schedule, shutter, restored, thetaRef, valid);
     timer.stop();
-    const std::string outDir = args.str("out", "demo_out");
+    const std::string outDir = args.str("out");
     utils::fs::createDirectories(outDir);
     imwrite(outDir + "/restored.png", restored);
     imwrite(outDir + "/valid_mask.png", valid);
@@ -638,16 +643,10 @@ int main(int argc, char** argv)
 {
     try
     {
-        const CliArgs args(argc, argv,
-                           {"out", "image", "iterations", "mode", "model", "frame", "schedule", "camera", "plant",
-                            "frame-start", "exposure", "line-delay", "theta-ref", "timing"},
-                           {"help"});
-        if (args.has("help"))
-        {
-            std::string usage = kUsage;
-            std::cout << usage.replace(usage.find("%MODEL%"), 7, kModelOptionHelp);
+        const CliOptions options = demoOptions();
+        const CliArgs args = options.parse(argc, argv);
+        if (options.printHelp(args))
             return 0;
-        }
         if (!args.has("frame"))
             for (const char* realOnly : {"schedule", "frame-start", "timing", "theta-ref"})
                 if (args.has(realOnly))

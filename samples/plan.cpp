@@ -22,27 +22,29 @@
 using namespace cv;
 using namespace cv::dynblur;
 
-static const char* const kUsage =
-    "Usage: dynblur_plan --to ANGLE [options]\n"
-    "Plans a vibration-free move of the piezo-driven camera positioner. Options take --name value or\n"
-    "--name=value, e.g. --deg --from -5 --to 5 --mode robust.\n"
-    "\n"
-    "  --from ANGLE      start angle, radians (degrees with --deg); default 0\n"
-    "  --to ANGLE        target angle, radians (degrees with --deg)\n"
-    "  --deg             read --from and --to in degrees\n"
-    "  --mode NAME       fast (shortest settle, default) or robust (tolerates +-10% error in wn)\n"
-    "  --plant FILE.yml  the plant (dynblur_identify_plant writes it; its maxLevel too); otherwise:\n"
-    "  --hz HZ           plant natural frequency, Hz (default 14.4)\n"
-    "  --zeta Z          plant damping ratio (default 0.12)\n"
-    "  --gain-deg G      plant static gain, degrees per level (one cell; default 1)\n"
-    "  --max-level N     largest |level|, cells (default 16, or the plant file's)\n"
-    "  --min-dwell S     shortest time between two switches, seconds (default 0.002)\n"
-    "  --start S         time of the first switch, seconds (default 0)\n"
-    "  --step            a plain step (one switch to the target level at --start), the response\n"
-    "                    dynblur_identify_plant fits, instead of a vibration-free move\n"
-    "  --out PREFIX      writes PREFIX.yml (the schedule), PREFIX.csv and PREFIX.png (default move)\n"
-    "  --help            this help\n"
-    "Exit status: 0 planned, 2 bad usage or a move that cannot be planned (the message says why).\n";
+static dynblur_samples::CliOptions planOptions()
+{
+    dynblur_samples::CliOptions options("dynblur_plan");
+    options.synopsis("--to ANGLE [options]")
+        .description("Plans a vibration-free move of the piezo-driven camera positioner. Options take --name value or "
+                     "--name=value, e.g. --deg --from -5 --to 5 --mode robust.")
+        .option("from", "ANGLE", "0", "start angle, radians (degrees with --deg)")
+        .option("to", "ANGLE", "", "target angle, radians (degrees with --deg); required")
+        .flag("deg", "read --from and --to in degrees")
+        .option("mode", "NAME", "fast", "fast (shortest settle) or robust (tolerates +-10% error in wn)")
+        .option("plant", "FILE.yml", "", "the plant (dynblur_identify_plant writes it; its maxLevel too); otherwise:")
+        .option("hz", "HZ", "14.4", "plant natural frequency, Hz")
+        .option("zeta", "Z", "0.12", "plant damping ratio")
+        .option("gain-deg", "G", "1", "plant static gain, degrees per level (one cell)")
+        .option("max-level", "N", "16", "largest |level|, cells (with --plant: the plant file's)")
+        .option("min-dwell", "S", "0.002", "shortest time between two switches, seconds")
+        .option("start", "S", "0", "time of the first switch, seconds")
+        .flag("step", "a plain step (one switch to the target level at --start), the response dynblur_identify_plant "
+                      "fits, instead of a vibration-free move")
+        .option("out", "PREFIX", "move", "writes PREFIX.yml (the schedule), PREFIX.csv and PREFIX.png")
+        .footer("Exit status: 0 planned, 2 bad usage or a move that cannot be planned (the message says why).");
+    return options;
+}
 
 static int fail(const std::string& message)
 {
@@ -63,38 +65,33 @@ static std::string inOptionNames(std::string message, bool degrees)
 int main(int argc, char** argv)
 {
     bool degrees = false, step = false;
-    double from = 0, to = 0, hz = 14.4, zeta = 0.12, gainDeg = 1, minDwell = 0.002, start = 0;
-    int maxLevel = 16;
+    double from = 0, to = 0, hz = 0, zeta = 0, gainDeg = 0, minDwell = 0, start = 0;
+    int maxLevel = 0;
     std::string modeName, prefix, plantPath;
     dynblur_samples::PlantFile plantFile;
     try
     {
-        const dynblur_samples::CliArgs args(argc, argv,
-                                            {"from", "to", "mode", "plant", "hz", "zeta", "gain-deg", "max-level",
-                                             "min-dwell", "start", "out"},
-                                            {"help", "deg", "step"});
-        if (args.has("help"))
-        {
-            std::cout << kUsage;
+        const dynblur_samples::CliOptions options = planOptions();
+        const dynblur_samples::CliArgs args = options.parse(argc, argv);
+        if (options.printHelp(args))
             return 0;
-        }
         if (!args.has("to"))
             return fail("--to is required (the target angle)");
         if (args.has("plant") && (args.has("hz") || args.has("zeta") || args.has("gain-deg")))
             return fail("--plant gives the plant: leave out --hz, --zeta and --gain-deg");
         degrees = args.has("deg");
         step = args.has("step");
-        from = args.num("from", 0);
-        to = args.num("to", 0);
-        modeName = args.str("mode", "fast");
-        plantPath = args.str("plant", "");
-        hz = args.num("hz", hz);
-        zeta = args.num("zeta", zeta);
-        gainDeg = args.num("gain-deg", gainDeg);
-        maxLevel = args.integer("max-level", maxLevel);
-        minDwell = args.num("min-dwell", minDwell);
-        start = args.num("start", start);
-        prefix = args.str("out", "move");
+        from = args.num("from");
+        to = args.num("to");
+        modeName = args.str("mode");
+        plantPath = args.str("plant");
+        hz = args.num("hz");
+        zeta = args.num("zeta");
+        gainDeg = args.num("gain-deg");
+        maxLevel = args.integer("max-level");
+        minDwell = args.num("min-dwell");
+        start = args.num("start");
+        prefix = args.str("out");
         if (!plantPath.empty())
         {
             plantFile = dynblur_samples::loadPlantFile(plantPath);

@@ -34,31 +34,41 @@ using namespace cv;
 using namespace cv::dynblur;
 using namespace dynblur_samples;
 
-static const char* const kUsage =
-    "Usage: dynblur_record --source SRC --exposure S --line-delay S --out DIR [options]\n"
-    "Records a camera's frames with their timestamps and the actuator's commands, on one clock, as a\n"
-    "recording folder (frame_%04d.png, frames.csv, commands.csv, camera.xml, plant.yml) that\n"
-    "dynblur_calibrate_timing and dynblur_restore_video read (docs/recording-format.md).\n"
-    "\n"
-    "  --source SRC       a device index (0), a GStreamer pipeline (with '!'), or a video file or image\n"
-    "                     sequence (frame_%04d.png) played at its rate as a virtual camera\n"
-    "  --fps F            frame rate asked of a device, or a virtual camera's (default: the source's, else 30)\n"
-    "  --exposure S       exposure of one row, seconds; a device is asked to lock it (the tool says when its\n"
-    "                     backend cannot: lock it outside, see docs/your-rig.md)\n"
-    "  --line-delay S     row-to-row readout delay, seconds (0: global shutter; docs/your-rig.md measures it)\n"
-    "  --frames N         stop after N frames (default: when the moves are done, or the source ends)\n"
-    "  --camera FILE.xml  the camera (dynblur_calibrate_camera), copied into the folder\n"
-    "  --plant FILE.yml   the plant (dynblur_identify_plant), copied into the folder; plans the moves\n"
-    "Actuator (one of):\n"
-    "  --bus URI          drive the controller (tcp://HOST:PORT or rtu:DEVICE?baud=..&slave=..) with --moves\n"
-    "  --moves LIST       target angles, degrees, comma-separated: each planned from the last (the first\n"
-    "                     from the level the actuators hold), started after --still seconds of rest\n"
-    "  --still S          rest before the first move, between moves and after the last, seconds (default 1):\n"
-    "                     the still frames each moving frame is refined against\n"
-    "  --commands FILE    a command log (t,level) a script wrote while the camera ran, on the same clock as\n"
-    "                     this recording (seconds from its start); copied into the folder\n"
-    "  --help             this help\n"
-    "Exit status: 0 recorded, 1 the camera, the bus or a file failed (the message says which), 2 bad usage.\n";
+static CliOptions recordOptions()
+{
+    CliOptions options("dynblur_record");
+    options.synopsis("--source SRC --exposure S --line-delay S --out DIR [options]")
+        .description("Records a camera's frames with their timestamps and the actuator's commands, on one clock, as a "
+                     "recording folder (frame_%04d.png, frames.csv, commands.csv, camera.xml, plant.yml) that "
+                     "dynblur_calibrate_timing and dynblur_restore_video read (docs/recording-format.md).")
+        .option("source", "SRC", "",
+                "a device index (0), a GStreamer pipeline (with '!'), or a video file or image sequence "
+                "(frame_%04d.png) played at its rate as a virtual camera")
+        .option("fps", "F", "", "frame rate asked of a device, or a virtual camera's (default: the source's, else 30)")
+        .option("exposure", "S", "",
+                "exposure of one row, seconds; a device is asked to lock it (the tool says when its backend cannot: "
+                "lock it outside, see docs/your-rig.md)")
+        .option("line-delay", "S", "",
+                "row-to-row readout delay, seconds (0: global shutter; docs/your-rig.md measures it)")
+        .option("frames", "N", "", "stop after N frames (default: when the moves are done, or the source ends)")
+        .option("camera", "FILE.xml", "", "the camera (dynblur_calibrate_camera), copied into the folder")
+        .option("plant", "FILE.yml", "", "the plant (dynblur_identify_plant), copied into the folder; plans the moves")
+        .option("out", "DIR", "", "the recording folder to write")
+        .heading("Actuator (one of):")
+        .option("bus", "URI", "",
+                "drive the controller (tcp://HOST:PORT or rtu:DEVICE?baud=..&slave=..) with --moves")
+        .option("moves", "LIST", "",
+                "target angles, degrees, comma-separated: each planned from the last (the first from the level the "
+                "actuators hold), started after --still seconds of rest")
+        .option("still", "S", "1",
+                "rest before the first move, between moves and after the last, seconds: the still frames each moving "
+                "frame is refined against")
+        .option("commands", "FILE", "",
+                "a command log (t,level) a script wrote while the camera ran, on the same clock as this recording "
+                "(seconds from its start); copied into the folder")
+        .footer("Exit status: 0 recorded, 1 the camera, the bus or a file failed (the message says which), 2 bad usage.");
+    return options;
+}
 
 static double steadyNow()
 {
@@ -119,15 +129,10 @@ int main(int argc, char** argv)
     int stage = 2;  // the exit status of an error: 2 while the arguments are read, 1 after
     try
     {
-        const CliArgs args(argc, argv,
-                           {"source", "fps", "exposure", "line-delay", "frames", "camera", "plant", "bus", "moves",
-                            "still", "commands", "out"},
-                           {"help"});
-        if (args.has("help"))
-        {
-            std::cout << kUsage;
+        const CliOptions options = recordOptions();
+        const CliArgs args = options.parse(argc, argv);
+        if (options.printHelp(args))
             return 0;
-        }
         for (const char* required : {"source", "exposure", "line-delay", "out"})
             if (!args.has(required))
                 throw std::runtime_error(std::string("--") + required + " is required");
@@ -135,8 +140,8 @@ int main(int argc, char** argv)
             throw std::runtime_error("--bus and --moves go together (the moves are driven over the bus)");
         if (args.has("commands") && args.has("bus"))
             throw std::runtime_error("give --commands (a script drove the actuator) or --bus with --moves, not both");
-        const double exposure = args.num("exposure", NAN), lineDelay = args.num("line-delay", NAN);
-        const double still = args.num("still", 1.0);
+        const double exposure = args.num("exposure"), lineDelay = args.num("line-delay");
+        const double still = args.num("still");
         const int maxFrames = args.integer("frames", 0);
         if (!(exposure > 0 && exposure <= 1))
             throw std::runtime_error(format("--exposure %g must be in (0, 1] seconds (8 ms is 0.008)", exposure));
@@ -144,21 +149,21 @@ int main(int argc, char** argv)
             throw std::runtime_error(format("--line-delay %g must be in [0, 0.001) seconds (34.7 us is 34.7e-6)", lineDelay));
         if (!(still >= 0))
             throw std::runtime_error("--still must be >= 0 seconds");
-        const std::vector<double> moves = args.has("moves") ? parseList(args.str("moves", ""), "moves") : std::vector<double>();
+        const std::vector<double> moves = args.has("moves") ? parseList(args.str("moves"), "moves") : std::vector<double>();
         if (!args.has("bus") && !args.has("commands") && maxFrames <= 0)
             std::printf("note: no actuator (--bus with --moves, or --commands): recording until the source ends\n");
-        const std::string out = args.str("out", "");
+        const std::string out = args.str("out");
         stage = 1;
 
         PlantFile plant;
         plant.plant = Plant::create(14.4, 0.12, CV_PI / 180);
         if (args.has("plant"))
-            plant = loadPlantFile(args.str("plant", ""));
+            plant = loadPlantFile(args.str("plant"));
         else if (!moves.empty())
             std::printf("note: no --plant: planning the moves for the seed's plant (14.4 Hz, zeta 0.12, 1 deg per level)\n");
         CommandLog commands;
         if (args.has("commands"))
-            commands = readCommandLog(args.str("commands", ""));
+            commands = readCommandLog(args.str("commands"));
 
         // The actuator first: a bus that does not answer must not leave a half-made recording.
         Ptr<ActuatorDriver> driver;
@@ -166,7 +171,7 @@ int main(int argc, char** argv)
         double startAngle = 0;  // radians
         if (args.has("bus"))
         {
-            driver = ActuatorDriver::create(ActuatorBus::create(args.str("bus", "")));
+            driver = ActuatorDriver::create(ActuatorBus::create(args.str("bus")));
             const ActuatorInfo info = driver->connect();
             planner = SwitchPlanner::create(plant.plant, std::min(plant.maxLevel, info.maxLevel), PLAN_ROBUST,
                                             std::max(0.002, info.minDwell));
@@ -183,14 +188,14 @@ int main(int argc, char** argv)
 
         VideoCapture capture;
         bool isVirtual = false;
-        openSource(args.str("source", ""), capture, isVirtual);
+        openSource(args.str("source"), capture, isVirtual);
         const double sourceFps = capture.get(CAP_PROP_FPS);
         double fps = args.num("fps", sourceFps > 0 && sourceFps < 1000 ? sourceFps : 30.0);
         if (!(fps > 0 && fps < 1000))
             throw std::runtime_error("--fps must be in (0, 1000) frames per second");
         if (isVirtual)
             std::printf("virtual camera '%s' at %.3g fps: frames are timed by their index, exposure as --exposure says\n",
-                        args.str("source", "").c_str(), fps);
+                        args.str("source").c_str(), fps);
         else
         {
             if (args.has("fps"))
@@ -279,9 +284,9 @@ int main(int argc, char** argv)
         }
         writeCommandLog(out + "/commands.csv", commands);
         if (args.has("camera"))
-            CameraModel::load(args.str("camera", ""))->save(out + "/camera.xml");
+            CameraModel::load(args.str("camera"))->save(out + "/camera.xml");
         if (args.has("plant"))
-            savePlantFile(out + "/plant.yml", *plant.plant, plant.maxLevel, "copied by dynblur_record from " + args.str("plant", ""));
+            savePlantFile(out + "/plant.yml", *plant.plant, plant.maxLevel, "copied by dynblur_record from " + args.str("plant"));
         std::printf("recorded %zu frames (%.2f s, %dx%d) and %zu commands into %s\n", log.size(),
                     log.back().frameStart - log.front().frameStart, size.width, size.height, commands.times.size(), out.c_str());
         return 0;

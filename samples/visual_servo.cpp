@@ -25,64 +25,74 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
-#include <iostream>
 
 using namespace cv::dynblur;
 using namespace dynblur_samples;
 
 namespace {
 
-const char* const kHelp =
-    "Usage: dynblur_visual_servo [options]\n"
-    "Closes the loop camera -> restoration -> AprilTag -> vpServo -> planner -> positioner (headless).\n"
-    "  --scenario step|track step: the target sits --start-deg off and stays (default);\n"
-    "                        track: it jumps to --targets places, --jump-deg each way, --cycles-per-target\n"
-    "                        cycles each, and the saccade's phase against the frames varies (--jitter-ms)\n"
-    "  --cycles N            servo cycles, step scenario (default 10)\n"
-    "  --targets N           places the target visits, track scenario (default 16)\n"
-    "  --cycles-per-target N cycles per place, track scenario (default 3)\n"
-    "  --jump-deg MIN,MAX    size of each jump, degrees, track scenario (default 3,6; at most 12)\n"
-    "  --seed N              track scenario: places, jitter and sensor noise (default 1)\n"
-    "  --frames-per-cycle N  frames taken during one cycle at 30 fps (default 3)\n"
-    "  --start-deg D         initial tilt error of the target, degrees (default 8 for step, 5 for track)\n"
-    "  --lambda L            vpServo gain per cycle, in (0, 2) (default 1: one-step correction)\n"
-    "  --deadband-px PX      hold still while the measured error is at most PX, in [0, 5] (default 0.75)\n"
-    "  --mode fast|robust    planner mode (default robust; fast tries every level, ~10 s per plan at 400 levels)\n"
-    "  --gain-deg G          positioner gain, degrees per level (default 0.05: 0.26 px at fx 300)\n"
-    "  --max-level N         largest |level| (default 400)\n"
-    "  --model NAME          PSF model of the restoration: auto, rows (default), tiles or uniform\n"
-    "  --iterations N        Richardson-Lucy iterations (default 20)\n"
-    "  --tags N              AprilTags in the target, a column of ids 0..N-1, N in [1, 3] (default 3)\n"
-    "  --tag-cell PX         tag cell size on the plane, pixels, in [2, 12] (default 4: a 32 px black square);\n"
-    "                        the target must fit in half the frame's height (120 px)\n"
-    "  --exposure-ms MS      exposure of each row, in [0.1, 33.3] (default 33)\n"
-    "  --latency-ms MS       from the end of the measured frame's readout to the saccade start (default 4)\n"
-    "  --jitter-ms MS        plus a random 0..MS per cycle (default 0 for step, one frame period for track)\n"
-    "  --bus tcp://HOST:PORT drive the actuator controller (e.g. dynblur_actuator_sim) instead of the plant\n"
-    "  --true-hz-scale X, --true-zeta-scale X  hardware that drifted from its model: the positioner moves\n"
-    "                        with X times the natural frequency / damping ratio the loop plans with (with\n"
-    "                        --bus, give the simulator the same options) (default 1)\n"
-    "  --clock-offset-ms MS  the camera's frames start MS later than their timestamps (default 0)\n"
-    "  --no-refine           restore with the nominal model (default: each moving frame is refined against\n"
-    "                        the last still frame)\n"
-    "  --out DIR             output folder: cycles.csv, frames.csv, error.png, strip.png, detection.png\n"
-    "                        (default servo_out)\n"
-    "  --help                this text\n";
+// The track scenario's first place, degrees off (its later places are jumps from there).
+const double kTrackStartDeg = 5.0;
+
+CliOptions servoOptions()
+{
+    const ServoConfig config;
+    CliOptions options("dynblur_visual_servo");
+    options.synopsis("[options]")
+        .description("Closes the loop camera -> restoration -> AprilTag -> vpServo -> planner -> positioner (headless).")
+        .option("scenario", "step|track", "step",
+                "step: the target sits --start-deg off and stays; track: it jumps to --targets places, --jump-deg each "
+                "way, --cycles-per-target cycles each, and the saccade's phase against the frames varies (--jitter-ms)")
+        .option("cycles", "N", std::to_string(config.cycles), "servo cycles, step scenario")
+        .option("targets", "N", "16", "places the target visits, track scenario")
+        .option("cycles-per-target", "N", "3", "cycles per place, track scenario")
+        .option("jump-deg", "MIN,MAX", "3,6", "size of each jump, degrees, track scenario (at most 12)")
+        .option("seed", "N", "1", "track scenario: places, jitter and sensor noise")
+        .option("frames-per-cycle", "N", std::to_string(config.framesPerCycle), "frames taken during one cycle at 30 fps")
+        .option("start-deg", "D", "",
+                "initial tilt error of the target, degrees (default " + numberText(config.startOffsetDeg) +
+                    " for step, " + numberText(kTrackStartDeg) + " for track)")
+        .option("lambda", "L", numberText(config.lambda), "vpServo gain per cycle, in (0, 2) (1: one-step correction)")
+        .option("deadband-px", "PX", numberText(config.deadbandPx),
+                "hold still while the measured error is at most PX, in [0, 5]")
+        .option("mode", "fast|robust", "robust", "planner mode (fast tries every level, ~10 s per plan at 400 levels)")
+        .option("gain-deg", "G", numberText(config.gainDegPerLevel),
+                "positioner gain, degrees per level (0.05: 0.26 px at fx 300)")
+        .option("max-level", "N", std::to_string(config.maxLevel), "largest |level|")
+        .option(modelOption("rows"))
+        .option("iterations", "N", std::to_string(config.rlIterations), "Richardson-Lucy iterations")
+        .option("tags", "N", std::to_string(config.targetTags),
+                "AprilTags in the target, a column of ids 0..N-1, N in [1, 3]")
+        .option("tag-cell", "PX", std::to_string(config.tagCellPx),
+                "tag cell size on the plane, pixels, in [2, 12] (4: a 32 px black square); the target must fit in "
+                "half the frame's height (120 px)")
+        .option("exposure-ms", "MS", numberText(1e3 * config.exposure), "exposure of each row, in [0.1, 33.3]")
+        .option("latency-ms", "MS", numberText(1e3 * config.latency),
+                "from the end of the measured frame's readout to the saccade start")
+        .option("jitter-ms", "MS", "",
+                "plus a random 0..MS per cycle (default " + numberText(1e3 * config.latencyJitter) +
+                    " for step, one frame period for track)")
+        .option("bus", "tcp://HOST:PORT", "", "drive the actuator controller (e.g. dynblur_actuator_sim) instead of the plant")
+        .option("true-hz-scale", "X", numberText(config.trueFreqScale),
+                "hardware that drifted from its model: the positioner moves with X times the natural frequency the "
+                "loop plans with (with --bus, give the simulator the same option)")
+        .option("true-zeta-scale", "X", numberText(config.trueDampingScale),
+                "the same for the damping ratio")
+        .option("clock-offset-ms", "MS", numberText(1e3 * config.clockOffset),
+                "the camera's frames start MS later than their timestamps")
+        .flag("no-refine", "restore with the nominal model (by default each moving frame is refined against the last "
+                           "still frame)")
+        .option("out", "DIR", "servo_out", "output folder: cycles.csv, frames.csv, error.png, strip.png, detection.png");
+    return options;
+}
 
 ServoConfig parseOptions(int argc, char** argv, std::string& outDir)
 {
-    const CliArgs args(argc, argv,
-                       {"scenario", "cycles", "targets", "cycles-per-target", "seed", "frames-per-cycle", "start-deg",
-                        "lambda", "mode", "gain-deg", "max-level", "model", "iterations", "bus", "out", "tag-cell",
-                        "latency-ms", "jitter-ms", "exposure-ms", "deadband-px", "tags", "jump-deg", "true-hz-scale",
-                        "true-zeta-scale", "clock-offset-ms"},
-                       {"help", "no-refine"});
-    if (args.has("help"))
-    {
-        std::cout << kHelp;
+    const CliOptions options = servoOptions();
+    const CliArgs args = options.parse(argc, argv);
+    if (options.printHelp(args))
         std::exit(0);
-    }
-    const std::string scenario = args.str("scenario", "step");
+    const std::string scenario = args.str("scenario");
     if (scenario != "step" && scenario != "track")
         throw std::runtime_error("--scenario must be step or track (got '" + scenario + "')");
     const bool track = scenario == "track";
@@ -94,19 +104,18 @@ ServoConfig parseOptions(int argc, char** argv, std::string& outDir)
     ServoConfig config;
     if (track)
     {
-        const int targets = args.integer("targets", 16), perTarget = args.integer("cycles-per-target", 3);
-        const int seed = args.integer("seed", 1);
+        const int targets = args.integer("targets"), perTarget = args.integer("cycles-per-target");
+        const int seed = args.integer("seed");
         if (targets < 1 || targets > 200 || perTarget < 1 || perTarget > 20 || seed < 0)
             throw std::runtime_error("--targets must be in [1, 200], --cycles-per-target in [1, 20], --seed >= 0");
-        const double startDeg = args.num("start-deg", 5.0);
+        const double startDeg = args.num("start-deg", kTrackStartDeg);
         if (!(std::abs(startDeg) <= 12))
             throw std::runtime_error("--start-deg must be within +-12 deg for --scenario track");
-        double minJump = 3, maxJump = 6;
-        if (args.has("jump-deg") &&
-            (std::sscanf(args.str("jump-deg", "").c_str(), "%lf,%lf", &minJump, &maxJump) != 2 ||
-             !(0 <= minJump && minJump <= maxJump && maxJump <= 12)))
+        double minJump = 0, maxJump = 0;
+        if (std::sscanf(args.str("jump-deg").c_str(), "%lf,%lf", &minJump, &maxJump) != 2 ||
+            !(0 <= minJump && minJump <= maxJump && maxJump <= 12))
             throw std::runtime_error("--jump-deg must be MIN,MAX with 0 <= MIN <= MAX <= 12 (got '" +
-                                     args.str("jump-deg", "") + "')");
+                                     args.str("jump-deg") + "')");
         config = trackingScenario(targets, perTarget, static_cast<unsigned>(seed), startDeg, minJump, maxJump);
     }
     else
@@ -114,26 +123,26 @@ ServoConfig parseOptions(int argc, char** argv, std::string& outDir)
         config.startOffsetDeg = args.num("start-deg", config.startOffsetDeg);
     }
     config.cycles = args.integer("cycles", config.cycles);
-    config.framesPerCycle = args.integer("frames-per-cycle", config.framesPerCycle);
-    config.lambda = args.num("lambda", config.lambda);
-    config.gainDegPerLevel = args.num("gain-deg", config.gainDegPerLevel);
-    config.maxLevel = args.integer("max-level", config.maxLevel);
-    config.rlIterations = args.integer("iterations", config.rlIterations);
-    config.busUri = args.str("bus", "");
-    config.tagCellPx = args.integer("tag-cell", config.tagCellPx);
-    config.latency = 1e-3 * args.num("latency-ms", 1e3 * config.latency);
+    config.framesPerCycle = args.integer("frames-per-cycle");
+    config.lambda = args.num("lambda");
+    config.gainDegPerLevel = args.num("gain-deg");
+    config.maxLevel = args.integer("max-level");
+    config.rlIterations = args.integer("iterations");
+    config.busUri = args.str("bus");
+    config.tagCellPx = args.integer("tag-cell");
+    config.latency = 1e-3 * args.num("latency-ms");
     config.latencyJitter = 1e-3 * args.num("jitter-ms", 1e3 * config.latencyJitter);
-    config.exposure = 1e-3 * args.num("exposure-ms", 1e3 * config.exposure);
-    config.deadbandPx = args.num("deadband-px", config.deadbandPx);
-    config.trueFreqScale = args.num("true-hz-scale", config.trueFreqScale);
-    config.trueDampingScale = args.num("true-zeta-scale", config.trueDampingScale);
-    config.clockOffset = 1e-3 * args.num("clock-offset-ms", 1e3 * config.clockOffset);
+    config.exposure = 1e-3 * args.num("exposure-ms");
+    config.deadbandPx = args.num("deadband-px");
+    config.trueFreqScale = args.num("true-hz-scale");
+    config.trueDampingScale = args.num("true-zeta-scale");
+    config.clockOffset = 1e-3 * args.num("clock-offset-ms");
     config.refine = !args.has("no-refine");
     if (!(config.trueFreqScale > 0.5 && config.trueFreqScale < 2) ||
         !(config.trueDampingScale > 0.1 && config.trueDampingScale < 5) || !(std::abs(config.clockOffset) < 0.02))
         throw std::runtime_error("--true-hz-scale must be in (0.5, 2), --true-zeta-scale in (0.1, 5) and "
                                  "--clock-offset-ms within +-20");
-    config.targetTags = args.integer("tags", config.targetTags);
+    config.targetTags = args.integer("tags");
     if (config.targetTags < 1 || config.targetTags > kTagIds)
         throw std::runtime_error("--tags must be in [1, " + std::to_string(kTagIds) + "]");
     if (!(config.deadbandPx >= 0 && config.deadbandPx <= 5))
@@ -149,8 +158,8 @@ ServoConfig parseOptions(int argc, char** argv, std::string& outDir)
         throw std::runtime_error("--latency-ms and --jitter-ms must be in [0, 1000)");
     if (!(config.exposure >= 1e-4 && config.exposure <= 1.0 / config.fps))
         throw std::runtime_error("--exposure-ms must be in [0.1, 33.3] (at most one frame period at 30 fps)");
-    outDir = args.str("out", "servo_out");
-    const std::string mode = args.str("mode", "robust"), model = args.str("model", "rows");
+    outDir = args.str("out");
+    const std::string mode = args.str("mode"), model = args.str("model");
     if (mode != "fast" && mode != "robust")
         throw std::runtime_error("--mode must be fast or robust (got '" + mode + "')");
     config.plannerMode = mode == "fast" ? PLAN_FAST : PLAN_ROBUST;

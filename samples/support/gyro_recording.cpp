@@ -15,29 +15,27 @@ namespace dynblur_samples {
 using namespace cv;
 using namespace cv::dynblur;
 
-const std::set<std::string>& gyroOptionNames()
+CliOptionGroup gyroLogOptions(const std::string& heading, const std::string& text)
 {
-    static const std::set<std::string> names{"gyro", "gyro-orientation", "gyro-bias", "gyro-still-seconds"};
-    return names;
+    return {heading, text,
+            {{"gyro", "LOG", "",
+              "the recording's motion: a gyro log (Gyroflow gcsv, or CSV t,gx,gy,gz in s and rad/s; "
+              "docs/recording-format.md), same clock as the frame log up to the offset that dynblur_calibrate_timing "
+              "--gyro finds"},
+             {"gyro-orientation", "STR", "",
+              "axis string taking the gyro's axes to the camera's (x right, y down, z forward; lowercase: inverted), "
+              "replacing the gcsv file's (default: its own, XYZ for a CSV)"},
+             {"gyro-bias", "B", "none",
+              "estimate (from still intervals), none, or BX,BY,BZ in rad/s, camera axes, removed from the rates"},
+             {"gyro-still-seconds", "S", "0.5", "shortest still interval the bias is estimated from"}}};
 }
-
-const char* const kGyroOptionsHelp =
-    "  --gyro LOG           the recording's motion: a gyro log (Gyroflow gcsv, or CSV t,gx,gy,gz in s and\n"
-    "                       rad/s; docs/recording-format.md), same clock as the frame log up to the offset\n"
-    "                       that dynblur_calibrate_timing --gyro finds\n"
-    "  --gyro-orientation STR  axis string taking the gyro's axes to the camera's (x right, y down,\n"
-    "                       z forward; lowercase: inverted), replacing the gcsv file's (default: its\n"
-    "                       own, XYZ for a CSV)\n"
-    "  --gyro-bias B        estimate (from still intervals), none (default), or BX,BY,BZ in rad/s,\n"
-    "                       camera axes, removed from the rates\n"
-    "  --gyro-still-seconds S  shortest still interval the bias is estimated from (default 0.5)\n";
 
 GyroLogOptions gyroOptions(const CliArgs& args, Vec3d& bias)
 {
     GyroLogOptions options;
-    options.orientation = args.str("gyro-orientation", "");
+    options.orientation = args.str("gyro-orientation");
     bias = Vec3d();
-    const std::string mode = args.str("gyro-bias", "none");
+    const std::string mode = args.str("gyro-bias");
     if (mode == "estimate")
         options.estimateBias = true;
     else if (mode != "none")
@@ -48,7 +46,7 @@ GyroLogOptions gyroOptions(const CliArgs& args, Vec3d& bias)
             !in.eof() || !(std::abs(bias[0]) < 1 && std::abs(bias[1]) < 1 && std::abs(bias[2]) < 1))
             throw std::runtime_error("--gyro-bias takes estimate, none or BX,BY,BZ (rad/s, each within +-1)");
     }
-    options.stillMinDuration = args.num("gyro-still-seconds", 0.5);
+    options.stillMinDuration = args.num("gyro-still-seconds");
     if (!(options.stillMinDuration > 0))
         throw std::runtime_error("--gyro-still-seconds must be > 0 (seconds)");
     return options;
@@ -75,7 +73,7 @@ void GyroRecording::open(const CliArgs& args, const std::string& defaultCameraPa
     if (bias != Vec3d())
         r.gyro.bias = bias;
     r.motion = r.gyro.toMotion();
-    r.timingPath = args.str("timing", "");
+    r.timingPath = args.declares("timing") ? args.str("timing") : "";
     const Vec2d span = r.motion->getTimeSpan();
     const int rows = r.camera->getImageSize().height;
     for (const FrameRecord& f : r.log)

@@ -5,33 +5,30 @@
 #ifndef DYNBLUR_SAMPLES_GYRO_RECORDING_HPP
 #define DYNBLUR_SAMPLES_GYRO_RECORDING_HPP
 
+#include "cli_args.hpp"
 #include "recording.hpp"
 
 #include <opencv2/dynblur.hpp>
 #include <opencv2/videoio.hpp>
 
-#include <set>
 #include <string>
 #include <vector>
 
 namespace dynblur_samples {
 
-class CliArgs;
-
-//! The options gyroOptions reads (valued), to add to a program's CliArgs.
-const std::set<std::string>& gyroOptionNames();
-
-//! The help text of those options, for a program's usage.
-extern const char* const kGyroOptionsHelp;
+/** @brief --gyro LOG and the options gyroOptions reads, under `heading` and `text` (the program's
+gyro mode). */
+CliOptionGroup gyroLogOptions(const std::string& heading, const std::string& text);
 
 /** @brief The gyro log's reading options from --gyro-orientation STR and --gyro-bias
 estimate|none|BX,BY,BZ (rad/s, camera axes; `estimate`: from still intervals of at least
---gyro-still-seconds S, default 0.5). Throws std::runtime_error naming the option on a bad value;
+--gyro-still-seconds S). Throws std::runtime_error naming the option on a bad value;
 `bias` receives a given bias (else 0). */
 cv::dynblur::GyroLogOptions gyroOptions(const CliArgs& args, cv::Vec3d& bias);
 
 /** @brief A recording whose motion is a gyro log: --gyro LOG, --video, --frames (all required),
---camera, --timing, --exposure, --line-delay and the options of gyroOptions. Throws
+--camera, --exposure, --line-delay, the options of gyroOptions, and --timing where the program
+declares it. Throws
 cv::Exception naming the file and what is wrong (a frame outside the log's time span included),
 std::runtime_error naming the option on bad usage. */
 struct GyroRecording

@@ -198,6 +198,23 @@ RecordingFolder findRecording(const std::string& folder)
     return r;
 }
 
+CliOptionGroup recordingOptions()
+{
+    return {"", "",
+            {{"recording", "DIR", "",
+              "a recording folder (frames.avi or frame_%04d.png, frames.csv, commands.csv, camera.xml, plant.yml, "
+              "and timing.yml once calibrated)"},
+             {"video", "V", "", "the frames: a video file or an image sequence (frame_%04d.png), as cv::VideoCapture reads them"},
+             {"frames", "FILE.csv", "", "frame log: frame,frame_start[,exposure,line_delay] (docs/recording-format.md)"},
+             {"commands", "FILE.csv", "", "command log: t,level on the actuator's clock"},
+             {"camera", "FILE.xml", "", "camera (ViSP XML); default: the recording's camera.xml, else calib/c270_nominal.xml"},
+             {"plant", "FILE.yml", "",
+              "nominal plant file; default: the recording's plant.yml, else the seed's (14.4 Hz, zeta 0.12, 1 deg per "
+              "level)"},
+             {"exposure", "S", "", "exposure of one row, seconds, when the frame log has no exposure column"},
+             {"line-delay", "S", "", "line delay, seconds, when the frame log has no line_delay column"}}};
+}
+
 bool OpenedRecording::named(const CliArgs& args)
 {
     return args.has("recording") || (args.has("video") && args.has("frames") && args.has("commands"));
@@ -222,7 +239,7 @@ void OpenedRecording::open(const CliArgs& args, const std::string& defaultCamera
         std::fprintf(stderr, "note: no --plant%s: using the seed's plant (14.4 Hz, zeta 0.12, 1 deg per level)\n",
                      args.has("recording") ? " and no plant.yml in the recording" : "");
     r.plant = plant.empty() ? cv::dynblur::Plant::create(14.4, 0.12, CV_PI / 180) : loadPlantFile(plant).plant;
-    r.timingPath = args.str("timing", folder.timing);
+    r.timingPath = args.declares("timing") ? args.str("timing", folder.timing) : folder.timing;
     const std::string video = args.str("video", folder.video);
     r.videoOption = args.has("video") ? "--video" : "--recording";  // what the user typed
     // A missing file is named here: VideoCapture would try every backend on it (and GStreamer's

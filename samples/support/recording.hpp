@@ -12,6 +12,8 @@
 #ifndef DYNBLUR_SAMPLES_RECORDING_HPP
 #define DYNBLUR_SAMPLES_RECORDING_HPP
 
+#include "cli_args.hpp"
+
 #include <opencv2/dynblur.hpp>
 #include <opencv2/videoio.hpp>
 
@@ -75,12 +77,13 @@ a move (both logs' time spans in the message: one in ms, or on another epoch). *
 void checkFramesMeetCommands(const std::vector<FrameRecord>& frames, const CommandLog& commands,
                              const cv::Ptr<cv::dynblur::Plant>& plant, int rows);
 
-class CliArgs;
+/** @brief The options that name a recording: --recording, --video, --frames, --commands, --camera,
+--plant, --exposure, --line-delay. */
+CliOptionGroup recordingOptions();
 
 /** @brief A recording opened by a program: its logs, camera and nominal plant, from `--recording DIR`
-and/or `--video`, `--frames`, `--commands`, `--camera`, `--plant`, `--timing`, `--exposure`,
-`--line-delay` (an option given beside --recording wins). A default camera or plant is announced on
-stderr. Throws cv::Exception naming what is missing, malformed or cannot be opened, and for logs
+and/or the options of recordingOptions() and `--timing` where the program declares it (an option
+given beside --recording wins). A default camera or plant is announced on stderr. Throws cv::Exception naming what is missing, malformed or cannot be opened, and for logs
 that cannot belong together (checkFramesMeetCommands). */
 struct OpenedRecording
 {

@@ -7,9 +7,21 @@
 
 namespace dynblur_samples {
 
-const char* const kModelOptionHelp =
-    "  --model NAME         PSF model: auto (default: per band of rows, the cheapest of uniform, rows and\n"
-    "                       tiles within 0.5 px of the exact motion), rows, tiles or uniform\n";
+CliOption modelOption(const std::string& defaultName)
+{
+    return {"model", "NAME", defaultName,
+            "PSF model: auto (per band of rows, the cheapest of uniform, rows and tiles within 0.5 px of the exact "
+            "motion), rows, tiles or uniform"};
+}
+
+CliOptionGroup restorationOptions()
+{
+    return {"", "",
+            {{"preset", "NAME", "frame-rate",
+              "frame-rate (iterations by the blur's length, color at half resolution) or default (20 iterations, "
+              "full color); docs/quality.md gives both per window"},
+             modelOption()}};
+}
 
 int psfModelFromName(const std::string& name)
 {

@@ -1,14 +1,20 @@
 // SPDX-License-Identifier: Apache-2.0
-// --model and --preset, read the same way by every program that restores frames.
+// --model and --preset, declared and read the same way by every program that restores frames.
 #ifndef DYNBLUR_SAMPLES_RESTORATION_OPTIONS_HPP
 #define DYNBLUR_SAMPLES_RESTORATION_OPTIONS_HPP
+
+#include "cli_args.hpp"
 
 #include <string>
 
 namespace dynblur_samples {
 
-//! The help line of --model, for a program's usage text.
-extern const char* const kModelOptionHelp;
+/** @brief --model NAME, defaulting to `defaultName` (a servo cycle restores with rows, a recording with
+auto). */
+CliOption modelOption(const std::string& defaultName = "auto");
+
+//! --preset and --model (default auto), as a program that restores a recording declares them.
+CliOptionGroup restorationOptions();
 
 /** @brief --model's names: auto (PSF_AUTO: per band of rows the cheapest operator within 0.5 px of
 the exact displacement), rows, tiles, uniform. Throws std::runtime_error naming --model and the

@@ -66,7 +66,7 @@ TEST(BadInput, SampleFiles)
         std::vector<char*> argv;
         for (std::string& s : keep)
             argv.push_back(&s[0]);
-        return CliArgs((int)argv.size(), argv.data(), {"timeout"}, {"start"});
+        return CliOptions("ctl").option("timeout", "S", "", "").flag("start", "").parse((int)argv.size(), argv.data());
     };
     refuseAll({{"CliArgs", "an unknown option", [&] { args({"ctl", "--bogus", "1"}); }, {"--bogus"}},
                {"CliArgs", "an option without its value", [&] { args({"ctl", "--timeout"}); }, {"timeout"}},

@@ -208,7 +208,7 @@ int main(int argc, char** argv)
         if (!OpenedRecording::named(args))
             return usageError("--recording DIR, or --video, --frames and --commands, are required");
         int flags = 0;
-        if (!parseRefinementList(args.str("refine"), flags) || flags == REFINE_NONE)
+        if (!parseRefinementList(args.str("refine"), REFINE_ALL, flags) || flags == REFINE_NONE)
             return usageError("--refine takes offset, line-delay, plant (or all), comma-separated");
         const int maxFrames = args.integer("max-frames");
         const double maxOffset = args.num("max-offset");

@@ -75,18 +75,10 @@ int simulateGyroTiming(const CliArgs& args)
 
 int calibrateGyroTiming(const CliArgs& args, const std::string& defaultCameraPath)
 {
+    const int measurable = REFINE_TIME_OFFSET | REFINE_LINE_DELAY | REFINE_GYRO_BIAS;
     int flags = 0;
-    const std::string list = args.str("refine", kGyroRefinement);
-    for (size_t start = 0; start <= list.size();)
-    {
-        const size_t end = std::min(list.find(',', start), list.size());
-        const std::string item = list.substr(start, end - start);
-        start = end + 1;
-        flags |= item == "offset" ? REFINE_TIME_OFFSET : item == "line-delay" ? REFINE_LINE_DELAY
-               : item == "bias"   ? REFINE_GYRO_BIAS   : -1;
-        if (flags < 0)
-            throw std::runtime_error("--refine takes offset, line-delay and bias with --gyro, comma-separated");
-    }
+    if (!parseRefinementList(args.str("refine", kGyroRefinement), measurable, flags) || flags == REFINE_NONE)
+        throw std::runtime_error("--refine takes offset, line-delay and bias with --gyro, comma-separated");
     const int maxFrames = args.integer("max-frames");
     const double maxOffset = args.num("max-offset");
     const double stillRate = args.num("still-rate") * kDeg, maxGap = args.num("max-still-gap");

@@ -6,7 +6,7 @@
 
 #include "atomic_file.hpp"  // samples/support
 #include "contact_sheet.hpp"
-#include "frame_timing.hpp"  // modules/dynblur/test_support
+#include "frame_timing.hpp"  // samples/simulation
 #include "frame_restorer.hpp"
 #include "recording.hpp"
 #include "restored_video.hpp"
@@ -23,7 +23,6 @@ namespace dynblur_samples {
 
 using namespace cv;
 using namespace cv::dynblur;
-using namespace dynblur_test;
 
 namespace {
 
@@ -133,7 +132,7 @@ int restoreCommandedRecording(const CliArgs& args, const RestorationSettings& se
     const std::vector<FrameRecord>& log = recording.log;
     const bool calibrated = !recording.timingPath.empty();
     int refinement = 0;
-    if (!parseRefinementList(args.str("refine", calibrated ? "offset" : "all"), refinement))
+    if (!parseRefinementList(args.str("refine", calibrated ? "offset" : "all"), REFINE_ALL, refinement))
         throw std::runtime_error("--refine takes offset, line-delay, plant, all or none, comma-separated");
     const MotionCorrection calibration =
         calibrated ? TimingCalibration::load(recording.timingPath).correction : MotionCorrection();

@@ -5,7 +5,7 @@
 #include "restored_video.hpp"
 
 #include "atomic_file.hpp"  // samples/support
-#include "frame_timing.hpp"  // modules/dynblur/test_support
+#include "frame_timing.hpp"  // samples/simulation
 #include "gyro_recording.hpp"
 
 #include <cstdio>
@@ -14,7 +14,6 @@ namespace dynblur_samples {
 
 using namespace cv;
 using namespace cv::dynblur;
-using namespace dynblur_test;
 
 int restoreGyroRecording(const CliArgs& args, const RestorationSettings& settings)
 {

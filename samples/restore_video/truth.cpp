@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "truth.hpp"
 
-#include "frame_timing.hpp"  // modules/dynblur/test_support
+#include "frame_timing.hpp"  // samples/simulation
 #include "image_metrics.hpp"
 
 #include <opencv2/imgcodecs.hpp>
@@ -13,7 +13,6 @@ namespace dynblur_samples {
 
 using namespace cv;
 using namespace cv::dynblur;
-using namespace dynblur_test;
 
 RecordingTruth RecordingTruth::load(const std::string& dir)
 {

@@ -279,26 +279,17 @@ cv::Mat OpenedRecording::read(const FrameRecord& record)
     return image;
 }
 
-bool parseRefinementList(const std::string& list, int& flags)
+bool parseRefinementList(const std::string& list, int allowed, int& flags)
 {
-    flags = 0;
-    for (size_t start = 0; start <= list.size();)
+    try
     {
-        const size_t end = std::min(list.find(',', start), list.size());
-        const std::string item = list.substr(start, end - start);
-        start = end + 1;
-        if (item == "offset")
-            flags |= cv::dynblur::REFINE_TIME_OFFSET;
-        else if (item == "line-delay")
-            flags |= cv::dynblur::REFINE_LINE_DELAY;
-        else if (item == "plant")
-            flags |= cv::dynblur::REFINE_PLANT;
-        else if (item == "all")
-            flags |= cv::dynblur::REFINE_ALL;
-        else if (item != "none")
-            return false;
+        flags = cv::dynblur::refinementFlags(list);
     }
-    return true;
+    catch (const cv::Exception&)
+    {
+        return false;
+    }
+    return (flags & ~allowed) == 0;
 }
 
 std::vector<FrameRecord> parseFrameLog(const std::string& text, const std::string& source, double exposure,

@@ -106,9 +106,10 @@ struct OpenedRecording
     cv::Mat read(const FrameRecord& record);
 };
 
-/** @brief MotionRefinement flags from a list such as "offset,line-delay" (also "plant", "all",
-"none"); false on an unknown word. */
-bool parseRefinementList(const std::string& list, int& flags);
+/** @brief MotionRefinement flags from a list such as "offset,line-delay": the refinement's parameter
+names (cv::dynblur::refinementFlags: offset, line-delay, plant, bias, all, none); false when it names
+an unknown parameter or one whose flag is not among `allowed`. */
+bool parseRefinementList(const std::string& list, int allowed, int& flags);
 
 /** @brief Streams a recording's frames and pairs each frame taken during a move with the still frame
 that saw what its moving rows see: the last still frame before it when the frame starts at rest

@@ -57,9 +57,9 @@ Ptr<CameraMotion> withoutGyroBias(const Ptr<CameraMotion>& motion, const Vec3d& 
 ViewMotion correctedView(const Ptr<CameraMotion>& motion, const MotionCorrection& correction, double tRef,
                          const RollingShutter& corrected)
 {
+    const double t0 = std::isnan(tRef) ? midExposure(corrected) : tRef + correction.timeOffset;
     if (correction.gyroBias == Vec3d())
-        return ViewMotion::of(motion, tRef, corrected);
-    const double t0 = std::isnan(tRef) ? midExposure(corrected) : tRef;
+        return ViewMotion::of(motion, t0, corrected);
     ViewMotion view;
     view.motion = withoutGyroBias(motion, correction.gyroBias, t0);
     view.reference = motion->orientation(t0);  // the bias adds no turn at t0

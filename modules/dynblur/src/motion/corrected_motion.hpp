@@ -28,8 +28,9 @@ Ptr<CameraMotion> withoutGyroBias(const Ptr<CameraMotion>& motion, const Vec3d& 
 
 /** @brief The view motion of a measured `motion` for a frame read by `corrected` (the shutter
 `correction` has corrected: its clock offset and line delay applied), relative to the orientation at
-`tRef` (seconds on the motion's clock; NaN: the corrected shutter's mid-exposure), with
-`correction.gyroBias` removed about tRef. Without a bias it is ViewMotion::of(motion, tRef, corrected). */
+`tRef` (a camera time, seconds, which the correction's clock offset moves onto the motion's clock as
+it moves the frame; NaN: the corrected shutter's mid-exposure), with `correction.gyroBias` removed
+about that instant. */
 ViewMotion correctedView(const Ptr<CameraMotion>& motion, const MotionCorrection& correction, double tRef,
                          const RollingShutter& corrected);
 

@@ -35,25 +35,10 @@ public:
         restoration_.params.damping = kNaN;
     }
 
-    /* One frame, stage by stage: the motion that happened (the correction), the views it gives, their
-       blur (the PSF bank), the restoration in the frame's own encoding. */
     void deblur(InputArray frame, const SwitchSchedule& schedule, const RollingShutter& shutter, OutputArray restored,
                 double thetaRef, OutputArray validMask) CV_OVERRIDE
     {
-        if (plant_.empty())
-            CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: this deblurrer was created without a plant "
-                                       "(DynamicDeblurrer::create(camera)); give it the frame's motion: "
-                                       "deblur(frame, motion, shutter, restored, tRef)");
-        const Mat input = frame.getMat();
-        checkFrame(input, shutter);
-        // thetaRef is checked before the correction's work, and again on the corrected plant below.
-        detail::ViewMotion::ofPlant(kDeblur, plant_, schedule, camera_->getMountAxis(), thetaRef);
-
-        const detail::FrameCorrection corrected = corrector_.correct(input, schedule, shutter);
-        const RollingShutter correctedShutter = corrected.correction.correctShutter(shutter);
-        const detail::ViewMotion view = detail::ViewMotion::ofPlant(
-            kDeblur, corrected.correction.correctPlant(plant_), schedule, camera_->getMountAxis(), thetaRef);
-        restoreFrame(input, corrected, view, correctedShutter, restored, validMask);
+        deblurPlantFrame(frame, schedule, shutter, restored, thetaRef, kNaN, validMask);
     }
 
     void deblur(InputArray frame, const Ptr<CameraMotion>& motion, const RollingShutter& shutter,
@@ -74,8 +59,7 @@ public:
                          "deblurrer's plant (the same object, or a linear plant of the same natural frequency, "
                          "damping ratio and gain) and the camera's mount axis: refinement corrects that plant; "
                          "create the deblurrer with the motion's plant, or set the camera's mount axis");
-            return deblur(frame, plantMotion->schedule(), shutter, restored, plantMotion->referenceAngle(tRef),
-                          validMask);
+            return deblurPlantFrame(frame, plantMotion->schedule(), shutter, restored, kNaN, tRef, validMask);
         }
         const detail::FrameCorrection corrected = corrector_.correct(input, motion, shutter);
         const RollingShutter correctedShutter = corrected.correction.correctShutter(shutter);
@@ -229,6 +213,37 @@ public:
     String getDefaultName() const CV_OVERRIDE { return "dynblur.DynamicDeblurrer"; }
 
 private:
+    /* A plant's frame, stage by stage: the motion that happened (the correction), the views it gives,
+       their blur (the PSF bank), the restoration in the frame's own encoding. The view restored is at
+       thetaRef, or, for a finite tRef (a camera time, which the correction's clock offset moves as it
+       moves the frame), at the corrected plant's angle then. */
+    void deblurPlantFrame(InputArray frame, const SwitchSchedule& schedule, const RollingShutter& shutter,
+                          OutputArray restored, double thetaRef, double tRef, OutputArray validMask)
+    {
+        if (plant_.empty())
+            CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: this deblurrer was created without a plant "
+                                       "(DynamicDeblurrer::create(camera)); give it the frame's motion: "
+                                       "deblur(frame, motion, shutter, restored, tRef)");
+        const Mat input = frame.getMat();
+        checkFrame(input, shutter);
+        const Vec3d axis = camera_->getMountAxis();
+        // thetaRef is checked before the correction's work, and again on the corrected plant below.
+        detail::ViewMotion::ofPlant(kDeblur, plant_, schedule, axis, std::isnan(tRef) ? thetaRef : angleAt(plant_, schedule, tRef));
+
+        const detail::FrameCorrection corrected = corrector_.correct(input, schedule, shutter);
+        const Ptr<Plant> plant = corrected.correction.correctPlant(plant_);
+        if (!std::isnan(tRef))
+            thetaRef = angleAt(plant, schedule, tRef + corrected.correction.timeOffset);
+        const detail::ViewMotion view = detail::ViewMotion::ofPlant(kDeblur, plant, schedule, axis, thetaRef);
+        restoreFrame(input, corrected, view, corrected.correction.correctShutter(shutter), restored, validMask);
+    }
+
+    //! The angle of `plant` under `schedule` at time t on the schedule's clock, radians.
+    static double angleAt(const Ptr<Plant>& plant, const SwitchSchedule& schedule, double t)
+    {
+        return detail::asPlantMotion(*CameraMotion::fromPlant(plant, schedule))->referenceAngle(t);
+    }
+
     //! True when `plant` is the deblurrer's, or a linear plant of the same ωn, ζ and gain.
     bool samePlant(const Ptr<Plant>& plant) const
     {

@@ -118,7 +118,7 @@ void LevelResiduals::predict(size_t i, const MotionCorrection& c, Mat& predicted
         // The still lies at its capture time on the same clock as the frame: the offset moves both.
         Ptr<PsfGenerator> generator = PsfGenerator::create(camera);
         generator->setTileGrid(Size(kFitTileColumns, 0));
-        bank = generatePsfBank(*generator, PSF_TILES, correctedView(f.motion, c, f.referenceTime + c.timeOffset,
+        bank = generatePsfBank(*generator, PSF_TILES, correctedView(f.motion, c, f.referenceTime,
                                                                       shutter),
                                shutter);
     }

@@ -123,8 +123,10 @@ public:
            shutter.frameStart), widened by the refinement's search when a still is set.
     @param shutter the frame's timing (rows = frame height).
     @param restored output, same size, type and channels as frame.
-    @param tRef reference time, seconds; NaN: a plant's final rest, a sampled motion's orientation at
-           the middle of the frame's exposure (middle row, mid-exposure).
+    @param tRef reference time, seconds, on the shutter's clock (a camera time, like frameStart: the
+           clock offset of setCalibration and of the refinement moves it as it moves the frame); NaN:
+           a plant's final rest, a sampled motion's orientation at the middle of the frame's exposure
+           (middle row, mid-exposure).
     @param validMask optional output, CV_8U, 255 where the frame observed the restored pixel. */
     CV_WRAP virtual void deblur(InputArray frame, const Ptr<CameraMotion>& motion, const RollingShutter& shutter,
                                 OutputArray restored, double tRef = std::numeric_limits<double>::quiet_NaN(),

@@ -1,18 +1,24 @@
 // SPDX-License-Identifier: Apache-2.0
-// The hand-held clip simulator (samples/simulation/handheld_clip.hpp, plane_render.hpp): its gyro log
-// against its motion, its frames against their truth and the library's forward model, the blur it
-// reports against a rendered point, and the descriptions it refuses.
+// The hand-held clip simulator (samples/simulation/handheld_clip.hpp, plane_render.hpp,
+// clip_writer.hpp): its gyro log against its motion, its frames against their truth and the library's
+// forward model, the blur it reports against a rendered point, the files it writes read back, and the
+// descriptions it refuses.
 #include "bad_input_rows.hpp"
 #include "test_common.hpp"
 
-#include "handheld_clip.hpp"
+#include "clip_writer.hpp"
 #include "plane_render.hpp"
+#include "recording.hpp"
 #include "scene.hpp"
 
+#include <opencv2/core/utils/filesystem.hpp>
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 using namespace cv;
 using namespace cv::dynblur;
@@ -50,6 +56,13 @@ double meanAbsDiff(const Mat& a, const Mat& b)
     absdiff(a, b, d);
     const Scalar s = mean(d);
     return (s[0] + s[1] + s[2]) / 3;
+}
+
+std::string scratchDir(const std::string& name)
+{
+    const std::string dir = ::testing::TempDir() + format("dynblur_clip_%d_", (int)::getpid()) + name;
+    utils::fs::createDirectories(dir);
+    return dir;
 }
 
 }  // namespace
@@ -326,7 +339,114 @@ TEST(HandHeldClip, StillStretchesAreStill)
     }
 }
 
-// Each field out of range is refused, named with its range; so is a missing image.
+// The files read back: the video (frame count, size, timestamps = frame starts) as .avi and .mp4, the
+// gcsv and CSV logs through GyroLog::load (their axes mapped back), Sensor Logger's columns, the truth
+// and the frame log.
+TEST(HandHeldClip, WrittenFilesReadBack)
+{
+    HandHeldClip clip = smallClip();
+    clip.frames = 10;
+    clip.fps = 25;
+    clip.gyro.timeOffset = -1.25;
+    clip.gyro.bias = Vec3d(0.3, -0.2, 0.1) * kDeg;
+    clip.gyro.noise = 0.1 * kDeg;
+    const HandHeldSimulator sim(clip);
+    const GyroLog& truth = sim.gyroLog();
+    auto sameLog = [&](const GyroLog& read, double rateTolerance) {
+        ASSERT_EQ(read.times.size(), truth.times.size());
+        for (size_t k = 0; k < truth.times.size(); k++)
+        {
+            ASSERT_NEAR(read.times[k], truth.times[k], 1e-9) << k;
+            ASSERT_LT(norm(Vec3d(read.rates.ptr<double>(int(k))) - Vec3d(truth.rates.ptr<double>(int(k)))),
+                      rateTolerance)
+                << k;
+        }
+    };
+
+    for (const std::string video : {"clip.avi", "clip.mp4"})
+    {
+        const std::string dir = scratchDir(video.substr(5));
+        ClipFiles files;
+        files.video = video;
+        files.gyro.axes = "YxZ";
+        files.frameLogLineDelay = 1e-4;
+        const WrittenClip written = writeClip(sim, dir, files);
+        ASSERT_EQ(written.paths.size(), 5u);
+        EXPECT_GT(written.maxBlurPx, 1.0);
+
+        VideoCapture capture(dir + "/" + video);
+        ASSERT_TRUE(capture.isOpened()) << video;
+        EXPECT_EQ(int(capture.get(CAP_PROP_FRAME_COUNT)), clip.frames) << video;
+        Mat frame;
+        int count = 0;
+        while (capture.read(frame))
+        {
+            EXPECT_EQ(frame.size(), clip.frameSize);
+            EXPECT_NEAR(capture.get(CAP_PROP_POS_MSEC), sim.truth(count).shutter.frameStart * 1e3, 0.5)
+                << video << " frame " << count;
+            count++;
+        }
+        EXPECT_EQ(count, clip.frames) << video;
+
+        // gcsv states its axes and units: read as written, the log is the simulator's (deg/s to 1e-9 digits).
+        sameLog(GyroLog::load(dir + "/gyro.gcsv"), 1e-8);
+        const std::vector<FrameRecord> frames = readFrameLog(dir + "/frames.csv", NAN, NAN);
+        ASSERT_EQ(int(frames.size()), clip.frames);
+        EXPECT_DOUBLE_EQ(frames[3].lineDelay, 1e-4);
+        EXPECT_NEAR(frames[3].frameStart, 3 / clip.fps, 1e-9);
+
+        FileStorage fs(dir + "/truth.yml", FileStorage::READ);
+        ASSERT_TRUE(fs.isOpened());
+        EXPECT_DOUBLE_EQ(double(fs["timeOffset"]), -1.25);
+        EXPECT_DOUBLE_EQ(double(fs["lineDelay"]), clip.lineDelay());
+        Vec3d bias;
+        fs["gyroBias"] >> bias;
+        EXPECT_LT(norm(bias - clip.gyro.bias), 1e-15);
+        EXPECT_EQ(std::string(fs["gyroAxes"]), "YxZ");
+        ASSERT_EQ(int(fs["frames"].size()), clip.frames);
+        EXPECT_NEAR(double(fs["frames"][4]["referenceTime"]), sim.truth(4).referenceTime, 1e-12);
+        EXPECT_NEAR(double(fs["frames"][4]["blur"]), sim.truth(4).blurPx, 1e-9);
+        utils::fs::remove_all(dir);
+    }
+
+    // Plain CSV in s and rad/s, sensor axes YxZ: read with its axes, it is the log; read without, it is not.
+    const std::string dir = scratchDir("csv");
+    GyroFileOptions csv;
+    csv.format = GyroFormat::Csv;
+    csv.axes = "YxZ";
+    csv.timeUnit = 1;
+    csv.rateUnit = 1;
+    writeGyroLog(truth, dir + "/gyro.csv", csv);
+    GyroLogOptions mapped;
+    mapped.orientation = "YxZ";
+    sameLog(GyroLog::load(dir + "/gyro.csv", mapped), 1e-8);
+    const GyroLog unmapped = GyroLog::load(dir + "/gyro.csv");
+    EXPECT_GT(norm(unmapped.rates - truth.rates, NORM_INF), 0.1);
+
+    // Sensor Logger: time in ns since the epoch, seconds_elapsed from the first sample, then z, y, x.
+    GyroFileOptions phone;
+    phone.format = GyroFormat::SensorLogger;
+    phone.axes = "Xyz";
+    writeGyroLog(truth, dir + "/Gyroscope.csv", phone);
+    std::ifstream in(dir + "/Gyroscope.csv");
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(line, "time,seconds_elapsed,z,y,x");
+    for (size_t k = 0; std::getline(in, line); k++)
+    {
+        long long ns = 0;
+        double elapsed = 0, z = 0, y = 0, x = 0;
+        ASSERT_EQ(std::sscanf(line.c_str(), "%lld,%lf,%lf,%lf,%lf", &ns, &elapsed, &z, &y, &x), 5) << line;
+        ASSERT_LT(k, truth.times.size());
+        EXPECT_EQ(ns, 1700000000000000000LL + std::llround(truth.times[k] * 1e9));
+        EXPECT_NEAR(elapsed, truth.times[k] - truth.times[0], 1e-9);
+        const Vec3d w(truth.rates.ptr<double>(int(k)));
+        EXPECT_LT(norm(Vec3d(x, -y, -z) - w), 1e-7) << "the phone's axes are the camera's x, -y, -z";
+    }
+    utils::fs::remove_all(dir);
+}
+
+// Each field out of range is refused, named with its range; so are writer options and a missing image.
 TEST(HandHeldClip, RefusesBadDescriptions)
 {
     auto refuse = [](const std::string& input, void (*change)(HandHeldClip&), std::vector<std::string> words) {
@@ -384,4 +504,36 @@ TEST(HandHeldClip, RefusesBadDescriptions)
         refuse("a missing image", [](HandHeldClip& c) { c.image = "/nonexistent/scene.png"; },
                {"image", "/nonexistent/scene.png"}),
     });
+
+    const HandHeldSimulator sim(smallClip());
+    const std::string dir = scratchDir("refused");
+    auto writing = [&](const std::string& input, ClipFiles files, std::vector<std::string> words) {
+        return Row{"writeClip", input, [&sim, dir, files] { writeClip(sim, dir, files); }, words};
+    };
+    ClipFiles mkv, mirrored, quality, jpegs;
+    mkv.video = "clip.mkv";
+    mirrored.gyro.axes = "XYz";
+    quality.videoQuality = 0;
+    jpegs.video = "frame_%04d.jpg";
+    refuseAll({
+        writing("video .mkv", mkv, {"ClipFiles.video", ".avi", ".mp4"}),
+        writing("mirrored gyro axes XYz", mirrored, {"XYz"}),
+        writing("videoQuality 0", quality, {"videoQuality", "[1, 100]"}),
+        writing("an image sequence of JPEGs", jpegs, {"ClipFiles.video", "lossless"}),
+        {"gyroFormatFromName", "'gyroflow'", [] { gyroFormatFromName("gyroflow"); }, {"gcsv", "sensor-logger"}},
+        {"writeGyroLog", "timeUnit 0", [&sim, dir] {
+             GyroFileOptions o;
+             o.timeUnit = 0;
+             writeGyroLog(sim.gyroLog(), dir + "/gyro.gcsv", o);
+         }, {"timeUnit", "(0, 1e6)"}},
+        {"writeGyroLog", "logEpoch in ms", [&sim, dir] {
+             GyroFileOptions o;
+             o.format = GyroFormat::SensorLogger;
+             o.logEpoch = 1.7e12;
+             writeGyroLog(sim.gyroLog(), dir + "/gyro.gcsv", o);
+         }, {"logEpoch", "Unix seconds"}},
+    });
+    for (const char* name : {"clip.mkv", "clip.avi", "gyro.gcsv", "truth.yml", "camera.xml", "frames.csv"})
+        EXPECT_FALSE(utils::fs::exists(dir + "/" + name)) << name << " written although refused";
+    utils::fs::remove_all(dir);
 }

@@ -49,23 +49,13 @@ class FrameSink
 public:
     FrameSink(const std::string& path, double fps, Size size, int quality) : path_(path)
     {
-        const std::string ext = extensionOf(path);
         if (isImagePattern(path))
         {
-            if (ext != ".png" && ext != ".tif" && ext != ".tiff" && ext != ".bmp")
-                CV_Error(Error::StsBadArg, "ClipFiles.video: an image sequence '" + path +
-                                               "' must be .png, .tif or .bmp (lossless)");
             images_ = true;
             return;
         }
-        int fourcc = 0;
-        if (ext == ".avi")
-            fourcc = VideoWriter::fourcc('M', 'J', 'P', 'G');
-        else if (ext == ".mp4")
-            fourcc = VideoWriter::fourcc('m', 'p', '4', 'v');
-        else
-            CV_Error(Error::StsBadArg, "ClipFiles.video: '" + path + "' must end in .avi (MJPG) or .mp4 (mp4v), or be "
-                                           "an image sequence such as frame_%04d.png");
+        const int fourcc = extensionOf(path) == ".avi" ? VideoWriter::fourcc('M', 'J', 'P', 'G')
+                                                       : VideoWriter::fourcc('m', 'p', '4', 'v');
         temporary_ = temporaryPathFor(path);
         writer_.open(temporary_, fourcc, fps, size, true);
         if (!writer_.isOpened())
@@ -222,14 +212,41 @@ void writeGyroLog(const GyroLog& log, const std::string& path, const GyroFileOpt
     writeTextFile(path, out.str());
 }
 
+void ClipFiles::validate() const
+{
+    const std::string ext = extensionOf(video);
+    if (video.find('/') != std::string::npos)
+        CV_Error(Error::StsBadArg, "ClipFiles.video: '" + video + "' must be a name in the clip's folder, without '/'");
+    if (isImagePattern(video))
+    {
+        if (ext != ".png" && ext != ".tif" && ext != ".tiff" && ext != ".bmp")
+            CV_Error(Error::StsBadArg, "ClipFiles.video: an image sequence '" + video +
+                                           "' must be .png, .tif or .bmp (lossless)");
+    }
+    else if (ext != ".avi" && ext != ".mp4")
+        CV_Error(Error::StsBadArg, "ClipFiles.video: '" + video + "' must end in .avi (MJPG) or .mp4 (mp4v), or be an "
+                                       "image sequence such as frame_%04d.png");
+    if (!(videoQuality >= 1 && videoQuality <= 100))
+        CV_Error(Error::StsBadArg, format("ClipFiles.videoQuality = %d must be in [1, 100]", videoQuality));
+    try
+    {
+        GyroLog::orientationMatrix(gyro.axes);
+    }
+    catch (const cv::Exception& e)
+    {
+        CV_Error(Error::StsBadArg, "ClipFiles.gyro.axes: " + e.err);
+    }
+    if (!std::isnan(frameLogLineDelay) && !(frameLogLineDelay >= 0 && frameLogLineDelay < 0.01))
+        CV_Error(Error::StsBadArg, format("ClipFiles.frameLogLineDelay = %g must be in [0, 0.01) (seconds) or NaN",
+                                          frameLogLineDelay));
+}
+
 WrittenClip writeClip(const HandHeldSimulator& simulator, const std::string& dir, const ClipFiles& files,
                       const std::function<void(const ClipFrame&, double)>& progress)
 {
+    files.validate();  // before hours of rendering
     const HandHeldClip& clip = simulator.clip();
-    if (!(files.videoQuality >= 1 && files.videoQuality <= 100))
-        CV_Error(Error::StsBadArg, format("ClipFiles.videoQuality = %d must be in [1, 100]", files.videoQuality));
     const std::string gyroName = files.gyroName.empty() ? defaultGyroName(files.gyro.format) : files.gyroName;
-    GyroLog::orientationMatrix(files.gyro.axes);  // refuse a bad axis string before rendering
     WrittenClip written;
     FrameSink sink(dir + "/" + files.video, clip.fps, clip.frameSize, files.videoQuality);
     std::vector<FrameTruth> truths;

@@ -57,6 +57,10 @@ struct ClipFiles
     bool frameLog = true;   //!< also frames.csv (frame, frame_start, exposure, line_delay; docs/recording-format.md)
     //! The line delay frames.csv states, seconds (a nominal value that differs from the truth); NaN: the true one.
     double frameLogLineDelay = std::numeric_limits<double>::quiet_NaN();
+
+    /** Throws cv::Exception naming the field ("ClipFiles.video", "ClipFiles.gyro.axes", ...) that is out of
+    range or names no format; writeClip checks it before rendering. */
+    void validate() const;
 };
 
 //! What writeClip wrote, and what it measured.

@@ -170,8 +170,9 @@ void HandHeldSimulator::scaleMotion(const HandShake& shake)
                 reached = std::max(reached, frameBlurPx(path_, K_, clip_.frameSize, shutter(f), true));
         }
         if (!(reached > 0))
-            CV_Error(Error::StsBadArg, "HandHeldClip: no frame moves (the stretches keep every frame still); "
-                                       "shorten stretches.stillSeconds or add frames");
+            CV_Error(Error::StsBadArg, format("HandHeldClip: no frame moves: the stretches keep every frame still; "
+                                              "shorten stretches.stillSeconds = %g (s) or add frames = %d",
+                                              clip_.stretches.stillSeconds, clip_.frames));
         if (std::abs(reached / target - 1) < 1e-3)
             break;
         scale *= target / reached;
@@ -181,9 +182,10 @@ void HandHeldSimulator::scaleMotion(const HandShake& shake)
     if (margin_ > std::max(clip_.frameSize.width, clip_.frameSize.height))
         CV_Error(Error::StsBadArg,
                  format("HandHeldClip: the view strays %.0f px from the home view, more than the frame's size: lower "
-                        "rotation.peakRate or rotation.maxBlurPx (%g, %g), raise rotation.lowHz (%g Hz) or lower "
-                        "translation.peakSpeed",
-                        stray, turn.peakRate, turn.maxBlurPx, turn.lowHz));
+                        "rotation.peakRate = %g (rad/s) or rotation.maxBlurPx = %g (px) or raise rotation.lowHz = %g "
+                        "(Hz)",
+                        stray, turn.peakRate, turn.maxBlurPx, turn.lowHz) +
+                     (move.planeDepth > 0 ? format("; or lower translation.peakSpeed = %g (m/s)", move.peakSpeed) : ""));
 }
 
 void HandHeldSimulator::makeScene()
@@ -196,7 +198,7 @@ void HandHeldSimulator::makeScene()
     {
         const Mat image = imread(clip_.image, IMREAD_COLOR);
         if (image.empty())
-            CV_Error(Error::StsError, "HandHeldClip: image '" + clip_.image + "' cannot be read as an image");
+            CV_Error(Error::StsError, "HandHeldClip: image = '" + clip_.image + "' cannot be read as an image");
         const double zoom = std::max(1.0 * sceneSize.width / image.cols, 1.0 * sceneSize.height / image.rows);
         Mat scaled;
         resize(image, scaled, Size(), zoom, zoom, zoom < 1 ? INTER_AREA : INTER_CUBIC);

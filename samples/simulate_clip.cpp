@@ -74,6 +74,9 @@ CliOptions simulateClipOptions()
         .option("out", "DIR", "", "the folder (created); required")
         .option("video", "NAME", "clip.avi", ".avi (MJPG), .mp4 (mp4v) or an image sequence (frame_%04d.png)")
         .option("quality", "Q", "95", "MJPG quality, 1-100")
+        .option("truth-frames", "NAME", "",
+                "also each frame's truth view, the sharp view at its middle row's mid-exposure, as an image sequence "
+                "(truth_%04d.png)")
         .option("stated-line-delay", "S", "", "the line delay frames.csv states, seconds (default: the true one)")
         .footer("Exit status: 0 written, 2 bad usage (the message names the option), 1 the clip cannot be made or "
                 "written.");
@@ -118,7 +121,7 @@ const char* const kOptionOfField[][2] = {
     {"gyro.noise", "--gyro-noise"}, {"gyro.bias", "--gyro-bias"},   {"gyro.rateScale", "--gyro-scale"},
     {"gyro.timeOffset", "--offset"}, {"gyro.leadSeconds", "--gyro-lead"}, {"fullWellElectrons", "--full-well"},
     {"maxStepPx", "--max-step"}, {"image", "--image"}, {"ClipFiles.videoQuality", "--quality"},
-    {"ClipFiles.video", "--video"}, {"ClipFiles.gyro.axes", "--gyro-axes"},
+    {"ClipFiles.video", "--video"}, {"ClipFiles.truth", "--truth-frames"}, {"ClipFiles.gyro.axes", "--gyro-axes"},
     {"ClipFiles.frameLogLineDelay", "--stated-line-delay"},
 };
 
@@ -200,6 +203,7 @@ ClipFiles files(const CliArgs& args)
 {
     ClipFiles files;
     files.video = args.str("video");
+    files.truth = args.str("truth-frames");
     files.videoQuality = args.integer("quality");
     try
     {

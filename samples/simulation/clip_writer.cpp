@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <sstream>
 
 namespace dynblur_samples {
@@ -113,8 +114,8 @@ void writeTruth(const HandHeldSimulator& simulator, const std::string& path, con
         fs.writeComment("dynblur_simulate_clip: the truth of a simulated hand-held clip. SI units (s, rad, "
                         "rad/s, m, m/s); pixels. Camera clock: frame k starts (row 0's exposure) at k / fps, the "
                         "video's timestamp. Log clock: camera time + timeOffset.");
-        fs << "video" << files.video << "gyroLog" << gyroName << "gyroFormat" << gyroFormatName(files.gyro.format)
-           << "camera" << "camera.xml";
+        fs << "video" << files.video << "truthFrames" << files.truth << "gyroLog" << gyroName << "gyroFormat"
+           << gyroFormatName(files.gyro.format) << "camera" << "camera.xml";
         fs << "frameWidth" << c.frameSize.width << "frameHeight" << c.frameSize.height << "focalPx" << c.focalPx;
         fs << "fps" << c.fps << "frameCount" << c.frames << "exposure" << c.exposure << "readoutTime"
            << c.readoutTime << "lineDelay" << c.lineDelay();
@@ -155,6 +156,25 @@ void writeTruth(const HandHeldSimulator& simulator, const std::string& path, con
 std::string defaultGyroName(GyroFormat format)
 {
     return format == GyroFormat::Gcsv ? "gyro.gcsv" : format == GyroFormat::Csv ? "gyro.csv" : "Gyroscope.csv";
+}
+
+/** Throws naming `field` unless `name` is a file name in the clip's folder: a lossless image sequence,
+or (with `videos`) a video. */
+void checkFrameName(const std::string& name, const char* field, bool videos)
+{
+    const std::string ext = extensionOf(name);
+    if (name.find('/') != std::string::npos)
+        CV_Error(Error::StsBadArg,
+                 format("%s: '%s' must be a name in the clip's folder, without '/'", field, name.c_str()));
+    if (isImagePattern(name))
+    {
+        if (ext != ".png" && ext != ".tif" && ext != ".tiff" && ext != ".bmp")
+            CV_Error(Error::StsBadArg, format("%s: an image sequence '%s' must be .png, .tif or .bmp (lossless)", field,
+                                              name.c_str()));
+    }
+    else if (!videos || (ext != ".avi" && ext != ".mp4"))
+        CV_Error(Error::StsBadArg, format("%s: '%s' must %san image sequence such as frame_%%04d.png", field,
+                                          name.c_str(), videos ? "end in .avi (MJPG) or .mp4 (mp4v), or be " : "be "));
 }
 
 }  // namespace
@@ -214,18 +234,9 @@ void writeGyroLog(const GyroLog& log, const std::string& path, const GyroFileOpt
 
 void ClipFiles::validate() const
 {
-    const std::string ext = extensionOf(video);
-    if (video.find('/') != std::string::npos)
-        CV_Error(Error::StsBadArg, "ClipFiles.video: '" + video + "' must be a name in the clip's folder, without '/'");
-    if (isImagePattern(video))
-    {
-        if (ext != ".png" && ext != ".tif" && ext != ".tiff" && ext != ".bmp")
-            CV_Error(Error::StsBadArg, "ClipFiles.video: an image sequence '" + video +
-                                           "' must be .png, .tif or .bmp (lossless)");
-    }
-    else if (ext != ".avi" && ext != ".mp4")
-        CV_Error(Error::StsBadArg, "ClipFiles.video: '" + video + "' must end in .avi (MJPG) or .mp4 (mp4v), or be an "
-                                       "image sequence such as frame_%04d.png");
+    checkFrameName(video, "ClipFiles.video", true);
+    if (!truth.empty())
+        checkFrameName(truth, "ClipFiles.truth", false);
     if (!(videoQuality >= 1 && videoQuality <= 100))
         CV_Error(Error::StsBadArg, format("ClipFiles.videoQuality = %d must be in [1, 100]", videoQuality));
     try
@@ -249,6 +260,9 @@ WrittenClip writeClip(const HandHeldSimulator& simulator, const std::string& dir
     const std::string gyroName = files.gyroName.empty() ? defaultGyroName(files.gyro.format) : files.gyroName;
     WrittenClip written;
     FrameSink sink(dir + "/" + files.video, clip.fps, clip.frameSize, files.videoQuality);
+    std::unique_ptr<FrameSink> truthSink;
+    if (!files.truth.empty())
+        truthSink.reset(new FrameSink(dir + "/" + files.truth, clip.fps, clip.frameSize, files.videoQuality));
     std::vector<FrameTruth> truths;
     for (int k = 0; k < clip.frames; k++)
     {
@@ -257,6 +271,8 @@ WrittenClip writeClip(const HandHeldSimulator& simulator, const std::string& dir
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         written.renderSeconds += seconds;
         sink.write(frame.image, k);
+        if (truthSink)
+            truthSink->write(frame.truth, k);
         truths.push_back(frame);
         written.minBlurPx = k == 0 ? frame.blurPx : std::min(written.minBlurPx, frame.blurPx);
         written.maxBlurPx = std::max(written.maxBlurPx, frame.blurPx);
@@ -264,6 +280,8 @@ WrittenClip writeClip(const HandHeldSimulator& simulator, const std::string& dir
             progress(frame, seconds);
     }
     written.paths.push_back(dir + "/" + files.video);
+    if (truthSink)
+        written.paths.push_back(dir + "/" + files.truth);
     written.paths.push_back(dir + "/" + gyroName);
     writeGyroLog(simulator.gyroLog(), written.paths.back(), files.gyro);
     written.paths.push_back(dir + "/camera.xml");

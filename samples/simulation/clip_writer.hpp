@@ -50,6 +50,8 @@ struct ClipFiles
     /** The video's file name: .avi (MJPG), .mp4 (mp4v), or an image sequence whose name holds a
     printf integer (frame_%04d.png; .png, .tif, .bmp: lossless). */
     std::string video = "clip.avi";
+    //! The truth views (ClipFrame::truth) as an image sequence (truth_%04d.png); "": not written.
+    std::string truth;
     GyroFileOptions gyro;
     //! The gyro log's name; "": gyro.gcsv, gyro.csv or Gyroscope.csv by format.
     std::string gyroName;
@@ -71,7 +73,8 @@ struct WrittenClip
     double renderSeconds = 0;        //!< wall time spent rendering frames (not encoding or writing)
 };
 
-/** @brief Renders every frame of `simulator` (one at a time) into the video, then writes the gyro log,
+/** @brief Renders every frame of `simulator` (one at a time) into the video (and its truth view into
+ClipFiles::truth when named), then writes the gyro log,
 camera.xml, frames.csv and truth.yml (the description, the reached peak rate and margin, the gyro's
 offset, bias, scale, axes and units, the translation, and per frame its start, reference time, blur
 and stillness). Every file is written whole, the video last (a temporary file renamed into place once

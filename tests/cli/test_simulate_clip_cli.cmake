@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # CTest script: dynblur_simulate_clip writes a small hand-held clip as a phone would (mp4, Sensor
 # Logger's Gyroscope.csv in the phone's axes, the log's clock 1.5 s behind) and as an image sequence
-# with a plain CSV log; its truth file states what was asked; bad options are refused by name, exit 2
+# with a plain CSV log and the truth views; its truth file states what was asked; bad options are refused by name, exit 2
 # (exit 1 for a scene that cannot be read), and leave no file.
 # -DTOOL=dynblur_simulate_clip -DWORK=scratch folder
 set(dir ${WORK}/simulate_clip)
@@ -36,8 +36,8 @@ if(NOT truth MATCHES "gyroAxes: Xyz" OR NOT truth MATCHES "gyroFormat: sensor-lo
 endif()
 
 run(0 ${TOOL} ${small} --out ${dir}/sequence --video frame_%04d.png --gyro-format csv --gyro-units s,rad/s
-    --readout 0)
-expect_written(${dir}/sequence dynblur_simulate_clip frame_0000.png frame_0005.png gyro.csv truth.yml)
+    --readout 0 --truth-frames truth_%04d.png)
+expect_written(${dir}/sequence dynblur_simulate_clip frame_0000.png frame_0005.png truth_0005.png gyro.csv truth.yml)
 file(STRINGS ${dir}/sequence/gyro.csv header LIMIT_COUNT 2)
 if(NOT header MATCHES "units of 1 s.*units of 1 rad/s.*;t,gx,gy,gz$")
   message(FATAL_ERROR "gyro.csv starts with '${header}'")

@@ -13,6 +13,7 @@
 
 #include <opencv2/core/utils/filesystem.hpp>
 #include <opencv2/dynblur.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
@@ -368,11 +369,13 @@ TEST(HandHeldClip, WrittenFilesReadBack)
         const std::string dir = scratchDir(video.substr(5));
         ClipFiles files;
         files.video = video;
+        files.truth = "truth_%02d.png";
         files.gyro.axes = "YxZ";
         files.frameLogLineDelay = 1e-4;
         const WrittenClip written = writeClip(sim, dir, files);
-        ASSERT_EQ(written.paths.size(), 5u);
+        ASSERT_EQ(written.paths.size(), 6u);
         EXPECT_GT(written.maxBlurPx, 1.0);
+        EXPECT_EQ(norm(imread(dir + "/truth_07.png"), sim.render(7).truth, NORM_INF), 0.0);
 
         VideoCapture capture(dir + "/" + video);
         ASSERT_TRUE(capture.isOpened()) << video;
@@ -510,8 +513,9 @@ TEST(HandHeldClip, RefusesBadDescriptions)
     auto writing = [&](const std::string& input, ClipFiles files, std::vector<std::string> words) {
         return Row{"writeClip", input, [&sim, dir, files] { writeClip(sim, dir, files); }, words};
     };
-    ClipFiles mkv, mirrored, quality, jpegs;
+    ClipFiles mkv, mirrored, quality, jpegs, truthVideo;
     mkv.video = "clip.mkv";
+    truthVideo.truth = "truth.avi";
     mirrored.gyro.axes = "XYz";
     quality.videoQuality = 0;
     jpegs.video = "frame_%04d.jpg";
@@ -520,6 +524,7 @@ TEST(HandHeldClip, RefusesBadDescriptions)
         writing("mirrored gyro axes XYz", mirrored, {"XYz"}),
         writing("videoQuality 0", quality, {"videoQuality", "[1, 100]"}),
         writing("an image sequence of JPEGs", jpegs, {"ClipFiles.video", "lossless"}),
+        writing("truth frames as a video", truthVideo, {"ClipFiles.truth", "image sequence"}),
         {"gyroFormatFromName", "'gyroflow'", [] { gyroFormatFromName("gyroflow"); }, {"gcsv", "sensor-logger"}},
         {"writeGyroLog", "timeUnit 0", [&sim, dir] {
              GyroFileOptions o;

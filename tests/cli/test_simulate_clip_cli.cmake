@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: Apache-2.0
 # CTest script: dynblur_simulate_clip writes a small hand-held clip as a phone would (mp4, Sensor
 # Logger's Gyroscope.csv in the phone's axes, the log's clock 1.5 s behind) and as an image sequence
-# with a plain CSV log and the truth views; its truth file states what was asked; bad options are refused by name, exit 2
-# (exit 1 for a scene that cannot be read), and leave no file.
+# with a plain CSV log and the truth views; its truth file states what was asked; bad options are
+# refused by name, exit 2 (exit 1 for a scene that cannot be read), and leave no file.
 # -DTOOL=dynblur_simulate_clip -DWORK=scratch folder
 set(dir ${WORK}/simulate_clip)
 file(REMOVE_RECURSE ${dir})

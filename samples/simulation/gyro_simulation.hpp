@@ -19,11 +19,12 @@ struct GyroSimulation
     double seconds = 2.0;          //!< length of the recording
 };
 
-/** @brief Renders into `dir` a 320×240 rolling-shutter recording at 30 fps (10 ms exposure, 30 ms
-readout) of a generated scene seen by a hand that shakes (up to about 30 °/s per axis, 2 to 17 Hz)
-and holds still for 0.3 s in every 0.8 s, with a 200 Hz gyro log of the hand's rates on a clock
-`truth.timeOffset` ahead, plus the bias and 0.1 °/s of noise: frame_%04d.png, frames.csv,
-gyro.gcsv (Gyroflow's gcsv, deg/s and ms) and camera.xml. Returns the number of frames. */
+/** @brief Renders into `dir` a 320×240 rolling-shutter recording at 30 fps (10 ms exposure, a readout of
+30 ms × truth.lineDelayScale) of a generated scene seen by a hand that shakes (band-limited between 2 and 17 Hz, up to
+40 °/s) and holds still for 0.3 s in every 0.8 s, with a 200 Hz gyro log of the hand's rates on a clock
+`truth.timeOffset` ahead, plus the bias and 0.1 °/s of noise (HandHeldSimulator): frame_%04d.png,
+frames.csv (stating the nominal line delay, 30 ms / 240 rows), gyro.gcsv (Gyroflow's gcsv, deg/s and
+ms), camera.xml and truth.yml. Returns the number of frames. */
 int simulateGyroRecording(const std::string& dir, const GyroSimulation& truth);
 
 }  // namespace dynblur_samples

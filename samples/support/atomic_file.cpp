@@ -4,6 +4,7 @@
 #include <opencv2/core.hpp>
 
 #include <cstdio>
+#include <fstream>
 
 namespace dynblur_samples {
 
@@ -29,6 +30,21 @@ void renameIntoPlace(const std::string& temporary, const std::string& path)
         std::remove(temporary.c_str());
         CV_Error(cv::Error::StsError, "cannot move '" + temporary + "' to '" + path + "'");
     }
+}
+
+void writeTextFile(const std::string& path, const std::string& text)
+{
+    const std::string temporary = temporaryPathFor(path);
+    {
+        std::ofstream out(temporary, std::ios::binary);
+        out << text;
+        if (!out)
+        {
+            std::remove(temporary.c_str());
+            CV_Error(cv::Error::StsError, "cannot write '" + path + "'");
+        }
+    }
+    renameIntoPlace(temporary, path);
 }
 
 }  // namespace dynblur_samples

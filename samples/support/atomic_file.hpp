@@ -18,6 +18,9 @@ std::string temporaryPathFor(const std::string& path);
 //! Renames `temporary` to `path`; on failure removes `temporary` and throws cv::Exception.
 void renameIntoPlace(const std::string& temporary, const std::string& path);
 
+//! Writes `text` to `path` whole (a temporary file renamed into place); throws cv::Exception naming `path`.
+void writeTextFile(const std::string& path, const std::string& text);
+
 }  // namespace dynblur_samples
 
 #endif

@@ -90,21 +90,6 @@ void requireColumn(const Table& t, const std::string& name, const std::string& s
         CV_Error(cv::Error::StsParseError, source + ": the header has no column '" + name + "' (" + why + ")");
 }
 
-void writeText(const std::string& path, const std::string& text)
-{
-    const std::string temporary = temporaryPathFor(path);
-    {
-        std::ofstream out(temporary, std::ios::binary);
-        out << text;
-        if (!out)
-        {
-            std::remove(temporary.c_str());
-            CV_Error(cv::Error::StsError, "cannot write '" + path + "'");
-        }
-    }
-    renameIntoPlace(temporary, path);
-}
-
 /* The frame period (the median step of frame_start per frame) bounds the exposure; a period over a
    second is frame_start in milliseconds. */
 void checkFramePeriod(const std::vector<FrameRecord>& frames, const std::string& source)
@@ -346,7 +331,7 @@ void writeFrameLog(const std::string& path, const std::vector<FrameRecord>& fram
         std::snprintf(line, sizeof line, "%d,%.9f,%.9g,%.9g\n", f.frame, f.frameStart, f.exposure, f.lineDelay);
         out << line;
     }
-    writeText(path, out.str());
+    writeTextFile(path, out.str());
 }
 
 cv::dynblur::SwitchSchedule CommandLog::scheduleAround(double from, double to) const
@@ -405,7 +390,7 @@ void writeCommandLog(const std::string& path, const CommandLog& log)
         std::snprintf(line, sizeof line, "%.9f,%d\n", log.times[i], log.levels[i]);
         out << line;
     }
-    writeText(path, out.str());
+    writeTextFile(path, out.str());
 }
 
 ReferencePairing::ReferencePairing(const cv::Ptr<cv::dynblur::Plant>& plant,

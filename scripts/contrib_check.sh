@@ -7,7 +7,7 @@
 #   2. source    Debian's `opencv` source package: deb-src is enabled in the apt sources if no entry
 #                has it, then `apt-get source opencv` unpacks it into <cache>/source/ (reused when present)
 #   3. configure OpenCV with OPENCV_EXTRA_MODULES_PATH=<checkout>/modules and
-#                BUILD_LIST=core,imgproc,imgcodecs,calib3d,dynblur; no tests, apps, bindings, GUI or
+#                BUILD_LIST=core,imgproc,imgcodecs,calib3d,video,dynblur; no tests, apps, bindings, GUI or
 #                video I/O, and nothing that downloads (IPP, ADE, protobuf)
 #   4. build     with Ninja, under nice -n 10 (OpenCV's own modules take most of the time)
 #   5. program   scripts/contrib_check/: tests/install/main.cpp found through the build tree's
@@ -22,7 +22,7 @@ usage() {
   cat <<'EOF'
 Usage: scripts/contrib_check.sh [--cache DIR] [--opencv-source DIR] [--fresh] [--jobs N] [--no-install] [--help]
 Builds OpenCV 4.6 (Debian's source package) with modules/dynblur as an extra module
-(BUILD_LIST=core,imgproc,imgcodecs,calib3d,dynblur) and runs a program linked to its opencv_dynblur.
+(BUILD_LIST=core,imgproc,imgcodecs,calib3d,video,dynblur) and runs a program linked to its opencv_dynblur.
   --cache DIR          where the source, the build and the program go (default: build-contrib/)
   --opencv-source DIR  an unpacked OpenCV 4.6 source tree to use instead of `apt-get source opencv`
   --fresh              remove the OpenCV build folder first (the unpacked source is kept)
@@ -115,7 +115,7 @@ version="$(sed -nE 's/^#define CV_VERSION_(MAJOR|MINOR|REVISION)[[:space:]]+([0-
 # 3. configure
 build="$cache/opencv-build"
 [ "$fresh" -eq 1 ] && rm -rf "$build"
-echo "[contrib] 3/5 configure: OpenCV $version in $build, BUILD_LIST=core,imgproc,imgcodecs,calib3d,dynblur"
+echo "[contrib] 3/5 configure: OpenCV $version in $build, BUILD_LIST=core,imgproc,imgcodecs,calib3d,video,dynblur"
 start=$SECONDS
 off=(BUILD_TESTS BUILD_PERF_TESTS BUILD_EXAMPLES BUILD_DOCS BUILD_opencv_apps BUILD_JAVA BUILD_opencv_python2
      BUILD_opencv_python3 BUILD_opencv_gapi BUILD_PROTOBUF BUILD_ZLIB BUILD_JPEG BUILD_PNG BUILD_TIFF BUILD_WEBP
@@ -125,7 +125,7 @@ off=(BUILD_TESTS BUILD_PERF_TESTS BUILD_EXAMPLES BUILD_DOCS BUILD_opencv_apps BU
      WITH_GDCM WITH_TIFF WITH_WEBP WITH_OPENJPEG WITH_JASPER WITH_OPENEXR WITH_QUIRC WITH_IMGCODEC_HDR
      WITH_IMGCODEC_SUNRASTER WITH_IMGCODEC_PFM WITH_CAROTENE ENABLE_PRECOMPILED_HEADERS)
 args=(-G Ninja -DCMAKE_BUILD_TYPE=Release
-      "-DOPENCV_EXTRA_MODULES_PATH=$here/modules" -DBUILD_LIST=core,imgproc,imgcodecs,calib3d,dynblur
+      "-DOPENCV_EXTRA_MODULES_PATH=$here/modules" -DBUILD_LIST=core,imgproc,imgcodecs,calib3d,video,dynblur
       -DOPENCV_DOWNLOAD_TRIES_LIST= -DWITH_PNG=ON -DWITH_JPEG=ON -DWITH_EIGEN=ON)
 for option in "${off[@]}"; do args+=("-D$option=OFF"); done
 cmake -S "$source_dir" -B "$build" "${args[@]}" >"$cache/configure.log" 2>&1 \

@@ -49,6 +49,7 @@ REFINE_LINE_DELAY: int
 REFINE_PLANT: int
 REFINE_ALL: int
 REFINE_GYRO_BIAS: int
+REFINE_RATE_SCALE: int
 
 class SwitchSchedule:
     times: list[float]
@@ -313,6 +314,7 @@ class MotionCorrection:
     naturalFreqScale: float
     dampingScale: float
     gyroBias: tuple[float, float, float]
+    rateScale: float
     consistency: float
     held: int
     stillGain: float
@@ -331,6 +333,7 @@ class TimingCalibration:
     naturalFreqScaleStd: float
     dampingScaleStd: float
     gyroBiasStd: tuple[float, float, float]
+    rateScaleStd: float
     frameUsed: list[int]
     frameConsistency: list[float]
     scanTimeOffsets: list[float]

@@ -21,6 +21,7 @@ std::string repr(const MotionCorrection& c)
     o << "MotionCorrection(timeOffset=" << c.timeOffset << ", lineDelayScale=" << c.lineDelayScale
       << ", naturalFreqScale=" << c.naturalFreqScale << ", dampingScale=" << c.dampingScale
       << ", gyroBias=(" << c.gyroBias[0] << ", " << c.gyroBias[1] << ", " << c.gyroBias[2] << ")"
+      << ", rateScale=" << c.rateScale
       << ", consistency=" << c.consistency << ", held=" << c.held << ", stillGain=" << c.stillGain << ", applied=" << (c.applied ? "True" : "False") << ", reason='"
       << c.reason << "')";
     return o.str();
@@ -95,6 +96,9 @@ plant has naturalFreqScale times ωn and dampingScale times ζ.)doc")
         .def_readwrite("dampingScale", &MotionCorrection::dampingScale, "x the plant's damping ratio")
         .def_readwrite("gyroBias", &MotionCorrection::gyroBias,
                        "a measured motion's gyro bias, rad/s, camera axes, removed from its rates")
+        .def_readwrite("rateScale", &MotionCorrection::rateScale,
+                       "a measured motion's rates x this (1: the rotation as measured; more when the camera "
+                       "also translates)")
         .def_readwrite("consistency", &MotionCorrection::consistency,
                        "RMS of the frame minus the reference carried through the corrected blur, in noise standard "
                        "deviations (about 1 when the model is right; NaN: not measured)")
@@ -125,6 +129,7 @@ plant has naturalFreqScale times ωn and dampingScale times ζ.)doc")
         .def_readwrite("naturalFreqScaleStd", &TimingCalibration::naturalFreqScaleStd)
         .def_readwrite("dampingScaleStd", &TimingCalibration::dampingScaleStd)
         .def_readwrite("gyroBiasStd", &TimingCalibration::gyroBiasStd, "rad/s (a measured motion's bias)")
+        .def_readwrite("rateScaleStd", &TimingCalibration::rateScaleStd, "a measured motion's rate scale")
         .def_readwrite("frameUsed", &TimingCalibration::frameUsed, "1 for each frame in the fit, else 0")
         .def_readwrite("frameConsistency", &TimingCalibration::frameConsistency,
                        "each frame's consistency at the result (NaN: a still frame)")

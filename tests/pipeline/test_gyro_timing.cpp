@@ -244,7 +244,7 @@ TEST(GyroTimingBadInput, ArgumentsAreNamed)
     expectErrorNaming([&] { calibrateTiming(Ptr<CameraMotion>(), camera, two, two, shutters, stills); }, "'motion'");
     expectErrorNaming([&] { calibrateTiming(log, camera, two, two, shutters, {still}); }, "referenceShutters 1");
     expectErrorNaming([&] { calibrateTiming(log, camera, two, two, shutters, stills, REFINE_PLANT); }, "flags = 4");
-    expectErrorNaming([&] { calibrateTiming(log, camera, two, two, shutters, stills, 16); }, "flags = 16");
+    expectErrorNaming([&] { calibrateTiming(log, camera, two, two, shutters, stills, 32); }, "flags = 32");
     expectErrorNaming([&] { calibrateTiming(log, camera, two, two, shutters, stills, 3, 0.0); }, "maxTimeOffset");
     const Ptr<Plant> plant = Plant::create(14.4, 0.12, kDegree);
     expectErrorNaming(
@@ -261,7 +261,7 @@ TEST(GyroTimingBadInput, ArgumentsAreNamed)
     Ptr<DynamicDeblurrer> deblurrer = DynamicDeblurrer::create(camera);
     Mat out;
     expectErrorNaming([&] { deblurrer->setReferenceFrame(frame, RollingShutter(0, 1e-4, 0, 47)); }, "stillShutter");
-    expectErrorNaming([&] { deblurrer->setRefinement(16); }, "flags = 16");
+    expectErrorNaming([&] { deblurrer->setRefinement(32); }, "flags = 32");
     deblurrer->setReferenceFrame(frame, 0.0);  // an angle: a plant's still
     expectErrorNaming([&] { deblurrer->deblur(frame, log, shutter, out); }, "capture time");
     deblurrer->setReferenceFrame(frame, RollingShutter(-0.899, 1e-4, 0, 48));

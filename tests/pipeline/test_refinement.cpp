@@ -622,7 +622,7 @@ TEST(RefinementBadInput, ArgumentsAreCheckedAndNamed)
     withNan.at<float>(3, 3) = std::numeric_limits<float>::quiet_NaN();
     expectErrorNaming([&] { d->setReferenceFrame(withNan); }, "'still' holds NaN");
     expectErrorNaming([&] { d->setReferenceFrame(still, 2.0); }, "angle = 2 rad must be within [-pi/2, pi/2]");
-    expectErrorNaming([&] { d->setRefinement(16); }, "flags = 16");
+    expectErrorNaming([&] { d->setRefinement(32); }, "flags = 32");
     expectErrorNaming([&] { d->setConsistencyLimit(0.5); }, "limit = 0.5 must be > 1");
     expectErrorNaming([&] { d->setBlindConsistencyLimit(0.0); }, "limit = 0 must be > 0");
     expectErrorNaming([&] { blindMotionConsistency(s.plant, s.camera, still, s.schedule, told, {}, 32); },

@@ -134,8 +134,8 @@ def test_bad_input_is_named(db, tele):
         d.setReferenceFrame(np.full((100, 160), 0.5, np.float32))
     with pytest.raises(db.error, match=r"angle = 2 rad must be within \[-pi/2, pi/2\]"):
         d.setReferenceFrame(np.full((120, 160), 0.5, np.float32), 2.0)
-    with pytest.raises(db.error, match="flags = 16"):
-        d.setRefinement(16)
+    with pytest.raises(db.error, match="flags = 32"):
+        d.setRefinement(32)
     with pytest.raises(ValueError, match="references"):
         db.calibrateTiming(plant, cam, [None], [np.zeros((120, 160), np.float32)], [sched], [
             db.RollingShutter(frameStart=0.0, exposure=0.008, lineDelay=0.0, rows=120)])

@@ -33,6 +33,7 @@ RollingShutter → kernels from PsfGenerator → richardsonLucyVariant → resto
 #include "opencv2/dynblur/psf.hpp"
 #include "opencv2/dynblur/deconv.hpp"
 #include "opencv2/dynblur/refinement.hpp"
+#include "opencv2/dynblur/clip_timing.hpp"
 #include "opencv2/dynblur/deblurrer.hpp"
 #include "opencv2/dynblur/bus.hpp"
 

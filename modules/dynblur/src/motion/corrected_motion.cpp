@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// A measured motion corrected by a MotionCorrection: its gyro bias removed about a reference time.
+// A measured motion corrected by a MotionCorrection: its gyro bias removed and its rates scaled about a
+// reference time.
 #include "precomp.hpp"
 
 #include "motion/corrected_motion.hpp"
@@ -11,19 +12,28 @@ namespace detail {
 
 namespace {
 
-//! Q(t)·exp(−[b·(t − t0)]×): the first-order removal of a constant bias b (withoutGyroBias).
-class BiasFreeMotion CV_FINAL : public CameraMotion
+/* Q(t)·exp(−[b·(t − t0)]×): the first-order removal of a constant bias b; with a rate scale s ≠ 1,
+   that motion's turn from t0 scaled: Q(t0)·exp(s·log(Q(t0)ᵀ·Q(t)·exp(−[b·(t − t0)]×))), whose rate
+   is s times the unbiased one for a turn about a fixed axis (withCorrectedRates). */
+class RateCorrectedMotion CV_FINAL : public CameraMotion
 {
 public:
-    BiasFreeMotion(const Ptr<CameraMotion>& motion, const Vec3d& bias, double t0)
-        : motion_(motion), bias_(bias), t0_(t0)
+    RateCorrectedMotion(const Ptr<CameraMotion>& motion, const Vec3d& bias, double rateScale, double t0)
+        : motion_(motion), bias_(bias), scale_(rateScale), t0_(t0), start_(motion->orientation(t0))
     {
     }
-    Matx33d orientation(double t) const CV_OVERRIDE { return motion_->orientation(t) * drift(t).t(); }
+    Matx33d orientation(double t) const CV_OVERRIDE
+    {
+        const Matx33d unbiased = motion_->orientation(t) * drift(t).t();
+        if (scale_ == 1)
+            return unbiased;
+        const Vec3d turn = so3::rotationVectorFromQuat(so3::quatFromMatrix(start_.t() * unbiased));
+        return start_ * so3::matrixFromQuat(so3::quatFromRotationVector(turn * scale_));
+    }
     Vec3d angularVelocity(double t) const CV_OVERRIDE
     {
         // d/dt [Q·Eᵀ] = Q·Eᵀ·[E·ω − b]× with E = exp([b·(t − t0)]×), which commutes with [b]×.
-        return drift(t) * motion_->angularVelocity(t) - bias_;
+        return (drift(t) * motion_->angularVelocity(t) - bias_) * scale_;
     }
     Vec2d getTimeSpan() const CV_OVERRIDE { return motion_->getTimeSpan(); }
     Matx33d referenceOrientation(double tRef, const RollingShutter& shutter) const CV_OVERRIDE
@@ -34,7 +44,7 @@ public:
         return orientation(std::isnan(tRef) ? midExposure(shutter) : tRef);
     }
     bool isPlantMotion() const CV_OVERRIDE { return false; }
-    String getDefaultName() const CV_OVERRIDE { return "dynblur.CameraMotion.BiasFree"; }
+    String getDefaultName() const CV_OVERRIDE { return "dynblur.CameraMotion.RateCorrected"; }
 
 private:
     //! exp([b·(t − t0)]×): the turn the bias adds from t0 to t.
@@ -42,27 +52,28 @@ private:
 
     Ptr<CameraMotion> motion_;
     Vec3d bias_;
-    double t0_;
+    double scale_, t0_;
+    Matx33d start_;  // Q(t0)
 };
 
 }  // namespace
 
-Ptr<CameraMotion> withoutGyroBias(const Ptr<CameraMotion>& motion, const Vec3d& bias, double t0)
+Ptr<CameraMotion> withCorrectedRates(const Ptr<CameraMotion>& motion, const Vec3d& bias, double rateScale, double t0)
 {
-    if (motion.empty() || bias == Vec3d())
+    if (motion.empty() || (bias == Vec3d() && rateScale == 1))
         return motion;
-    return makePtr<BiasFreeMotion>(motion, bias, t0);
+    return makePtr<RateCorrectedMotion>(motion, bias, rateScale, t0);
 }
 
 ViewMotion correctedView(const Ptr<CameraMotion>& motion, const MotionCorrection& correction, double tRef,
                          const RollingShutter& corrected)
 {
     const double t0 = std::isnan(tRef) ? midExposure(corrected) : tRef + correction.timeOffset;
-    if (correction.gyroBias == Vec3d())
+    if (correction.gyroBias == Vec3d() && correction.rateScale == 1)
         return ViewMotion::of(motion, t0, corrected);
     ViewMotion view;
-    view.motion = withoutGyroBias(motion, correction.gyroBias, t0);
-    view.reference = motion->orientation(t0);  // the bias adds no turn at t0
+    view.motion = withCorrectedRates(motion, correction.gyroBias, correction.rateScale, t0);
+    view.reference = motion->orientation(t0);  // neither the bias nor the scale turns the view at t0
     return view;
 }
 

@@ -23,14 +23,16 @@ inline double midExposure(const RollingShutter& shutter)
 order in b: Q_b(t) = Q(t)·exp(−[b·(t − t0)]×), whose body rate is exp([b·(t − t0)]×)·ω(t) − b exactly.
 It equals re-integrating ω − b from t0 up to the bias's turn carried through the camera's own turn
 between t0 and t (|b|·|t − t0| times that angle: 0.5 °/s over 0.1 s and 1° of shake, 1.5e-5 rad). The
-time span is `motion`'s. An empty `motion` or b = 0 returns `motion` itself. */
-Ptr<CameraMotion> withoutGyroBias(const Ptr<CameraMotion>& motion, const Vec3d& bias, double t0);
+time span is `motion`'s. With `rateScale` s ≠ 1 its turn from t0 is scaled by s as well (rates s·(ω − b)
+for a turn about a fixed axis): the image motion a camera's translation adds to its rotation, seen as
+longer turns. An empty `motion`, or b = 0 and s = 1, returns `motion` itself. */
+Ptr<CameraMotion> withCorrectedRates(const Ptr<CameraMotion>& motion, const Vec3d& bias, double rateScale, double t0);
 
 /** @brief The view motion of a measured `motion` for a frame read by `corrected` (the shutter
 `correction` has corrected: its clock offset and line delay applied), relative to the orientation at
 `tRef` (a camera time, seconds, which the correction's clock offset moves onto the motion's clock as
 it moves the frame; NaN: the corrected shutter's mid-exposure), with `correction.gyroBias` removed
-about that instant. */
+and its rates scaled by `correction.rateScale` about that instant. */
 ViewMotion correctedView(const Ptr<CameraMotion>& motion, const MotionCorrection& correction, double tRef,
                          const RollingShutter& corrected);
 

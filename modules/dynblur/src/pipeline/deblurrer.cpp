@@ -125,6 +125,7 @@ public:
         calibration.naturalFreqScale = correction.naturalFreqScale;
         calibration.dampingScale = correction.dampingScale;
         calibration.gyroBias = correction.gyroBias;
+        calibration.rateScale = correction.rateScale;
         corrector_.settings.calibrated = true;
     }
     double getConsistencyLimit() const CV_OVERRIDE { return corrector_.effectiveConsistencyLimit(); }

@@ -58,13 +58,14 @@ struct FitParameter
 };
 
 /* The table. A unit step moves the image by comparable amounts: the offset in milliseconds, the line
-   delay and ωn in percent, ζ in tens of percent (the blur is least sensitive to it), the gyro bias in
-   mrad/s. Scales are searched within ±15 % (line delay), ±10 % (ωn), ±50 % (ζ), the bias within
-   ±40 mrad/s (2.3 °/s: a phone's gyro bias is a fraction of that). The weak prior decides only what
-   the frames do not observe (a global shutter's line delay, ζ in a frame that sees no ringing, a
-   bias over a short still-to-frame interval). A coarse-fit deviation above 0.3 ms, 3 %, 2 %, 25 %
-   or 5 mrad/s means the frames' moving rows see content the reference never saw, or motion that
-   does not depend on the parameter. */
+   delay, ωn and the rate scale in percent, ζ in tens of percent (the blur is least sensitive to it),
+   the gyro bias in mrad/s. Scales are searched within ±15 % (line delay), ±10 % (ωn), ±50 % (ζ, and
+   the rate scale: a sweep about the arm at arm's length, 0.6 m, over a scene 1 m away lengthens the
+   image's motion by about 60 %), the bias within ±40 mrad/s (2.3 °/s: a phone's gyro bias is a
+   fraction of that). The weak prior decides only what the frames do not observe (a global shutter's
+   line delay, ζ in a frame that sees no ringing, a bias over a short still-to-frame interval). A
+   coarse-fit deviation above 0.3 ms, 3 %, 2 %, 25 %, 5 mrad/s or 3 % means the frames' moving rows see
+   content the reference never saw, or motion that does not depend on the parameter. */
 // name, group, key, flag; quantity, motions, rolling only, in REFINE_ALL;
 // unit, step, tolerance, search half-width, prior deviation, observable, scan step; the field; its
 // deviation. Along a ridge (motion_fit.cpp) the last rows are held first.
@@ -104,6 +105,11 @@ inline const FitParameter kFitTable[] = {
      1e-3, 1, 0.1, 40, 20, 5, 0,
      [](const MotionCorrection& c) { return c.gyroBias[2]; }, [](MotionCorrection& c, double v) { c.gyroBias[2] = v; },
      [](TimingCalibration& t) -> double& { return t.gyroBiasStd[2]; }},
+    {"rate scale", "rate scale", "rate-scale", "REFINE_RATE_SCALE", REFINE_RATE_SCALE,
+     FIT_SCALE, FIT_MEASURED_MOTION, false, false,
+     1e-2, 1, 0.05, 50, 20, 3, 0,
+     [](const MotionCorrection& c) { return c.rateScale; }, [](MotionCorrection& c, double v) { c.rateScale = v; },
+     [](TimingCalibration& t) -> double& { return t.rateScaleStd; }},
 };
 
 const int kFitParameters = int(sizeof(kFitTable) / sizeof(kFitTable[0]));

@@ -20,7 +20,7 @@ FitBox::FitBox(const MotionCorrection& told, double maxTimeOffset) : prior(toFit
     }
 }
 
-LevelFit::LevelFit(LevelResiduals& residuals, const std::vector<int>& active, const FitBox& box)
+LevelFit::LevelFit(FitResiduals& residuals, const std::vector<int>& active, const FitBox& box)
     : r_(residuals), active_(active), box_(box)
 {
 }
@@ -147,6 +147,14 @@ void LevelFit::jacobianProducts(const FitVector& q, const std::vector<float>& at
             jtj.at<double>(a, b) = jtj.at<double>(b, a) = s;
         }
     }
+}
+
+double squaredNorm(const std::vector<float>& r, size_t count)
+{
+    double sum = 0;
+    for (size_t k = 0; k < count; k++)
+        sum += double(r[k]) * r[k];
+    return sum;
 }
 
 }  // namespace detail

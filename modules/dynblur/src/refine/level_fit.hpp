@@ -4,13 +4,21 @@
 #define OPENCV_DYNBLUR_REFINE_LEVEL_FIT_HPP
 
 #include "refine/fit_parameters.hpp"
-#include "refine/level_residuals.hpp"
 
 #include <vector>
 
 namespace cv {
 namespace dynblur {
 namespace detail {
+
+//! What a fit minimises: the residuals of a correction (the fit sums their squares).
+class FitResiduals
+{
+public:
+    virtual ~FitResiduals() {}
+    //! Appends the residuals of `c` to `out`, always as many and in the same order.
+    virtual void residuals(const MotionCorrection& c, std::vector<float>& out) = 0;
+};
 
 //! Where a fit starts and may go, in fit units: the start (the prior's centre) and the search box.
 struct FitBox
@@ -24,14 +32,14 @@ struct FitBox
     MotionCorrection start;   //!< `told`, whose unfitted fields every candidate keeps
 };
 
-/** @brief Levenberg–Marquardt @cite Marquardt1963Algorithm over the `active` parameters at one
-level, with a weak prior toward the box's start (FitParameter::priorDeviation), steps clamped to
+/** @brief Levenberg–Marquardt @cite Marquardt1963Algorithm over the `active` parameters of a
+correction (the residuals of one level of frames, or of feature tracks), with a weak prior toward the box's start (FitParameter::priorDeviation), steps clamped to
 its bounds. */
 class LevelFit
 {
 public:
     //! `residuals` and `box` must outlive the fit.
-    LevelFit(LevelResiduals& residuals, const std::vector<int>& active, const FitBox& box);
+    LevelFit(FitResiduals& residuals, const std::vector<int>& active, const FitBox& box);
 
     //! Data plus prior cost at q; `data` receives the residual vector.
     double cost(const FitVector& q, std::vector<float>& data);
@@ -54,11 +62,14 @@ private:
        when `withPrior`. */
     void jacobianProducts(const FitVector& q, const std::vector<float>& at, Mat& jtj, Mat& jtr, bool withPrior);
 
-    LevelResiduals& r_;
+    FitResiduals& r_;
     std::vector<float> startData_, finalData_;
     std::vector<int> active_;
     const FitBox& box_;
 };
+
+//! The sum of squares of the first `count` values of `r`.
+double squaredNorm(const std::vector<float>& r, size_t count);
 
 }  // namespace detail
 }  // namespace dynblur

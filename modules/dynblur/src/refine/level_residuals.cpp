@@ -136,14 +136,6 @@ void LevelResiduals::predict(size_t i, const MotionCorrection& c, Mat& predicted
     evaluations_++;
 }
 
-double squaredNorm(const std::vector<float>& r, size_t count)
-{
-    double sum = 0;
-    for (size_t k = 0; k < count; k++)
-        sum += double(r[k]) * r[k];
-    return sum;
-}
-
 }  // namespace detail
 }  // namespace dynblur
 }  // namespace cv

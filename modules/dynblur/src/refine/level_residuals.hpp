@@ -7,6 +7,7 @@
 #include <opencv2/dynblur/refinement.hpp>
 
 #include "refine/fit_pyramid.hpp"
+#include "refine/level_fit.hpp"
 
 #include <vector>
 
@@ -31,7 +32,7 @@ struct FitFrame
 /** @brief The frames' residuals at one pyramid level: (frame − gain × predicted) / σ over each
 frame's fixed mask, the prediction being the frame's still carried through the blur a correction
 predicts (tile kernels, kFitTileColumns node columns). */
-class LevelResiduals
+class LevelResiduals : public FitResiduals
 {
 public:
     /** @param plant the nominal plant (null for frames of a measured motion).
@@ -53,7 +54,8 @@ public:
 
     /** Appends every frame's residuals under `c` to `out` (in mask order); `perFrame`, when given,
         receives each frame's mean squared residual. */
-    void residuals(const MotionCorrection& c, std::vector<float>& out, std::vector<double>* perFrame = nullptr);
+    void residuals(const MotionCorrection& c, std::vector<float>& out, std::vector<double>* perFrame);
+    void residuals(const MotionCorrection& c, std::vector<float>& out) CV_OVERRIDE { residuals(c, out, nullptr); }
 
 private:
     //! Frame i's still carried through the blur `c` predicts, and the light each pixel receives from it.
@@ -70,8 +72,6 @@ private:
     int evaluations_ = 0;
 };
 
-//! The sum of squares of the first `count` values of `r`.
-double squaredNorm(const std::vector<float>& r, size_t count);
 
 }  // namespace detail
 }  // namespace dynblur

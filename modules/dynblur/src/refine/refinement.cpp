@@ -15,7 +15,7 @@ namespace cv {
 namespace dynblur {
 
 MotionCorrection::MotionCorrection()
-    : timeOffset(0), lineDelayScale(1), naturalFreqScale(1), dampingScale(1),
+    : timeOffset(0), lineDelayScale(1), naturalFreqScale(1), dampingScale(1), rateScale(1),
       consistency(std::numeric_limits<double>::quiet_NaN()), held(REFINE_NONE), stillGain(1), applied(true)
 {
 }
@@ -42,7 +42,8 @@ void MotionCorrection::validate() const
     if (!std::isfinite(timeOffset))
         CV_Error(Error::StsOutOfRange, format("MotionCorrection: timeOffset = %g s must be finite", timeOffset));
     const std::pair<const char*, double> scales[] = {
-        {"lineDelayScale", lineDelayScale}, {"naturalFreqScale", naturalFreqScale}, {"dampingScale", dampingScale}};
+        {"lineDelayScale", lineDelayScale}, {"naturalFreqScale", naturalFreqScale}, {"dampingScale", dampingScale},
+        {"rateScale", rateScale}};
     for (const auto& scale : scales)
         if (!(scale.second > 0 && scale.second < 10))
             CV_Error(Error::StsOutOfRange,
@@ -55,7 +56,9 @@ void MotionCorrection::validate() const
 }
 
 TimingCalibration::TimingCalibration()
-    : timeOffsetStd(0), lineDelayScaleStd(0), naturalFreqScaleStd(0), dampingScaleStd(0)
+    : timeOffsetStd(0), lineDelayScaleStd(0), naturalFreqScaleStd(0), dampingScaleStd(0), rateScaleStd(0),
+      axisCorrection(Matx33d::eye()), explainedMotion(std::numeric_limits<double>::quiet_NaN()),
+      trackResidualPx(std::numeric_limits<double>::quiet_NaN())
 {
 }
 
@@ -77,6 +80,14 @@ void TimingCalibration::save(const String& filename) const
             fs << "gyroBias" << std::vector<double>{correction.gyroBias[0], correction.gyroBias[1],
                                                     correction.gyroBias[2]}
                << "gyroBiasStd" << std::vector<double>{gyroBiasStd[0], gyroBiasStd[1], gyroBiasStd[2]};
+        if (correction.rateScale != 1 || rateScaleStd != 0)  // a measured motion's
+            fs << "rateScale" << correction.rateScale << "rateScaleStd" << rateScaleStd;
+        if (axisCorrection != Matx33d::eye())  // a gyro log whose axes the images corrected, row-major
+            fs << "axisCorrection" << std::vector<double>(axisCorrection.val, axisCorrection.val + 9);
+        if (std::isfinite(explainedMotion))
+            fs << "explainedMotion" << explainedMotion;
+        if (std::isfinite(trackResidualPx))
+            fs << "trackResidualPx" << trackResidualPx;
         if (std::isfinite(correction.consistency))
             fs << "consistency" << correction.consistency;
         fs << "timeOffsetStd" << timeOffsetStd << "lineDelayScaleStd" << lineDelayScaleStd << "naturalFreqScaleStd"
@@ -108,7 +119,11 @@ TimingCalibration TimingCalibration::load(const String& filename)
     const std::pair<const char*, double*> deviations[] = {{"timeOffsetStd", &calibration.timeOffsetStd},
                                                           {"lineDelayScaleStd", &calibration.lineDelayScaleStd},
                                                           {"naturalFreqScaleStd", &calibration.naturalFreqScaleStd},
-                                                          {"dampingScaleStd", &calibration.dampingScaleStd}};
+                                                          {"dampingScaleStd", &calibration.dampingScaleStd},
+                                                          {"rateScale", &c.rateScale},
+                                                          {"rateScaleStd", &calibration.rateScaleStd},
+                                                          {"explainedMotion", &calibration.explainedMotion},
+                                                          {"trackResidualPx", &calibration.trackResidualPx}};
     for (const auto& d : deviations)
         if (file.has(d.first))
             *d.second = file.real(d.first);
@@ -124,6 +139,20 @@ TimingCalibration TimingCalibration::load(const String& filename)
                                                       filename.c_str(), v.first, values.size()));
             *v.second = Vec3d(values[0], values[1], values[2]);
         }
+    if (file.has("axisCorrection"))
+    {
+        const std::vector<double> values = file.reals("axisCorrection");
+        if (values.size() != 9)
+            CV_Error(Error::StsParseError, format("TimingCalibration::load: '%s': axisCorrection has %zu values; 9 "
+                                                  "(a rotation matrix, row-major) are expected",
+                                                  filename.c_str(), values.size()));
+        calibration.axisCorrection = Matx33d(values.data());
+        if (!(std::abs(determinant(calibration.axisCorrection) - 1) < 1e-6 &&
+              norm(calibration.axisCorrection * calibration.axisCorrection.t() - Matx33d::eye()) < 1e-6))
+            CV_Error(Error::StsParseError, format("TimingCalibration::load: '%s': axisCorrection is not a rotation "
+                                                  "(orthonormal, determinant +1)",
+                                                  filename.c_str()));
+    }
     if (file.has("frameUsed"))
         calibration.frameUsed = file.integers("frameUsed");
     if (file.has("frameConsistency"))

@@ -30,7 +30,11 @@ enum MotionRefinement
     /** a measured motion's constant gyro bias (3 components; ignored for a plant's motion). Not in
         REFINE_ALL: a frame observes it mostly through the turn it adds between the still and the
         frame, which needs stills some time away from their frames. */
-    REFINE_GYRO_BIAS = 8
+    REFINE_GYRO_BIAS = 8,
+    /** a measured motion's rate scale (MotionCorrection::rateScale: the image moves further than the
+        rotation alone turns it when the camera also translates, as in a sweep about the arm or the
+        body); ignored for a plant's motion, not in REFINE_ALL */
+    REFINE_RATE_SCALE = 16
 };
 
 /** @brief One parameter the refinement estimates (refinementParameters): the MotionCorrection field
@@ -68,7 +72,7 @@ told and the one that moved the camera (DESIGN §2, "What is known on real hardw
 
 The corrected shutter starts `timeOffset` later and reads its rows with `lineDelayScale` times the
 line delay (for a measured motion: the frame lies `timeOffset` later on the motion's clock); a
-measured motion turns at its rates minus `gyroBias`; the corrected plant is the linear second-order plant with `naturalFreqScale` times the
+measured motion turns at `rateScale` times its rates minus `gyroBias`; the corrected plant is the linear second-order plant with `naturalFreqScale` times the
 natural frequency and `dampingScale` times the damping ratio, and the same gain. */
 struct CV_EXPORTS_W_SIMPLE MotionCorrection
 {
@@ -81,6 +85,12 @@ struct CV_EXPORTS_W_SIMPLE MotionCorrection
         true ones, removed from them (to first order about the reference time: the orientation becomes
         Q(t)·exp(−[gyroBias·(t − t_ref)]×)); 0 for a plant's motion */
     CV_PROP_RW Vec3d gyroBias;
+    /** a measured motion's rates × this about the reference time (1: the rotation as measured). A
+        camera that translates while it turns (a sweep about the arm or the body, a walk) moves the
+        image of a scene at depth d further than its rotation alone: by about t/d radians more for a
+        translation t. Over a frame the blur and the frame-to-frame motion then look like a rotation
+        `rateScale` times the gyro's; 1 for a plant's motion */
+    CV_PROP_RW double rateScale;
     /** How well the corrected model explains the frame: the RMS of the frame minus the still
         reference frame carried through the corrected blur (times stillGain), over the pixels both frames observe, in
         units of the sensor noise's standard deviation (estimated on the reference). About 1 where the
@@ -133,6 +143,17 @@ struct CV_EXPORTS_W_SIMPLE TimingCalibration
     CV_PROP_RW double naturalFreqScaleStd;  //!< see timeOffsetStd
     CV_PROP_RW double dampingScaleStd;      //!< see timeOffsetStd
     CV_PROP_RW Vec3d gyroBiasStd;           //!< rad/s, see timeOffsetStd (a measured motion's bias)
+    CV_PROP_RW double rateScaleStd;         //!< see timeOffsetStd (a measured motion's rate scale)
+    /** the rotation from the gyro log's camera axes (as read) to the camera's that the images
+        showed: ω_camera = axisCorrection · ω_log, a signed permutation; the identity when the log's
+        axes were right, or not measured (ClipTimingCalibrator measures it) */
+    CV_PROP_RW Matx33d axisCorrection;
+    /** the share of the frame-to-frame image motion (its squared turn, per band of rows) that the log
+        explains at the clock offset found, in [0, 1]; NaN when not measured (ClipTimingCalibrator) */
+    CV_PROP_RW double explainedMotion;
+    /** RMS reprojection error of the tracked features under the calibrated motion, pixels; NaN when
+        not measured (ClipTimingCalibrator) */
+    CV_PROP_RW double trackResidualPx;
     CV_PROP_RW std::vector<int> frameUsed;  //!< 1 for each input frame that entered the fit, else 0 (still, or inconsistent)
     CV_PROP_RW std::vector<double> frameConsistency;  //!< MotionCorrection::consistency of each frame at the result
     /** time offsets scanned around the result, seconds, and the objective (mean squared residual

@@ -395,6 +395,7 @@ TEST(GyroLogBadInput, LayoutsColumnsAndRepeats)
     // A Sensor Logger file with a short row, a repeated sample, a repeated time, a gap.
     const std::string phone = "time,seconds_elapsed,z,y,x\n1000000000,0,0,0,1\n1005000000,0.005,0,0,1\n";
     expectRefused("short_row.csv", phone + "1010000000,0.01,0,0\n", {":4:", "4 fields", "names 5"});
+    expectRefused("short_gyro.csv", "0.1,0.2,0.3,1000000\n0.1,0.2,1005000\n", {":2:", "3 fields", "first row has 4"});
     expectRefused("repeat.csv", phone + "1005000000,0.005,0,0,1\n",
                   {":4:", "strictly increasing", "options.dropRepeatedSamples", "--gyro-drop-repeats"});
     GyroLogOptions drop;

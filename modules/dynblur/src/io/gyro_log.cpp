@@ -119,33 +119,31 @@ private:
     std::int64_t originUnits_ = 0;     //!< the origin in the file's units (when unitsPerSecond_ > 0)
 };
 
-/** The data rows of `layout`: each with as many fields as the header row (or the first row), the time
-    and the three rates finite numbers; the time in seconds (LogClock), the rates in rad/s mapped by
-    `toCamera`. */
+/** The data rows of `layout`: each with one field per column, the time and the three rates finite
+    numbers; the time in seconds (LogClock), the rates in rad/s mapped by `toCamera`. */
 void readRows(const LogText& text, const LogLayout& layout, const Matx33d& toCamera, bool dropRepeats,
               GyroLog& log)
 {
     std::vector<Vec3d> rates;
     std::vector<size_t> lineOf;
     LogClock clock(layout.secondsPerUnit);
-    size_t fieldCount = layout.columns.size();
+    const size_t fieldCount = layout.columns.size();
     Vec3d previous;
     for (size_t i = layout.firstRow; i < text.size(); ++i)
     {
         if (text[i].empty() || (layout.name != "gcsv" && text[i][0] == '#'))
             continue;
         const std::vector<std::string> fields = splitCommas(text[i]);
-        if (fieldCount == 0)
-            fieldCount = fields.size();
         if (fields.size() != fieldCount)
-            text.fail(i, format("%zu fields, but the %s names %zu; one value per column", fields.size(),
-                                layout.columns.empty() ? "first row" : layout.name == "gcsv" ? "column row" : "header row",
+            text.fail(i, format("%zu fields, but the %s %zu; one value per column", fields.size(),
+                                !layout.headerRow          ? "first row has"
+                                : layout.name == "gcsv"    ? "column row names"
+                                                           : "header row names",
                                 fieldCount));
-        const auto name = [&](int j) { return layout.columns.empty() ? format("column %d", j + 1) : layout.columns[j]; };
         const auto number = [&](int j) {
             double value;
             if (!parseNumber(fields[j], value))
-                text.fail(i, format("field '%s' = '%s' is not a finite number", name(j).c_str(),
+                text.fail(i, format("field '%s' = '%s' is not a finite number", layout.columns[j].c_str(),
                                     fields[j].substr(0, 40).c_str()));
             return value;
         };
@@ -156,7 +154,7 @@ void readRows(const LogText& text, const LogLayout& layout, const Matx33d& toCam
         if (!parseTimestamp(fields[layout.time], stamp))
         {
             number(layout.time);  // not a number: named as such
-            text.fail(i, format("field '%s' = '%s' is beyond any clock (|t| >= 9e18 units)", name(layout.time).c_str(),
+            text.fail(i, format("field '%s' = '%s' is beyond any clock (|t| >= 9e18 units)", layout.columns[layout.time].c_str(),
                                 fields[layout.time].substr(0, 40).c_str()));
         }
         const Vec3d raw(number(layout.rate[0]), number(layout.rate[1]), number(layout.rate[2]));
@@ -170,9 +168,9 @@ void readRows(const LogText& text, const LogLayout& layout, const Matx33d& toCam
             continue;
         }
         if (!log.times.empty() && !(t > log.times.back()))
-            text.fail(i, format("field '%s': %.9g s is not after the previous sample's %.9g s (line %zu); timestamps "
+            text.fail(i, format("field '%s': %.9f s is not after the previous sample's %.9f s (line %zu); timestamps "
                                 "must be strictly increasing, without repeats%s",
-                                name(layout.time).c_str(), t + clock.origin(), log.times.back() + clock.origin(),
+                                layout.columns[layout.time].c_str(), t + clock.origin(), log.times.back() + clock.origin(),
                                 lineOf.back() + 1,
                                 t == log.times.back() && raw == previous && !dropRepeats
                                     ? " (a sample repeated whole, as some loggers write, is dropped with "
@@ -185,8 +183,8 @@ void readRows(const LogText& text, const LogLayout& layout, const Matx33d& toCam
     }
     log.timeOrigin = clock.origin();
     if (log.times.size() < 2)
-        text.failFile(format("%zu sample(s) after the %s; a gyro log needs at least 2", log.times.size(),
-                             layout.columns.empty() ? "comment lines" : "header"));
+        text.failFile(format("%zu sample(s)%s; a gyro log needs at least 2", log.times.size(),
+                             layout.headerRow ? " after the header" : ""));
     double median = 0;
     if (const size_t k = detail::findLongGap(log.times, median))
         text.fail(lineOf[k], format("a gap of %.6g s after the sample of line %zu, longer than %g median sample "

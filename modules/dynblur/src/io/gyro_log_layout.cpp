@@ -173,6 +173,7 @@ void useGivenColumns(const LogText& text, size_t row, bool rowIsData, const std:
         text.fail(row, format("options.columns = '%s' names columns, but the first row is data (no header row); "
                               "give 1-based positions (e.g. '4,1,2,3')",
                               given.c_str()));
+    layout.headerRow = !rowIsData;
     if (rowIsData)
         for (size_t j = 0; j < header.size(); ++j)
             layout.columns.push_back(format("column %zu", j + 1));
@@ -214,6 +215,7 @@ LogLayout readCsv(const LogText& text, const GyroLogOptions& options)
     else if (rowIsData && first.size() == 4 && endsWith(text.name(), "_gyro.csv"))
     {
         layout.name = "opencamera-sensors";  // x, y, z (rad/s), timestamp (ns); no header row
+        layout.headerRow = false;
         layout.firstRow = row;
         layout.columns = {"x", "y", "z", "timestamp"};
         layout.time = 3;

@@ -21,7 +21,8 @@ struct LogLayout
 {
     std::string name;                  //!< GyroLog::layout
     size_t firstRow = 0;               //!< line index of the first data row
-    std::vector<std::string> columns;  //!< one name per field (for messages); empty: no header row
+    std::vector<std::string> columns;  //!< one name per field, for messages ("column 3" without a header row)
+    bool headerRow = true;             //!< the file names its columns (a gcsv column row or a CSV header row)
     int time = 0;                      //!< field index of the time
     int rate[3] = {1, 2, 3};           //!< field indices of the rates about the gyro's x, y, z
     double secondsPerUnit = 1.0;

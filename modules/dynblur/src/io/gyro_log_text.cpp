@@ -95,32 +95,43 @@ bool parseTimestamp(const std::string& field, Timestamp& t)
     return true;
 }
 
-bool secondsPerTimeUnit(const std::string& unit, double& seconds)
+namespace {
+
+struct UnitName
+{
+    const char* name;  //!< lower case
+    double factor;     //!< SI units (s, rad/s) per unit
+};
+
+template <size_t N>
+bool lookUp(const UnitName (&table)[N], const std::string& unit, double& factor)
 {
     const std::string u = lowered(trimmed(unit));
-    if (u == "s")
-        seconds = 1.0;
-    else if (u == "ms")
-        seconds = 1e-3;
-    else if (u == "us" || u == "\xC2\xB5s" || u == "\xCE\xBCs")  // micro sign, Greek mu
-        seconds = 1e-6;
-    else if (u == "ns")
-        seconds = 1e-9;
-    else
-        return false;
-    return true;
+    for (const UnitName& entry : table)
+        if (u == entry.name)
+        {
+            factor = entry.factor;
+            return true;
+        }
+    return false;
+}
+
+const UnitName kTimeUnitTable[] = {{"s", 1.0},   {"ms", 1e-3}, {"us", 1e-6},
+                                   {"\xC2\xB5s", 1e-6},  // micro sign
+                                   {"\xCE\xBCs", 1e-6},  // Greek mu
+                                   {"ns", 1e-9}};
+const UnitName kRateUnitTable[] = {{"rad/s", 1.0}, {"deg/s", CV_PI / 180.0}};
+
+}  // namespace
+
+bool secondsPerTimeUnit(const std::string& unit, double& seconds)
+{
+    return lookUp(kTimeUnitTable, unit, seconds);
 }
 
 bool radPerRateUnit(const std::string& unit, double& radPerSecond)
 {
-    const std::string u = lowered(trimmed(unit));
-    if (u == "rad/s")
-        radPerSecond = 1.0;
-    else if (u == "deg/s")
-        radPerSecond = CV_PI / 180.0;
-    else
-        return false;
-    return true;
+    return lookUp(kRateUnitTable, unit, radPerSecond);
 }
 
 LogText::LogText(const String& filename) : name_(filename)

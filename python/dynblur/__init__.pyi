@@ -175,6 +175,7 @@ class GyroLogOptions:
     timeUnit: str
     rateUnit: str
     gcsvAxes: str
+    timeOrigin: float
     dropRepeatedSamples: bool
     estimateBias: bool
     stillThreshold: float

@@ -123,8 +123,8 @@ def _load_gcsv(path, options=None):
     from . import GyroLog, GyroLogOptions
     chosen = GyroLogOptions()
     if options is not None:
-        for name in ("orientation", "cameraFromGyro", "dropRepeatedSamples", "estimateBias", "stillThreshold",
-                     "stillMinDuration"):
+        for name in ("orientation", "cameraFromGyro", "timeOrigin", "dropRepeatedSamples", "estimateBias",
+                     "stillThreshold", "stillMinDuration"):
             setattr(chosen, name, getattr(options, name))
     chosen.gcsvAxes = "gyroflow"
     return GyroLog.load(os.fspath(path), chosen)

@@ -37,6 +37,9 @@ void bindGyroLog(py::module_& m)
         .def_readwrite("gcsvAxes", &GyroLogOptions::gcsvAxes,
                        "what a gcsv axis string maps to: 'camera' (x right, y down, z forward) or 'gyroflow' (x up, y "
                        "left, z backward)")
+        .def_readwrite("timeOrigin", &GyroLogOptions::timeOrigin,
+                       "seconds to subtract from the log's clock; NaN (default): 0 below 1e6 s, else the first "
+                       "sample's whole second")
         .def_readwrite("dropRepeatedSamples", &GyroLogOptions::dropRepeatedSamples,
                        "drop a sample repeating the previous one whole (time and rates)")
         .def_readwrite("estimateBias", &GyroLogOptions::estimateBias, "estimate the bias from still intervals")

@@ -35,6 +35,9 @@ CliOptionGroup gyroLogOptions(const std::string& heading, const std::string& tex
               "what a gcsv file's axis string maps to: camera (x right, y down, z forward) or gyroflow (Gyroflow's "
               "frame, x up, y left, z backward: gcsv written for Gyroflow by cameras, loggers and "
               "python -m dynblur.extract_gyro)"},
+             {"gyro-time-origin", "S", "",
+              "seconds subtracted from the log's clock, e.g. the Unix time the frame log counts from (default: 0 "
+              "for a clock under 1e6 s, else the first sample's whole second)"},
              {"gyro-drop-repeats", "", "",
               "drop a sample that repeats the previous one whole (time and rates), as some phone loggers write"},
              {"gyro-bias", "B", "none",
@@ -71,6 +74,8 @@ GyroLogOptions gyroOptions(const CliArgs& args, Vec3d& bias)
     if (options.gcsvAxes.empty())
         throw std::runtime_error("--gyro-gcsv-axes takes camera or gyroflow");
     options.dropRepeatedSamples = args.has("gyro-drop-repeats");
+    if (args.has("gyro-time-origin"))
+        options.timeOrigin = args.num("gyro-time-origin");  // a finite number, or it names the option
     bias = Vec3d();
     const std::string mode = args.str("gyro-bias");
     if (mode == "estimate")

@@ -7,6 +7,7 @@
 #include <opencv2/dynblur.hpp>
 
 #include <fstream>
+#include <limits>
 #include <unistd.h>
 
 using namespace cv;
@@ -281,6 +282,29 @@ TEST(GyroLog, EpochTimesKeepTheirPrecision)
     EXPECT_EQ(negative.timeOrigin, -2000001.0);
     EXPECT_NEAR(negative.times[0], 0.75, 1e-15);
     EXPECT_NEAR(negative.times[1], 0.8, 1e-15);
+}
+
+TEST(GyroLog, GivenTimeOrigin)
+{
+    // The origin a frame log counts from: whole seconds exactly, a fraction to the file's unit (ns).
+    const std::string path = writeLog("origin.csv", "time,seconds_elapsed,z,y,x\n1767620467350470700,0,0,0,0\n"
+                                                    "1767620467355470701,0.005,0,0,0\n");
+    GyroLogOptions options;
+    options.timeOrigin = 1767620460.0;
+    const GyroLog whole = GyroLog::load(path, options);
+    EXPECT_EQ(whole.timeOrigin, 1767620460.0);
+    EXPECT_NEAR(whole.times[0], 7.3504707, 1e-14);
+    EXPECT_NEAR(whole.times[1] - whole.times[0], 0.005000001, 1e-14);
+    options.timeOrigin = 1767620467.25;
+    const GyroLog fraction = GyroLog::load(path, options);
+    EXPECT_EQ(fraction.timeOrigin, 1767620467.25);
+    EXPECT_NEAR(fraction.times[0], 0.1004707, 1e-15);
+    options.timeOrigin = 0;  // the clock as it reads, in doubles
+    const GyroLog absolute = GyroLog::load(path, options);
+    EXPECT_EQ(absolute.timeOrigin, 0.0);
+    EXPECT_NEAR(absolute.times[0], 1767620467.3504707, 1e-6);
+    options.timeOrigin = std::numeric_limits<double>::infinity();
+    dynblur_test::expectErrorNaming([&] { GyroLog::load(path, options); }, "options.timeOrigin");
 }
 
 TEST(GyroLog, DropsWholeRepeatsOnRequest)

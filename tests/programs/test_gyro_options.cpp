@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -51,16 +52,19 @@ TEST(GyroOptions, ColumnsUnitsAxesAndRepeats)
     EXPECT_EQ(plain.timeUnit, "");
     EXPECT_EQ(plain.rateUnit, "");
     EXPECT_EQ(plain.gcsvAxes, "camera");
+    EXPECT_TRUE(std::isnan(plain.timeOrigin));
     EXPECT_FALSE(plain.dropRepeatedSamples);
     const cv::dynblur::GyroLogOptions given = read({"--gyro-columns", "ts,wx,wy,wz", "--gyro-time-unit=ms",
                                                     "--gyro-rate-unit", "deg/s", "--gyro-gcsv-axes", "gyroflow",
-                                                    "--gyro-drop-repeats", "--gyro-orientation", "Xyz"});
+                                                    "--gyro-drop-repeats", "--gyro-orientation", "Xyz",
+                                                    "--gyro-time-origin", "1.7e9"});
     EXPECT_EQ(given.columns, "ts,wx,wy,wz");
     EXPECT_EQ(given.timeUnit, "ms");
     EXPECT_EQ(given.rateUnit, "deg/s");
     EXPECT_EQ(given.gcsvAxes, "gyroflow");
     EXPECT_TRUE(given.dropRepeatedSamples);
     EXPECT_EQ(given.orientation, "Xyz");
+    EXPECT_EQ(given.timeOrigin, 1.7e9);
 }
 
 TEST(GyroOptions, BadValuesNameTheOption)
@@ -70,6 +74,7 @@ TEST(GyroOptions, BadValuesNameTheOption)
     EXPECT_EQ(refusal({"--gyro-gcsv-axes", "opencv"}), "--gyro-gcsv-axes 'opencv' is not one of camera, gyroflow");
     EXPECT_EQ(refusal({"--gyro-gcsv-axes="}), "--gyro-gcsv-axes takes camera or gyroflow");
     EXPECT_NE(refusal({"--gyro-drop-repeats=yes"}), "");  // a flag takes no value
+    EXPECT_EQ(refusal({"--gyro-time-origin", "inf"}), "--gyro-time-origin expects a number, got 'inf'");
 }
 
 TEST(GyroOptions, UsageShowsEachOptionWithItsValue)
@@ -78,7 +83,7 @@ TEST(GyroOptions, UsageShowsEachOptionWithItsValue)
     options.group(gyroLogOptions("Gyro:", ""));
     const std::string usage = options.usage();
     for (const char* entry : {"--gyro-columns T,X,Y,Z", "--gyro-time-unit UNIT", "--gyro-rate-unit UNIT",
-                              "--gyro-gcsv-axes FRAME", "--gyro-drop-repeats"})
+                              "--gyro-gcsv-axes FRAME", "--gyro-time-origin S", "--gyro-drop-repeats"})
         EXPECT_NE(usage.find(entry), std::string::npos) << entry << " not in:\n" << usage;
 }
 

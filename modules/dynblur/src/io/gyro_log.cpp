@@ -49,6 +49,9 @@ void checkOptions(const GyroLogOptions& o)
         CV_Error_(Error::StsBadArg, ("%s: options.rateUnit = '%s' and options.rateScale = %g both give the rates' "
                                      "unit; give one (rateScale 1)",
                                      kLoad, o.rateUnit.c_str(), o.rateScale));
+    if (std::isinf(o.timeOrigin))
+        CV_Error_(Error::StsBadArg, ("%s: options.timeOrigin = %g must be finite seconds, or NaN to choose it from "
+                                     "the first sample", kLoad, o.timeOrigin));
     if (o.gcsvAxes != "camera" && o.gcsvAxes != "gyroflow")
         CV_Error_(Error::StsBadArg, ("%s: options.gcsvAxes = '%s' is not 'camera' (this module's camera axes) or "
                                      "'gyroflow' (Gyroflow's frame)",
@@ -70,7 +73,8 @@ void checkOptions(const GyroLogOptions& o)
 class LogClock
 {
 public:
-    explicit LogClock(double secondsPerUnit) : secondsPerUnit_(secondsPerUnit)
+    //! `origin`: seconds to subtract, NaN to choose from the first sample.
+    LogClock(double secondsPerUnit, double origin) : secondsPerUnit_(secondsPerUnit), given_(origin)
     {
         const double unitsPerSecond = 1.0 / secondsPerUnit;
         const double whole = std::round(unitsPerSecond);
@@ -78,16 +82,18 @@ public:
             unitsPerSecond_ = std::int64_t(whole);
     }
 
-    //! Seconds of `t`, relative to the origin the first call chose (0 below kOriginFromSeconds).
+    //! Seconds of `t`, relative to the origin given or chosen by the first call (0 below kOriginFromSeconds).
     double seconds(const Timestamp& t)
     {
         if (!started_)
         {
             started_ = true;
             const double first = t.value * secondsPerUnit_;
-            if (!(std::abs(first) >= kOriginFromSeconds))
+            if (!std::isnan(given_))
+                startAt(given_);
+            else if (!(std::abs(first) >= kOriginFromSeconds))
                 return first;
-            if (unitsPerSecond_ > 0)  // floor((whole + fraction) / unitsPerSecond), in integers
+            else if (unitsPerSecond_ > 0)  // floor((whole + fraction) / unitsPerSecond), in integers
             {
                 std::int64_t q = t.whole / unitsPerSecond_, r = t.whole % unitsPerSecond_;
                 if (r < 0)
@@ -112,21 +118,34 @@ public:
     double origin() const { return origin_; }
 
 private:
+    //! The given origin in the file's units: exact for whole seconds, to the nearest unit otherwise.
+    void startAt(double origin)
+    {
+        origin_ = origin;
+        const double whole = std::floor(origin);
+        if (unitsPerSecond_ > 0 && std::abs(whole) * double(unitsPerSecond_) < 9e18)
+            originUnits_ = std::int64_t(whole) * unitsPerSecond_ +
+                           std::int64_t(std::llround((origin - whole) * double(unitsPerSecond_)));
+        else
+            unitsPerSecond_ = 0;  // seconds in doubles
+    }
+
     double secondsPerUnit_;
+    double given_;
     std::int64_t unitsPerSecond_ = 0;  //!< 0: not a whole number of units per second
     bool started_ = false;
-    double origin_ = 0;                //!< whole seconds
+    double origin_ = 0;                //!< seconds (whole unless given otherwise)
     std::int64_t originUnits_ = 0;     //!< the origin in the file's units (when unitsPerSecond_ > 0)
 };
 
 /** The data rows of `layout`: each with one field per column, the time and the three rates finite
     numbers; the time in seconds (LogClock), the rates in rad/s mapped by `toCamera`. */
-void readRows(const LogText& text, const LogLayout& layout, const Matx33d& toCamera, bool dropRepeats,
+void readRows(const LogText& text, const LogLayout& layout, const Matx33d& toCamera, double origin, bool dropRepeats,
               GyroLog& log)
 {
     std::vector<Vec3d> rates;
     std::vector<size_t> lineOf;
-    LogClock clock(layout.secondsPerUnit);
+    LogClock clock(layout.secondsPerUnit, origin);
     const size_t fieldCount = layout.columns.size();
     Vec3d previous;
     for (size_t i = layout.firstRow; i < text.size(); ++i)
@@ -198,7 +217,8 @@ void readRows(const LogText& text, const LogLayout& layout, const Matx33d& toCam
 
 GyroLogOptions::GyroLogOptions()
     : cameraFromGyro(Matx33d::eye()), timeScale(1.0), rateScale(1.0), gcsvAxes("camera"),
-      dropRepeatedSamples(false), estimateBias(false), stillThreshold(0.05), stillMinDuration(0.5)
+      timeOrigin(std::numeric_limits<double>::quiet_NaN()), dropRepeatedSamples(false), estimateBias(false),
+      stillThreshold(0.05), stillMinDuration(0.5)
 {
 }
 
@@ -251,7 +271,7 @@ GyroLog GyroLog::load(const String& filename, const GyroLogOptions& options)
     // Gyroflow's frame (x up, y left, z backward) to camera axes (x right, y down, z forward).
     const Matx33d fromGyroflow = layout.gyroflowAxes ? orientationMatrix("yxz") : Matx33d::eye();
     log.cameraFromGyro = options.cameraFromGyro * fromGyroflow * orientationMatrix(log.orientation);
-    readRows(text, layout, log.cameraFromGyro, options.dropRepeatedSamples, log);
+    readRows(text, layout, log.cameraFromGyro, options.timeOrigin, options.dropRepeatedSamples, log);
     if (options.estimateBias)
         log.estimateBias(options.stillThreshold, options.stillMinDuration);
     return log;

@@ -62,6 +62,10 @@ struct CV_EXPORTS_W_SIMPLE GyroLogOptions
         @cite GyroflowOrientation), which load then takes to camera axes by the axis string "yxz".
         "gyroflow" is for gcsv files written for Gyroflow (cameras, loggers, telemetry extractors). */
     CV_PROP_RW String gcsvAxes;
+    /** Seconds to subtract from the log's clock (GyroLog::timeOrigin), finite or NaN. NaN (the default):
+        0 for a clock reading under 10⁶ s at the first sample, else that sample's whole second. Give
+        it to put `times` on a known origin, e.g. the Unix time that frame timestamps count from. */
+    CV_PROP_RW double timeOrigin;
     /** Drop a sample that repeats the previous one whole (same time, same three rates), as a logger
         re-sending a cached sample writes it (Sensor Logger's documentation warns of these); counted in
         GyroLog::droppedSamples. A repeated time with other rates is refused either way. */
@@ -110,7 +114,8 @@ median sample intervals, fewer than two samples, an unknown or left-handed axis 
 non-positive `tscale`/`gscale`, and options out of their allowed values.
 
 Times keep the file's precision: a clock reading 10⁶ s or more (a Unix epoch in nanoseconds) is
-counted from `timeOrigin`, a whole number of seconds, so that `times` keep nanoseconds. The rates are
+counted from `timeOrigin` (a whole number of seconds, or GyroLogOptions::timeOrigin), so that `times`
+keep nanoseconds. The rates are
 kept as measured (mapped to camera axes); `bias` is subtracted by toMotion().
 */
 struct CV_EXPORTS_W_SIMPLE GyroLog
@@ -129,9 +134,9 @@ struct CV_EXPORTS_W_SIMPLE GyroLog
     CV_PROP_RW String orientation;  //!< the axis string used ("XYZ" when none was given)
     /** The layout read: "gcsv", "csv", "sensor-logger", "opencamera-sensors" or "columns". */
     CV_PROP_RW String layout;
-    /** Seconds subtracted from the log's clock to give `times`: 0, or for a clock reading 10⁶ s or more
-        at the first sample, that sample's time in whole seconds (so a frame timestamp t on the log's
-        clock is t − timeOrigin here). */
+    /** Seconds subtracted from the log's clock to give `times`: GyroLogOptions::timeOrigin when given,
+        else 0, or for a clock reading 10⁶ s or more at the first sample, that sample's time in whole
+        seconds (so a frame timestamp t on the log's clock is t − timeOrigin here). */
     CV_PROP_RW double timeOrigin;
     /** The time a rolling shutter takes to read a whole frame, seconds, as the log states it (gcsv
         `frame_readout_time`); NaN when it does not. RollingShutter::lineDelay is this over the rows. */

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Fuzzes GyroLog::load, the reader of gyro logs (Gyroflow's gcsv and plain CSV), and what a
+// Fuzzes GyroLog::load, the reader of gyro logs (Gyroflow's gcsv, CSV, phone apps' CSV), and what a
 // restoration does with a log it accepted: the bias from still intervals, the integrated motion
 // (CameraMotion::fromAngularVelocity) and its orientation and rates across the log's span, each of
 // which must be a rotation and finite rates.

@@ -18,6 +18,9 @@ arrays, None) raise ``ValueError`` naming the argument.
 
 Long calls (plan, identify, renderBlurred, richardsonLucy*, wienerDeconvolve, deblur, generate)
 release the GIL, so frames can be restored in one thread while another captures.
+
+``GyroLog.fromVideo(path)`` reads the gyro a video embeds (GoPro, Sony, Insta360, DJI, ...) with the
+optional telemetry-parser package; ``python -m dynblur.extract_gyro clip.mp4 clip.gcsv`` writes it as gcsv.
 """
 from . import _dynblur
 from ._dynblur import *  # noqa: F401,F403
@@ -45,5 +48,10 @@ class error(_base_error):
 
 error.__module__ = "dynblur"
 _dynblur._set_error_class(error)
+
+# A video's embedded gyro, read by telemetry-parser (pure Python: dynblur/extract_gyro.py).
+from .extract_gyro import from_video as _from_video  # noqa: E402
+
+GyroLog.fromVideo = staticmethod(_from_video)  # noqa: F405
 
 __all__ = [name for name in dir(_dynblur) if not name.startswith("_")]

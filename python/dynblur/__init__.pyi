@@ -161,11 +161,23 @@ class Mount:
     def anglesFor(self, direction: tuple[float, float, float], current: Sequence[float] = ...) -> list[float]: ...
     def motion(self, schedules: Sequence[SwitchSchedule]) -> CameraMotion: ...
 
+READOUT_DIRECTION_UNKNOWN: int
+READOUT_TOP_TO_BOTTOM: int
+READOUT_BOTTOM_TO_TOP: int
+READOUT_LEFT_TO_RIGHT: int
+READOUT_RIGHT_TO_LEFT: int
+
 class GyroLogOptions:
     orientation: str
     cameraFromGyro: NDArray[np.float64]
     timeScale: float
     rateScale: float
+    columns: str
+    timeUnit: str
+    rateUnit: str
+    gcsvAxes: str
+    timeOrigin: float
+    dropRepeatedSamples: bool
     estimateBias: bool
     stillThreshold: float
     stillMinDuration: float
@@ -179,9 +191,16 @@ class GyroLog:
     cameraFromGyro: NDArray[np.float64]
     id: str
     orientation: str
+    layout: str
+    timeOrigin: float
+    frameReadoutTime: float
+    frameReadoutDirection: int
+    droppedSamples: int
     def __init__(self) -> None: ...
     @staticmethod
     def load(filename: str, options: GyroLogOptions = ...) -> GyroLog: ...
+    @staticmethod
+    def fromVideo(filename: str, options: GyroLogOptions | None = None) -> GyroLog: ...
     @staticmethod
     def orientationMatrix(orientation: str) -> NDArray[np.float64]: ...
     def estimateBias(self, stillThreshold: float = 0.05, stillMinDuration: float = 0.5) -> tuple[float, float, float]: ...

@@ -20,10 +20,11 @@ namespace dynblur_samples {
 gyro mode). */
 CliOptionGroup gyroLogOptions(const std::string& heading, const std::string& text);
 
-/** @brief The gyro log's reading options from --gyro-orientation STR and --gyro-bias
-estimate|none|BX,BY,BZ (rad/s, camera axes; `estimate`: from still intervals of at least
---gyro-still-seconds S). Throws std::runtime_error naming the option on a bad value;
-`bias` receives a given bias (else 0). */
+/** @brief The gyro log's reading options from --gyro-orientation STR, --gyro-columns T,X,Y,Z,
+--gyro-time-unit s|ms|us|ns, --gyro-rate-unit rad/s|deg/s, --gyro-gcsv-axes camera|gyroflow,
+--gyro-time-origin S, --gyro-drop-repeats and --gyro-bias estimate|none|BX,BY,BZ (rad/s, camera axes; `estimate`: from
+still intervals of at least --gyro-still-seconds S). Throws std::runtime_error naming the option on
+a bad value; `bias` receives a given bias (else 0). */
 cv::dynblur::GyroLogOptions gyroOptions(const CliArgs& args, cv::Vec3d& bias);
 
 /** @brief A recording whose motion is a gyro log: --gyro LOG, --video, --frames (all required),

@@ -1,157 +1,26 @@
 // SPDX-License-Identifier: Apache-2.0
-// GyroLog: Gyroflow's gcsv and plain CSV gyro logs read into camera axes, and the bias from still
-// intervals. Written from the gcsv format's public description (docs.gyroflow.xyz, "GCSV format").
+// GyroLog: gyro logs (gcsv, CSV, phone apps' CSV) read into camera axes on a clock that keeps the
+// file's precision, and the bias from still intervals. The layouts are in gyro_log_layout.cpp.
 #include "precomp.hpp"
 
+#include "io/gyro_log_layout.hpp"
+#include "io/gyro_log_text.hpp"
 #include "motion/sampled_motion.hpp"
 #include "motion/so3.hpp"
 
+#include <algorithm>
 #include <cctype>
-#include <cerrno>
-#include <cstdlib>
-#include <fstream>
+#include <limits>
 
 namespace cv {
 namespace dynblur {
 
+using namespace gyro_log;
+
 namespace {
 
-const char* const kLoad = "GyroLog::load";
-
-std::string trimmed(const std::string& s)
-{
-    const char* blank = " \t\r\n\v\f";
-    const size_t first = s.find_first_not_of(blank);
-    return first == std::string::npos ? std::string() : s.substr(first, s.find_last_not_of(blank) - first + 1);
-}
-
-std::string lowered(std::string s)
-{
-    for (char& c : s)
-        c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
-std::vector<std::string> splitCommas(const std::string& line)
-{
-    std::vector<std::string> fields;
-    size_t start = 0;
-    for (;;)
-    {
-        const size_t comma = line.find(',', start);
-        fields.push_back(trimmed(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
-        if (comma == std::string::npos)
-            return fields;
-        start = comma + 1;
-    }
-}
-
-//! The whole field as one finite number.
-bool parseNumber(const std::string& field, double& value)
-{
-    if (field.empty() || field.find('\0') != std::string::npos)
-        return false;
-    errno = 0;
-    char* end = nullptr;
-    value = std::strtod(field.c_str(), &end);
-    return end == field.c_str() + field.size() && errno != ERANGE && std::isfinite(value);
-}
-
-//! The file's lines, numbered from 1, and errors that name the file and the line.
-class LogText
-{
-public:
-    explicit LogText(const String& filename) : name_(filename)
-    {
-        std::ifstream in(filename, std::ios::binary);
-        if (!in)
-            CV_Error_(Error::StsError, ("%s: cannot open the gyro log '%s'", kLoad, filename.c_str()));
-        std::string line;
-        while (std::getline(in, line))
-            lines_.push_back(trimmed(line));
-        if (!lines_.empty() && lines_[0].compare(0, 3, "\xEF\xBB\xBF") == 0)
-            lines_[0] = trimmed(lines_[0].substr(3));  // a UTF-8 byte order mark, as some editors write
-        while (!lines_.empty() && lines_.back().empty())
-            lines_.pop_back();
-        if (lines_.empty())
-            CV_Error_(Error::StsParseError, ("%s: '%s' is empty; a gyro log (gcsv or CSV 't,gx,gy,gz') was expected",
-                                             kLoad, filename.c_str()));
-    }
-    size_t size() const { return lines_.size(); }
-    const std::string& operator[](size_t i) const { return lines_[i]; }
-
-    [[noreturn]] void fail(size_t i, const std::string& what) const
-    {
-        CV_Error_(Error::StsParseError, ("%s: %s:%zu: %s", kLoad, name_.c_str(), i + 1, what.c_str()));
-    }
-    [[noreturn]] void failFile(const std::string& what) const
-    {
-        CV_Error_(Error::StsParseError, ("%s: %s: %s", kLoad, name_.c_str(), what.c_str()));
-    }
-
-private:
-    String name_;
-    std::vector<std::string> lines_;
-};
-
-const char* const kColumnsWanted = "'t,gx,gy,gz' (gcsv: optionally followed by ',ax,ay,az' and ',mx,my,mz')";
-
-/** The data rows from line `first` on: each with as many fields as `columns` names, every field a
-    finite number; t scaled by timeScale, (gx, gy, gz) by rateScale and mapped by `toCamera`. */
-void readRows(const LogText& text, size_t first, const std::vector<std::string>& columns, double timeScale,
-              double rateScale, const Matx33d& toCamera, GyroLog& log)
-{
-    std::vector<Vec3d> rates;
-    std::vector<size_t> lineOf;
-    for (size_t i = first; i < text.size(); ++i)
-    {
-        if (text[i].empty())
-            continue;
-        const std::vector<std::string> fields = splitCommas(text[i]);
-        if (fields.size() != columns.size())
-            text.fail(i, format("%zu fields, but the column row names %zu; one value per column", fields.size(),
-                                columns.size()));
-        double v[4];
-        for (size_t j = 0; j < fields.size(); ++j)
-        {
-            double value;
-            if (!parseNumber(fields[j], value))
-                text.fail(i, format("field '%s' = '%s' is not a finite number", columns[j].c_str(),
-                                    fields[j].substr(0, 40).c_str()));
-            if (j < 4)
-                v[j] = value;
-        }
-        const double t = v[0] * timeScale;
-        const Vec3d w = toCamera * Vec3d(v[1], v[2], v[3]) * rateScale;
-        if (!std::isfinite(t) || !std::isfinite(w[0]) || !std::isfinite(w[1]) || !std::isfinite(w[2]))
-            text.fail(i, "the scaled time or rate overflows");
-        if (!log.times.empty() && !(t > log.times.back()))
-            text.fail(i, format("field 't': %.9g s is not after the previous sample's %.9g s (line %zu); timestamps "
-                                "must be strictly increasing, without repeats",
-                                t, log.times.back(), lineOf.back() + 1));
-        log.times.push_back(t);
-        rates.push_back(w);
-        lineOf.push_back(i);
-    }
-    if (log.times.size() < 2)
-        text.failFile(format("%zu sample(s) after the column row; a gyro log needs at least 2", log.times.size()));
-    double median = 0;
-    if (const size_t k = detail::findLongGap(log.times, median))
-        text.fail(lineOf[k], format("a gap of %.6g s after the sample of line %zu, longer than %g median sample "
-                                    "intervals (%.6g s): samples are missing",
-                                    log.times[k] - log.times[k - 1], lineOf[k - 1] + 1,
-                                    detail::kMaxGapInMedianIntervals, median));
-    log.rates = Mat(int(rates.size()), 3, CV_64F, rates.data()).clone();
-}
-
-bool columnsAre(const std::vector<std::string>& fields, std::initializer_list<const char*> names, size_t at)
-{
-    size_t j = at;
-    for (const char* name : names)
-        if (j >= fields.size() || lowered(fields[j++]) != name)
-            return false;
-    return true;
-}
+//! A clock reading this many seconds or more is counted from a whole second near its first sample.
+const double kOriginFromSeconds = 1e6;
 
 void checkOptions(const GyroLogOptions& o)
 {
@@ -165,17 +34,200 @@ void checkOptions(const GyroLogOptions& o)
         CV_Error_(Error::StsBadArg, ("%s: options.cameraFromGyro is not a rotation (det = %.6g); a proper rotation "
                                      "(orthonormal, det = +1, within 1e-3) is required",
                                      kLoad, determinant(o.cameraFromGyro)));
+    double unused;
+    if (!o.timeUnit.empty() && !secondsPerTimeUnit(o.timeUnit, unused))
+        CV_Error_(Error::StsBadArg, ("%s: options.timeUnit = '%s' is not one of %s", kLoad,
+                                     o.timeUnit.substr(0, 40).c_str(), kTimeUnits));
+    if (!o.rateUnit.empty() && !radPerRateUnit(o.rateUnit, unused))
+        CV_Error_(Error::StsBadArg, ("%s: options.rateUnit = '%s' is not one of %s", kLoad,
+                                     o.rateUnit.substr(0, 40).c_str(), kRateUnits));
+    if (!o.timeUnit.empty() && o.timeScale != 1.0)
+        CV_Error_(Error::StsBadArg, ("%s: options.timeUnit = '%s' and options.timeScale = %g both give the time's "
+                                     "unit; give one (timeScale 1)",
+                                     kLoad, o.timeUnit.c_str(), o.timeScale));
+    if (!o.rateUnit.empty() && o.rateScale != 1.0)
+        CV_Error_(Error::StsBadArg, ("%s: options.rateUnit = '%s' and options.rateScale = %g both give the rates' "
+                                     "unit; give one (rateScale 1)",
+                                     kLoad, o.rateUnit.c_str(), o.rateScale));
+    if (std::isinf(o.timeOrigin))
+        CV_Error_(Error::StsBadArg, ("%s: options.timeOrigin = %g must be finite seconds, or NaN to choose it from "
+                                     "the first sample", kLoad, o.timeOrigin));
+    if (o.gcsvAxes != "camera" && o.gcsvAxes != "gyroflow")
+        CV_Error_(Error::StsBadArg, ("%s: options.gcsvAxes = '%s' is not 'camera' (this module's camera axes) or "
+                                     "'gyroflow' (Gyroflow's frame)",
+                                     kLoad, o.gcsvAxes.substr(0, 40).c_str()));
+    if (!o.columns.empty())
+    {
+        const std::vector<std::string> specs = splitCommas(o.columns);
+        const bool blank = std::any_of(specs.begin(), specs.end(), [](const std::string& c) { return c.empty(); });
+        if (specs.size() != 4 || blank)
+            CV_Error_(Error::StsBadArg, ("%s: options.columns = '%s' must name four columns, comma-separated: the "
+                                         "time, then the rates about the gyro's x, y and z (names from the header "
+                                         "row or 1-based positions, e.g. 'time,x,y,z' or '4,1,2,3')",
+                                         kLoad, o.columns.substr(0, 80).c_str()));
+    }
+}
+
+//! Seconds on the log's clock from timestamps in the file's units, counted from an origin once the
+//! first sample has set it.
+class LogClock
+{
+public:
+    //! `origin`: seconds to subtract, NaN to choose from the first sample.
+    LogClock(double secondsPerUnit, double origin) : secondsPerUnit_(secondsPerUnit), given_(origin)
+    {
+        const double unitsPerSecond = 1.0 / secondsPerUnit;
+        const double whole = std::round(unitsPerSecond);
+        if (whole >= 1 && whole < 9e18 && std::abs(unitsPerSecond - whole) <= 1e-9 * whole)
+            unitsPerSecond_ = std::int64_t(whole);
+    }
+
+    //! Seconds of `t`, relative to the origin given or chosen by the first call (0 below kOriginFromSeconds).
+    double seconds(const Timestamp& t)
+    {
+        if (!started_)
+        {
+            started_ = true;
+            const double first = t.value * secondsPerUnit_;
+            if (!std::isnan(given_))
+                startAt(given_);
+            else if (!(std::abs(first) >= kOriginFromSeconds))
+                return first;
+            else if (unitsPerSecond_ > 0)  // floor((whole + fraction) / unitsPerSecond), in integers
+            {
+                std::int64_t q = t.whole / unitsPerSecond_, r = t.whole % unitsPerSecond_;
+                if (r < 0)
+                {
+                    q -= 1;
+                    r += unitsPerSecond_;
+                }
+                if (double(r) + t.fraction < 0)
+                    q -= 1;
+                originUnits_ = q * unitsPerSecond_;
+                origin_ = double(q);
+            }
+            else
+                origin_ = std::floor(first);
+        }
+        if (origin_ == 0)
+            return t.value * secondsPerUnit_;
+        if (unitsPerSecond_ > 0)  // exact in integer units: s, ms, us, ns and decimal tscales
+            return (double(t.whole - originUnits_) + t.fraction) / double(unitsPerSecond_);
+        return (double(t.whole) * secondsPerUnit_ - origin_) + t.fraction * secondsPerUnit_;
+    }
+    double origin() const { return origin_; }
+
+private:
+    //! The given origin in the file's units: exact for whole seconds, to the nearest unit otherwise.
+    void startAt(double origin)
+    {
+        origin_ = origin;
+        const double whole = std::floor(origin);
+        if (unitsPerSecond_ > 0 && std::abs(whole) * double(unitsPerSecond_) < 9e18)
+            originUnits_ = std::int64_t(whole) * unitsPerSecond_ +
+                           std::int64_t(std::llround((origin - whole) * double(unitsPerSecond_)));
+        else
+            unitsPerSecond_ = 0;  // seconds in doubles
+    }
+
+    double secondsPerUnit_;
+    double given_;
+    std::int64_t unitsPerSecond_ = 0;  //!< 0: not a whole number of units per second
+    bool started_ = false;
+    double origin_ = 0;                //!< seconds (whole unless given otherwise)
+    std::int64_t originUnits_ = 0;     //!< the origin in the file's units (when unitsPerSecond_ > 0)
+};
+
+/** The data rows of `layout`: each with one field per column, the time and the three rates finite
+    numbers; the time in seconds (LogClock), the rates in rad/s mapped by `toCamera`. */
+void readRows(const LogText& text, const LogLayout& layout, const Matx33d& toCamera, double origin, bool dropRepeats,
+              GyroLog& log)
+{
+    std::vector<Vec3d> rates;
+    std::vector<size_t> lineOf;
+    LogClock clock(layout.secondsPerUnit, origin);
+    const size_t fieldCount = layout.columns.size();
+    Vec3d previous;
+    for (size_t i = layout.firstRow; i < text.size(); ++i)
+    {
+        if (text[i].empty() || (layout.name != "gcsv" && text[i][0] == '#'))
+            continue;
+        const std::vector<std::string> fields = splitCommas(text[i]);
+        if (fields.size() != fieldCount)
+            text.fail(i, format("%zu fields, but the %s %zu; one value per column", fields.size(),
+                                !layout.headerRow          ? "first row has"
+                                : layout.name == "gcsv"    ? "column row names"
+                                                           : "header row names",
+                                fieldCount));
+        const auto number = [&](int j) {
+            double value;
+            if (!parseNumber(fields[j], value))
+                text.fail(i, format("field '%s' = '%s' is not a finite number", layout.columns[j].c_str(),
+                                    fields[j].substr(0, 40).c_str()));
+            return value;
+        };
+        if (layout.everyFieldNumeric)
+            for (size_t j = 0; j < fields.size(); ++j)
+                number(int(j));
+        Timestamp stamp;
+        if (!parseTimestamp(fields[layout.time], stamp))
+        {
+            number(layout.time);  // not a number: named as such
+            text.fail(i, format("field '%s' = '%s' is beyond any clock (|t| >= 9e18 units)", layout.columns[layout.time].c_str(),
+                                fields[layout.time].substr(0, 40).c_str()));
+        }
+        const Vec3d raw(number(layout.rate[0]), number(layout.rate[1]), number(layout.rate[2]));
+        const double t = clock.seconds(stamp);
+        const Vec3d w = toCamera * raw * layout.radPerUnit;
+        if (!std::isfinite(t) || !std::isfinite(w[0]) || !std::isfinite(w[1]) || !std::isfinite(w[2]))
+            text.fail(i, "the scaled time or rate overflows");
+        if (!log.times.empty() && t == log.times.back() && raw == previous && dropRepeats)
+        {
+            log.droppedSamples++;
+            continue;
+        }
+        if (!log.times.empty() && !(t > log.times.back()))
+            text.fail(i, format("field '%s': %.9f s is not after the previous sample's %.9f s (line %zu); timestamps "
+                                "must be strictly increasing, without repeats%s",
+                                layout.columns[layout.time].c_str(), t + clock.origin(), log.times.back() + clock.origin(),
+                                lineOf.back() + 1,
+                                t == log.times.back() && raw == previous && !dropRepeats
+                                    ? " (a sample repeated whole, as some loggers write, is dropped with "
+                                      "options.dropRepeatedSamples or --gyro-drop-repeats)"
+                                    : ""));
+        log.times.push_back(t);
+        rates.push_back(w);
+        lineOf.push_back(i);
+        previous = raw;
+    }
+    log.timeOrigin = clock.origin();
+    if (log.times.size() < 2)
+        text.failFile(format("%zu sample(s)%s; a gyro log needs at least 2", log.times.size(),
+                             layout.headerRow ? " after the header" : ""));
+    double median = 0;
+    if (const size_t k = detail::findLongGap(log.times, median))
+        text.fail(lineOf[k], format("a gap of %.6g s after the sample of line %zu, longer than %g median sample "
+                                    "intervals (%.6g s): samples are missing",
+                                    log.times[k] - log.times[k - 1], lineOf[k - 1] + 1,
+                                    detail::kMaxGapInMedianIntervals, median));
+    log.rates = Mat(int(rates.size()), 3, CV_64F, rates.data()).clone();
 }
 
 }  // namespace
 
 GyroLogOptions::GyroLogOptions()
-    : cameraFromGyro(Matx33d::eye()), timeScale(1.0), rateScale(1.0), estimateBias(false), stillThreshold(0.05),
-      stillMinDuration(0.5)
+    : cameraFromGyro(Matx33d::eye()), timeScale(1.0), rateScale(1.0), gcsvAxes("camera"),
+      timeOrigin(std::numeric_limits<double>::quiet_NaN()), dropRepeatedSamples(false), estimateBias(false),
+      stillThreshold(0.05), stillMinDuration(0.5)
 {
 }
 
-GyroLog::GyroLog() : bias(0, 0, 0), biasStillSeconds(0), cameraFromGyro(Matx33d::eye()), orientation("XYZ") {}
+GyroLog::GyroLog()
+    : bias(0, 0, 0), biasStillSeconds(0), cameraFromGyro(Matx33d::eye()), orientation("XYZ"), timeOrigin(0),
+      frameReadoutTime(std::numeric_limits<double>::quiet_NaN()), frameReadoutDirection(READOUT_DIRECTION_UNKNOWN),
+      droppedSamples(0)
+{
+}
 
 Matx33d GyroLog::orientationMatrix(const String& orientation)
 {
@@ -209,94 +261,17 @@ GyroLog GyroLog::load(const String& filename, const GyroLogOptions& options)
 {
     checkOptions(options);
     const LogText text(filename);
+    const LogLayout layout = readLayout(text, options);
     GyroLog log;
-    String axes = "XYZ";
-    double timeScale = options.timeScale, rateScale = options.rateScale;
-    size_t columnRow = 0;
-    std::vector<std::string> columns;
-    if (text[0] == "GYROFLOW IMU LOG" || text[0] == "CAMERA IMU LOG")
-    {
-        if (options.timeScale != 1.0 || options.rateScale != 1.0)
-            CV_Error_(Error::StsBadArg, ("%s: '%s' is a gcsv file, which states its own tscale and gscale; "
-                                         "options.timeScale and options.rateScale apply to plain CSV and must stay 1",
-                                         kLoad, filename.c_str()));
-        double tscale = NAN, gscale = NAN;
-        bool hasOrientation = false;
-        for (columnRow = 1; columnRow < text.size(); ++columnRow)
-        {
-            const std::string& line = text[columnRow];
-            if (line.empty())
-                continue;
-            const size_t comma = line.find(',');
-            const std::string key = lowered(trimmed(line.substr(0, comma)));
-            const std::string value = comma == std::string::npos ? std::string() : trimmed(line.substr(comma + 1));
-            if (key == "t")
-                break;
-            double number;
-            if (parseNumber(key, number))
-                text.fail(columnRow, format("a data row before the column row %s", kColumnsWanted));
-            if (key == "version" && value.substr(0, 2) != "1." && value != "1")
-                text.fail(columnRow, format("gcsv version '%s' is not supported; version 1.x (up to 1.3) is",
-                                            value.substr(0, 40).c_str()));
-            if (key == "id")
-                log.id = value;
-            if (key == "orientation")
-            {
-                axes = value;
-                hasOrientation = true;
-                try
-                {
-                    (void)orientationMatrix(value);
-                }
-                catch (const cv::Exception& e)
-                {
-                    if (options.orientation.empty())
-                        text.fail(columnRow, "field 'orientation': " + e.err);
-                }
-            }
-            if (key == "tscale" || key == "gscale")
-            {
-                if (!parseNumber(value, number) || !(number > 0))
-                    text.fail(columnRow, format("field '%s' = '%s' must be a finite number > 0 (%s)", key.c_str(),
-                                                value.substr(0, 40).c_str(),
-                                                key == "tscale" ? "seconds per time unit" : "rad/s per gyro unit"));
-                (key == "tscale" ? tscale : gscale) = number;
-            }
-        }
-        if (columnRow == text.size())
-            text.failFile(format("no column row %s after the gcsv header", kColumnsWanted));
-        if (std::isnan(tscale) || std::isnan(gscale))
-            text.failFile(format("the gcsv header lacks '%s' (before line %zu); it must state tscale (seconds per "
-                                 "time unit) and gscale (rad/s per gyro unit)",
-                                 std::isnan(tscale) ? "tscale" : "gscale", columnRow + 1));
-        if (!hasOrientation && options.orientation.empty())
-            text.failFile("the gcsv header lacks 'orientation' (the gyro's axis string, e.g. 'XYZ'); add it or give "
-                          "options.orientation");
-        timeScale = tscale;
-        rateScale = gscale;
-        columns = splitCommas(text[columnRow]);
-        const bool accel = columns.size() >= 7 && columnsAre(columns, {"ax", "ay", "az"}, 4);
-        const bool magnet = accel && columns.size() == 10 && columnsAre(columns, {"mx", "my", "mz"}, 7);
-        if (!columnsAre(columns, {"t", "gx", "gy", "gz"}, 0) ||
-            !(columns.size() == 4 || (accel && columns.size() == 7) || magnet))
-            text.fail(columnRow, format("the column row must be %s", kColumnsWanted));
-    }
-    else
-    {
-        while (columnRow < text.size() && (text[columnRow].empty() || text[columnRow][0] == '#'))
-            ++columnRow;
-        if (columnRow < text.size())
-            columns = splitCommas(text[columnRow]);
-        if (!columnsAre(columns, {"t", "gx", "gy", "gz"}, 0))
-            text.fail(std::min(columnRow, text.size() - 1),
-                      "missing header: a gcsv file starts with 'GYROFLOW IMU LOG' or 'CAMERA IMU LOG', a plain CSV "
-                      "with the column row 't,gx,gy,gz' (extra columns after these are ignored)");
-    }
-    if (!options.orientation.empty())
-        axes = options.orientation;
-    log.orientation = axes;
-    log.cameraFromGyro = options.cameraFromGyro * orientationMatrix(axes);
-    readRows(text, columnRow + 1, columns, timeScale, rateScale, log.cameraFromGyro, log);
+    log.layout = layout.name;
+    log.id = layout.id;
+    log.frameReadoutTime = layout.frameReadoutTime;
+    log.frameReadoutDirection = layout.frameReadoutDirection;
+    log.orientation = options.orientation.empty() ? layout.orientation : options.orientation;
+    // Gyroflow's frame (x up, y left, z backward) to camera axes (x right, y down, z forward).
+    const Matx33d fromGyroflow = layout.gyroflowAxes ? orientationMatrix("yxz") : Matx33d::eye();
+    log.cameraFromGyro = options.cameraFromGyro * fromGyroflow * orientationMatrix(log.orientation);
+    readRows(text, layout, log.cameraFromGyro, options.timeOrigin, options.dropRepeatedSamples, log);
     if (options.estimateBias)
         log.estimateBias(options.stillThreshold, options.stillMinDuration);
     return log;

@@ -101,6 +101,26 @@ public:
     {
         corrector_.setNoiseFrames(stillA.getMat(), stillB.getMat());
     }
+    void setNeighbourFrame(InputArray frame, const RollingShutter& shutter) CV_OVERRIDE
+    {
+        const char* fn = "DynamicDeblurrer::setNeighbourFrame";
+        const Mat image = frame.getMat();
+        if (!image.empty())
+        {
+            detail::checkCameraFrame(image, *camera_, fn, "frame");
+            detail::checkShutter(shutter, fn, "shutter.", image.rows);
+        }
+        corrector_.setNeighbour(image, shutter);
+    }
+    double getNeighbourLimit() const CV_OVERRIDE { return corrector_.settings.neighbourLimitPx; }
+    void setNeighbourLimit(double limitPx) CV_OVERRIDE
+    {
+        if (!(limitPx > 0))
+            CV_Error(Error::StsOutOfRange,
+                     format("DynamicDeblurrer::setNeighbourLimit: limitPx = %g must be > 0 pixels (or +inf: no check)",
+                            limitPx));
+        corrector_.settings.neighbourLimitPx = limitPx;
+    }
     void clearReferenceFrame() CV_OVERRIDE { corrector_.clearStills(); }
     MotionCorrection getLastCorrection() const CV_OVERRIDE { return lastCorrection_; }
     bool getBlindRefinement() const CV_OVERRIDE { return corrector_.settings.blind; }

@@ -190,6 +190,29 @@ public:
            from `stillA` in most pixels (the same capture twice measures no noise: refused). Both
            empty: forget the measurement (Immerkær's estimate again). */
     CV_WRAP virtual void setNoiseFrames(InputArray stillA, InputArray stillB) = 0;
+    /** @brief Sets a neighbour of the next frame of a measured motion's stream (a video's previous
+    frame, or for the first frame the one after it): with no still frame set, the next frame is
+    checked against it. A grid of patches of the
+    neighbour is looked for in the frame where the motion, with setCalibration's clock offset, line
+    delay, bias and rate scale, carries it (each from the instant its row was exposed in the
+    neighbour to the instant its row was exposed in the frame); phase correlation finds how far off
+    the content is. The median error, times the frame's exposure over the interval between the two
+    frames, is the error it implies in the frame's blur (getLastCorrection().consistency, pixels).
+    Where it exceeds both getNeighbourLimit and 0.4 of the frame's blur (measurement between
+    heavily blurred frames errs in proportion to their blur) the frame is returned unchanged, reason
+    saying so: a wrong log (rates in °/s read as rad/s, swapped axes, another clip's log, a clock
+    off) or something moving across the view. A frame with fewer than 6 textured patches is not
+    judged. Call it before each frame with its neighbour; an empty frame forgets it. Not used for a
+    plant's frames, nor while a still frame is set.
+    @param frame a neighbouring frame of the stream (its type and channels), the camera's image size.
+    @param shutter its timing as the camera reports it (rows = its height), frameStart other than the
+           next frame's. */
+    CV_WRAP virtual void setNeighbourFrame(InputArray frame, const RollingShutter& shutter) = 0;
+    /** @brief The blur error, pixels, that setNeighbourFrame's check accepts whatever the frame's blur
+    (default 1 px: an error below it does not harm a restoration). */
+    CV_WRAP virtual double getNeighbourLimit() const = 0;
+    /** @param limitPx > 0, pixels (+inf: no check). */
+    CV_WRAP virtual void setNeighbourLimit(double limitPx) = 0;
     /** @brief Forgets the still frames (not the noise frames): frames are restored with the model as told. */
     CV_WRAP virtual void clearReferenceFrame() = 0;
     /** @brief Whether a frame without a reference frame is refined blind (default false: the

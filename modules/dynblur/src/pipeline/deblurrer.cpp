@@ -307,10 +307,20 @@ private:
         if (corrected.window == EXPOSURE_IV || !corrected.correction.applied)
             return detail::passThrough(input, restored, validMask);
         /* Deconvolving a nearly sharp frame gains little, and on fine texture ends below the frame
-           (docs/quality.md, "Nearly sharp frames"): decided from the motion, before any kernel is made. */
+           (docs/quality.md, "Nearly sharp frames"); a blur longer than the kernels reach (a log in the
+           wrong units) has no restoration: both decided from the motion, before any kernel is made. */
+        const detail::FrameSharpness sharpness = detail::measureSharpness(view, shutter, *camera_);
+        if (!(sharpness.blurPx < generator_->getMaxKernelSize()))
+        {
+            lastCorrection_.applied = false;
+            lastCorrection_.reason =
+                format("the motion predicts %.0f px of blur at (%.0f, %.0f), more than the kernels reach (%d px, "
+                       "PsfGenerator::setMaxKernelSize): is the motion right (its units?); returned unchanged",
+                       sharpness.blurPx, sharpness.blurAt.x, sharpness.blurAt.y, generator_->getMaxKernelSize());
+            return detail::passThrough(input, restored, validMask);
+        }
         if (sharpThreshold_ > 0)
         {
-            const detail::FrameSharpness sharpness = detail::measureSharpness(view, shutter, *camera_);
             if (sharpness.within(sharpThreshold_))
             {
                 const auto report = [&](const char* what) {

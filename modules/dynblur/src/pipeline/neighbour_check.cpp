@@ -44,23 +44,36 @@ NeighbourAgreement NeighbourCheck::measure(const Mat& frame, const RollingShutte
         frames[i].frameStart = s.frameStart, frames[i].exposure = s.exposure, frames[i].lineDelay = s.lineDelay;
         frames[i].rows = s.rows;
     }
-    TrackResiduals motionOf(motion, camera_, pairs, frames);
-    const std::vector<Point2d> carried = motionOf.carried(c);
+    /* A row's instant in the frame is read where the content lands, which the motion itself says: the
+       rows of a rolling shutter tens of pixels apart are milliseconds apart. Two passes settle it. */
+    std::vector<Point2d> carried;
+    for (int pass = 0; pass < 2; pass++)
+    {
+        TrackResiduals motionOf(motion, camera_, pairs, frames);
+        carried = motionOf.carried(c);
+        for (size_t k = 0; k < pairs.size(); k++)
+            if (!std::isnan(carried[k].x))
+                pairs[k].b = Point2f(carried[k]);
+    }
     std::vector<Point2d> expected;
     for (size_t k = 0; k < carried.size(); k++)
         expected.push_back(std::isnan(carried[k].x) ? Point2d(1e9, 1e9) : carried[k] - Point2d(pairs[k].a));
     /* The patches the frames' own correlation finds (texture enough) are the ones judged: found where
        the motion puts them, their residual shift; not found there, an error without bound. */
     const Mat reduced = meter_.reduce(frame);
-    std::vector<double> errors(carried.size(), -1.0);
+    std::vector<double> errors(carried.size(), -1.0), observed(carried.size(), 0.0);
     for (const PatchShift& patch : meter_.shifts(neighbour_, reduced))
+    {
         errors[size_t(patch.index)] = std::numeric_limits<double>::infinity();
+        observed[size_t(patch.index)] = norm(patch.shift);
+    }
     for (const PatchShift& patch : meter_.shifts(neighbour_, reduced, expected))
-        errors[size_t(patch.index)] = norm(patch.shift - expected[size_t(patch.index)]);
+        if (errors[size_t(patch.index)] >= 0)
+            errors[size_t(patch.index)] = norm(patch.shift - expected[size_t(patch.index)]);
     NeighbourAgreement agreement;
     for (size_t k = 0; k < errors.size(); k++)
         if (errors[k] >= 0)
-            agreement.errorPx.push_back(errors[k]), agreement.shiftPx.push_back(norm(expected[k]));
+            agreement.errorPx.push_back(errors[k]), agreement.shiftPx.push_back(observed[k]);
     return agreement;
 }
 

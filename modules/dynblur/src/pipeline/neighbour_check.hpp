@@ -17,7 +17,7 @@ struct NeighbourAgreement
     /** each textured patch's error: how far from where the motion carries it its content was found,
         pixels (+inf: not found there) */
     std::vector<double> errorPx;
-    std::vector<double> shiftPx;  //!< each one's shift as the motion predicts it, pixels
+    std::vector<double> shiftPx;  //!< each one's shift as the images show it, pixels (whatever the motion says)
 };
 
 /** @brief The frame before a measured motion's frame, as the check of that frame sees it: the shifts

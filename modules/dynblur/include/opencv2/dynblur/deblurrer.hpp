@@ -196,18 +196,20 @@ public:
     CV_WRAP virtual void setNoiseFrames(InputArray stillA, InputArray stillB) = 0;
     /** @brief Sets a neighbour of the next frame of a measured motion's stream (a video's previous
     frame, or for the first frame the one after it): with no still frame set, the next frame is
-    checked against it. A grid of patches of the
-    neighbour is looked for in the frame where the motion, with setCalibration's clock offset, line
-    delay, bias and rate scale, carries it (each from the instant its row was exposed in the
-    neighbour to the instant its row was exposed in the frame); phase correlation finds how far off
-    the content is. The median error, times the frame's exposure over the interval between the two
-    frames, is the error it implies in the frame's blur (getLastCorrection().consistency, pixels).
-    Where it exceeds both getNeighbourLimit and 0.4 of the frame's blur (measurement between
-    heavily blurred frames errs in proportion to their blur) the frame is returned unchanged, reason
-    saying so: a wrong log (rates in °/s read as rad/s, swapped axes, another clip's log, a clock
-    off) or something moving across the view. A frame with fewer than 6 textured patches is not
-    judged. Call it before each frame with its neighbour; an empty frame forgets it. Not used for a
-    plant's frames, nor while a still frame is set.
+    checked against it. A grid of patches of the neighbour is looked for in the frame where the
+    motion, with setCalibration's clock offset, line delay, bias and rate scale, carries it (each
+    from the instant its row was exposed in the neighbour to the instant its row was exposed in the
+    frame); phase correlation finds how far off the content is. The median error, times the frame's
+    exposure over the interval between the two frames, is the error it implies in the frame's blur
+    (getLastCorrection().consistency, pixels). Where it exceeds both getNeighbourLimit and 0.6 of the
+    frame's blur as the images show it (measurement between heavily blurred frames errs in proportion
+    to their blur) the frame is returned unchanged, reason saying so: a wrong log (rates in °/s read
+    as rad/s, another clip's log, swapped axes, a clock off) or something moving across the view. It
+    catches what is grossly wrong; a mapping of the axes that nearly agrees with the images over a
+    frame can pass it, which ClipTimingCalibrator (the clip's calibration) does not let through. A
+    frame with fewer than 6 textured patches is not judged. Call it before each frame with its
+    neighbour; an empty frame forgets it. Not used for a plant's frames, nor while a still frame is
+    set.
     @param frame a neighbouring frame of the stream (its type and channels), the camera's image size.
     @param shutter its timing as the camera reports it (rows = its height), frameStart other than the
            next frame's. */

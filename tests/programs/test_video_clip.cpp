@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: Apache-2.0
+// A hand-held clip as the programs read it: a video's frame times from its container or its rate
+// (samples/support/video_clip.hpp).
+#include "video_clip.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/videoio.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <unistd.h>
+
+using namespace cv;
+using namespace dynblur_samples;
+
+namespace {
+
+std::string scratch(const std::string& name)
+{
+    return ::testing::TempDir() + format("dynblur_clip_%d_", (int)::getpid()) + name;
+}
+
+//! The message of the cv::Exception `f` throws ("" when none).
+template <typename F>
+std::string messageOf(F f)
+{
+    try
+    {
+        f();
+    }
+    catch (const cv::Exception& e)
+    {
+        return e.err;
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(VideoClip, ClockFromTimestampsElseTheRate)
+{
+    EXPECT_EQ(chooseFrameClock(0, 33.3667, 29.97, "--video", "a.mp4"), FrameClock::Timestamps);
+    // A container that stamps every frame 0 (or not at all) is timed by its rate.
+    EXPECT_EQ(chooseFrameClock(0, 0, 30, "--video", "a.avi"), FrameClock::FrameIndex);
+    EXPECT_EQ(chooseFrameClock(NAN, NAN, 25, "--video", "a.avi"), FrameClock::FrameIndex);
+    EXPECT_EQ(chooseFrameClock(40, 40, 25, "--video", "a.avi"), FrameClock::FrameIndex);
+    // Neither: refused, naming the option, the file and the way out.
+    const std::string refusal = messageOf([] { chooseFrameClock(0, 0, 0, "--video", "raw.h264"); });
+    EXPECT_NE(refusal.find("--video: 'raw.h264' has no frame timestamps and no frame rate"), std::string::npos)
+        << refusal;
+    EXPECT_NE(refusal.find("--frames"), std::string::npos) << refusal;
+    EXPECT_NE(messageOf([] { chooseFrameClock(0, 0, 5000, "--video", "a.avi"); }), "");
+}
+
+TEST(VideoClip, ReadsAVideoWithItsFrameTimes)
+{
+    const std::string path = scratch("times.avi");
+    {
+        VideoWriter writer(path, VideoWriter::fourcc('M', 'J', 'P', 'G'), 25.0, Size(64, 48), true);
+        ASSERT_TRUE(writer.isOpened());
+        for (int k = 0; k < 6; k++)
+            writer.write(Mat(48, 64, CV_8UC3, Scalar(40 * k, 0, 0)));
+    }
+    VideoClip clip;
+    clip.open(path, "--video");
+    EXPECT_EQ(clip.frameSize(), Size(64, 48));
+    EXPECT_DOUBLE_EQ(clip.framePeriod(), 0.04);
+    Mat image, previous;
+    double seconds = 0;
+    int frames = 0;
+    while (clip.read(image, seconds))
+    {
+        // Each frame at k / 25 s, in its own buffer (a caller may keep the one before).
+        EXPECT_NEAR(seconds, frames * 0.04, 1e-6) << "frame " << frames;
+        EXPECT_NEAR(mean(image)[0], 40 * frames, 3.0) << "frame " << frames;
+        EXPECT_NE(image.data, previous.data);
+        previous = image;
+        frames++;
+    }
+    EXPECT_EQ(frames, 6);
+    EXPECT_EQ(clip.framesRead(), 6);
+    EXPECT_EQ(clip.clock(), FrameClock::Timestamps);
+    std::remove(path.c_str());
+}
+
+TEST(VideoClip, RefusesWhatHasNoTimes)
+{
+    VideoClip clip;
+    const std::string sequence = messageOf([&] { clip.open("frames/frame_%04d.png", "--video"); });
+    EXPECT_NE(sequence.find("--video: 'frames/frame_%04d.png' is an image sequence"), std::string::npos) << sequence;
+    const std::string missing = scratch("missing.mp4");
+    EXPECT_NE(messageOf([&] { clip.open(missing, "--video"); }).find("--video: '" + missing + "' does not exist"),
+              std::string::npos);
+    const std::string garbage = scratch("garbage.mp4");
+    {
+        FILE* f = std::fopen(garbage.c_str(), "w");
+        ASSERT_NE(f, nullptr);
+        std::fputs("not a video\n", f);
+        std::fclose(f);
+    }
+    EXPECT_NE(messageOf([&] { clip.open(garbage, "--video"); }).find("--video: cannot open '" + garbage + "'"),
+              std::string::npos);
+    std::remove(garbage.c_str());
+}

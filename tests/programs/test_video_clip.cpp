@@ -1,17 +1,22 @@
 // SPDX-License-Identifier: Apache-2.0
 // A hand-held clip as the programs read it: a video's frame times from its container or its rate
-// (samples/support/video_clip.hpp).
+// (samples/support/video_clip.hpp), and the timing file of a clip's calibration with the shutter it
+// was told, and its axes applied to a log (gyro_recording.hpp).
+#include "gyro_recording.hpp"
 #include "video_clip.hpp"
 
 #include <gtest/gtest.h>
+#include <opencv2/dynblur.hpp>
 #include <opencv2/videoio.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <string>
 #include <unistd.h>
 
 using namespace cv;
+using namespace cv::dynblur;
 using namespace dynblur_samples;
 
 namespace {
@@ -102,4 +107,51 @@ TEST(VideoClip, RefusesWhatHasNoTimes)
     EXPECT_NE(messageOf([&] { clip.open(garbage, "--video"); }).find("--video: cannot open '" + garbage + "'"),
               std::string::npos);
     std::remove(garbage.c_str());
+}
+
+/* The timing file of a clip keeps the shutter the calibration was told beside the correction, so that
+   the restorer's line delay is the calibrated one whatever it is told; the library reads it as ever. */
+TEST(ClipCalibrationFile, KeepsTheShutterItWasTold)
+{
+    TimingCalibration t;
+    t.correction.timeOffset = 1.3;
+    t.correction.lineDelayScale = 1.19;
+    t.axisCorrection = Matx33d(0, 1, 0, -1, 0, 0, 0, 0, 1);
+    ToldShutter told;
+    told.exposure = 0.01;
+    told.lineDelay = 1.0 / 30 / 2 / 480;
+    const std::string path = scratch("timing.yml");
+    saveClipCalibration(t, told, path);
+    const TimingCalibration read = TimingCalibration::load(path);
+    EXPECT_DOUBLE_EQ(read.correction.timeOffset, 1.3);
+    EXPECT_DOUBLE_EQ(read.correction.lineDelayScale, 1.19);
+    EXPECT_EQ(read.axisCorrection, t.axisCorrection);
+    const ToldShutter back = toldShutterOf(path);
+    EXPECT_NEAR(back.exposure, 0.01, 1e-12);
+    EXPECT_NEAR(back.lineDelay, told.lineDelay, 1e-15);
+    EXPECT_NE(back.lineDelayFrom.find("--timing"), std::string::npos);
+    std::remove(path.c_str());
+    // A calibration against stills records no shutter: its frame log tells it.
+    t.save(path);
+    EXPECT_TRUE(std::isnan(toldShutterOf(path).lineDelay));
+    EXPECT_TRUE(std::isnan(toldShutterOf(path).exposure));
+    std::remove(path.c_str());
+    // Only YAML takes the extra keys.
+    const std::string xml = scratch("timing.xml");
+    EXPECT_NE(messageOf([&] { saveClipCalibration(t, told, xml); }).find("--out: '" + xml + "'"), std::string::npos);
+    EXPECT_FALSE(std::ifstream(xml).good());
+}
+
+TEST(ClipCalibrationFile, AxesTakeTheLogsRatesAndBias)
+{
+    GyroLog log;
+    log.times = {0.0, 0.005};
+    log.rates = (Mat_<double>(2, 3) << 1, 2, 3, 4, 5, 6);
+    log.bias = Vec3d(0.1, 0.2, 0.3);
+    const Matx33d A(0, -1, 0, 1, 0, 0, 0, 0, 1);  // x_camera = -y_log, y_camera = x_log
+    correctAxes(log, A);
+    EXPECT_EQ(log.rates.at<double>(0, 0), -2);
+    EXPECT_EQ(log.rates.at<double>(0, 1), 1);
+    EXPECT_EQ(log.rates.at<double>(1, 2), 6);
+    EXPECT_NEAR(norm(log.bias - Vec3d(-0.2, 0.1, 0.3)), 0, 1e-15);
 }

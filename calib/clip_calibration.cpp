@@ -3,6 +3,7 @@
 #include "clip_calibration.hpp"
 
 #include "atomic_file.hpp"  // samples/support
+#include "gyro_timing.hpp"
 #include "objective_plot.hpp"
 
 #include <opencv2/dynblur.hpp>
@@ -20,8 +21,6 @@ using namespace dynblur_samples;
 namespace {
 
 const double kDeg = CV_PI / 180;
-// What --refine estimates on a clip unless told.
-const char* const kClipRefinement = "offset,line-delay,bias";
 
 //! The stretch of a clip that is calibrated: its frames' readouts on the video's clock.
 struct Stretch
@@ -115,7 +114,7 @@ int calibrateClipTiming(const CliArgs& args, GyroRecording& r)
 {
     const int measurable = REFINE_TIME_OFFSET | REFINE_LINE_DELAY | REFINE_GYRO_BIAS | REFINE_RATE_SCALE;
     int flags = 0;
-    if (!parseRefinementList(args.str("refine", kClipRefinement), measurable, flags) || !(flags & REFINE_TIME_OFFSET))
+    if (!parseRefinementList(args.str("refine", kGyroRefinement), measurable, flags) || !(flags & REFINE_TIME_OFFSET))
         throw std::runtime_error("--refine takes offset (always) and line-delay, bias and rate-scale on a clip, "
                                  "comma-separated");
     const double maxOffset = args.num("max-offset", 2.0);

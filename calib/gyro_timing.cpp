@@ -23,10 +23,10 @@ using namespace cv;
 using namespace cv::dynblur;
 using namespace dynblur_samples;
 
+const char* const kGyroRefinement = "offset,line-delay,bias";
+
 namespace {
 const double kDeg = CV_PI / 180;
-// What --refine estimates with --gyro unless told.
-const char* const kGyroRefinement = "offset,line-delay,bias";
 }
 
 dynblur_samples::CliOptionGroup gyroTimingOptions()

@@ -3,6 +3,7 @@
 // (samples/support/video_clip.hpp), and the timing file of a clip's calibration with the shutter it
 // was told, and its axes applied to a log (gyro_recording.hpp).
 #include "gyro_recording.hpp"
+#include "test_common.hpp"
 #include "video_clip.hpp"
 
 #include <gtest/gtest.h>
@@ -18,27 +19,13 @@
 using namespace cv;
 using namespace cv::dynblur;
 using namespace dynblur_samples;
+using dynblur_test::expectErrorNaming;
 
 namespace {
 
 std::string scratch(const std::string& name)
 {
-    return ::testing::TempDir() + format("dynblur_clip_%d_", (int)::getpid()) + name;
-}
-
-//! The message of the cv::Exception `f` throws ("" when none).
-template <typename F>
-std::string messageOf(F f)
-{
-    try
-    {
-        f();
-    }
-    catch (const cv::Exception& e)
-    {
-        return e.err;
-    }
-    return "";
+    return ::testing::TempDir() + format("dynblur_video_clip_%d_", (int)::getpid()) + name;
 }
 
 }  // namespace
@@ -51,11 +38,10 @@ TEST(VideoClip, ClockFromTimestampsElseTheRate)
     EXPECT_EQ(chooseFrameClock(NAN, NAN, 25, "--video", "a.avi"), FrameClock::FrameIndex);
     EXPECT_EQ(chooseFrameClock(40, 40, 25, "--video", "a.avi"), FrameClock::FrameIndex);
     // Neither: refused, naming the option, the file and the way out.
-    const std::string refusal = messageOf([] { chooseFrameClock(0, 0, 0, "--video", "raw.h264"); });
-    EXPECT_NE(refusal.find("--video: 'raw.h264' has no frame timestamps and no frame rate"), std::string::npos)
-        << refusal;
-    EXPECT_NE(refusal.find("--frames"), std::string::npos) << refusal;
-    EXPECT_NE(messageOf([] { chooseFrameClock(0, 0, 5000, "--video", "a.avi"); }), "");
+    const auto neither = [] { chooseFrameClock(0, 0, 0, "--video", "raw.h264"); };
+    expectErrorNaming(neither, "--video: 'raw.h264' has no frame timestamps and no frame rate");
+    expectErrorNaming(neither, "--frames FRAMES.csv");
+    expectErrorNaming([] { chooseFrameClock(0, 0, 5000, "--video", "a.avi"); }, "no frame rate");
 }
 
 TEST(VideoClip, ReadsAVideoWithItsFrameTimes)
@@ -92,11 +78,10 @@ TEST(VideoClip, ReadsAVideoWithItsFrameTimes)
 TEST(VideoClip, RefusesWhatHasNoTimes)
 {
     VideoClip clip;
-    const std::string sequence = messageOf([&] { clip.open("frames/frame_%04d.png", "--video"); });
-    EXPECT_NE(sequence.find("--video: 'frames/frame_%04d.png' is an image sequence"), std::string::npos) << sequence;
+    expectErrorNaming([&] { clip.open("frames/frame_%04d.png", "--video"); },
+                      "--video: 'frames/frame_%04d.png' is an image sequence");
     const std::string missing = scratch("missing.mp4");
-    EXPECT_NE(messageOf([&] { clip.open(missing, "--video"); }).find("--video: '" + missing + "' does not exist"),
-              std::string::npos);
+    expectErrorNaming([&] { clip.open(missing, "--video"); }, "--video: '" + missing + "' does not exist");
     const std::string garbage = scratch("garbage.mp4");
     {
         FILE* f = std::fopen(garbage.c_str(), "w");
@@ -104,8 +89,7 @@ TEST(VideoClip, RefusesWhatHasNoTimes)
         std::fputs("not a video\n", f);
         std::fclose(f);
     }
-    EXPECT_NE(messageOf([&] { clip.open(garbage, "--video"); }).find("--video: cannot open '" + garbage + "'"),
-              std::string::npos);
+    expectErrorNaming([&] { clip.open(garbage, "--video"); }, "--video: cannot open '" + garbage + "'");
     std::remove(garbage.c_str());
 }
 
@@ -138,7 +122,7 @@ TEST(ClipCalibrationFile, KeepsTheShutterItWasTold)
     std::remove(path.c_str());
     // Only YAML takes the extra keys.
     const std::string xml = scratch("timing.xml");
-    EXPECT_NE(messageOf([&] { saveClipCalibration(t, told, xml); }).find("--out: '" + xml + "'"), std::string::npos);
+    expectErrorNaming([&] { saveClipCalibration(t, told, xml); }, "--out: '" + xml + "'");
     EXPECT_FALSE(std::ifstream(xml).good());
 }
 

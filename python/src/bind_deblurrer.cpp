@@ -83,8 +83,13 @@ Returns restored, or (restored, validMask) with returnMask=True.)doc")
 frame: uint8 (sRGB) or float32 (linear, [0,1]; refused outside it), 1, 3 or 4 channels, the camera's image size;
 schedule: the command in force around the frame; shutter: the frame's timing (rows = height);
 thetaRef: radians, NaN = the schedule's final resting angle. Returns restored (same shape and
-dtype; a window-IV frame comes back unchanged), or (restored, validMask) with returnMask=True
-(uint8, 255 where the frame observed the restored pixel).)doc")
+dtype; a window-IV frame comes back unchanged, a sharp one is not deconvolved: getSharpThreshold), or
+(restored, validMask) with returnMask=True (uint8, 255 where the frame observed the restored pixel).)doc")
+        .def("getSharpThreshold", &DynamicDeblurrer::getSharpThreshold,
+             "Pixels (default 1; 0: none): a frame whose blur and shift from the reference view both stay below "
+             "it is not deconvolved; it comes back as it was, or with its rows moved back to the reference view "
+             "(getLastCorrection().reason starts with 'sharp:')")
+        .def("setSharpThreshold", &DynamicDeblurrer::setSharpThreshold, py::arg("px"))
         .def("getPsfModel", &DynamicDeblurrer::getPsfModel,
              "PsfModel (default PSF_AUTO: per band of rows the cheapest model within the generator's auto tolerance)")
         .def("setPsfModel", &DynamicDeblurrer::setPsfModel, py::arg("model"))

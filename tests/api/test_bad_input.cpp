@@ -417,6 +417,9 @@ TEST(BadInput, Deblurrer)
         {"DynamicDeblurrer::setPsfModel", "7", [&] { d->setPsfModel(7); }, {"model"}},
         {"DynamicDeblurrer::setMethod", "-1", [&] { d->setMethod(-1); }, {"method"}},
         {"DynamicDeblurrer::setUnobservedFill", "3", [&] { d->setUnobservedFill(3); }, {"fill", "UNOBSERVED_RECORDED"}},
+        {"DynamicDeblurrer::setSharpThreshold", "-0.5", [&] { d->setSharpThreshold(-0.5); }, {"px", ">= 0"}},
+        {"DynamicDeblurrer::setSharpThreshold", "NaN", [&] { d->setSharpThreshold(kNaN); }, {"px", "finite"}},
+        {"DynamicDeblurrer::setSharpThreshold", "Inf", [&] { d->setSharpThreshold(kInf); }, {"px", "finite"}},
         {"DynamicDeblurrer::setRLParams", "iterations = 0",
          [&] {
              RLParams p;

@@ -3,6 +3,7 @@
 // numerical derivatives, pointing and its inverse, one axis against fromPlant, a pan-tilt move
 // restored, and bad input.
 #include "image_metrics.hpp"
+#include "pan_tilt.hpp"
 #include "shake_scene.hpp"
 #include "test_common.hpp"
 
@@ -16,34 +17,12 @@
 using namespace cv;
 using namespace cv::dynblur;
 using dynblur_samples::maskedPsnr;
+using dynblur_test::panTilt;
+using dynblur_test::plannedMoves;
 
 namespace {
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-//! A pan-tilt head: pan about y (base), tilt about x, piezo-like plants of 0.2° and 0.25° per level.
-Ptr<Mount> panTilt()
-{
-    Ptr<Mount> mount = Mount::create();
-    mount->addAxis(Vec3d(0, 1, 0), Plant::create(14.4, 0.12, 0.2 * CV_PI / 180), -200, 200);
-    mount->addAxis(Vec3d(1, 0, 0), Plant::create(11.0, 0.15, 0.25 * CV_PI / 180), -120, 120);
-    return mount;
-}
-
-//! A move planned for each axis of `mount` from rest at `from` to `to` (degrees), starting at `start` s.
-std::vector<SwitchSchedule> plannedMoves(const Ptr<Mount>& mount, const std::vector<double>& fromDeg,
-                                         const std::vector<double>& toDeg, double start)
-{
-    std::vector<SwitchSchedule> schedules;
-    for (int i = 0; i < mount->getAxisCount(); i++)
-    {
-        const Vec2i levels = mount->getLevelRange(i);
-        Ptr<SwitchPlanner> planner = SwitchPlanner::create(mount->getPlant(i), std::max(-levels[0], levels[1]));
-        schedules.push_back(
-            planner->plan(fromDeg[size_t(i)] * CV_PI / 180, toDeg[size_t(i)] * CV_PI / 180, start));
-    }
-    return schedules;
-}
 
 double rotationDistance(const Matx33d& a, const Matx33d& b)
 {

@@ -281,6 +281,31 @@ def test_deblurrer(db, small_setup):
     assert not np.shares_memory(out, blurred)
 
 
+def test_deblurrer_sharp_threshold(db, small_setup):
+    """A frame at the very end of the move is not deconvolved under the default threshold (1 px):
+    reported as sharp, no kernels; with 0 every moving frame is; the threshold is checked."""
+    plant, sched, cam, shutter = small_setup
+    start = shutter.frameStart
+    while db.classifyExposure(plant, sched, db.RollingShutter(frameStart=start + 1e-3, exposure=0.008,
+                                                              lineDelay=shutter.lineDelay, rows=120)) != db.EXPOSURE_IV:
+        start += 1e-3
+    last = db.RollingShutter(frameStart=start, exposure=0.008, lineDelay=shutter.lineDelay, rows=120)
+    frame = db.renderBlurred(make_scene(120, 160), plant, sched, cam, last)
+    deb = db.DynamicDeblurrer.create(plant, cam)
+    assert deb.getSharpThreshold() == 1.0
+    out = deb.deblur(frame, sched, last)
+    c = deb.getLastCorrection()
+    assert c.applied and c.reason.startswith("sharp: blur "), c.reason
+    assert len(deb.getLastPsfBank().kernels) == 0 and out.shape == frame.shape
+    deb.setSharpThreshold(0.0)
+    assert deb.getSharpThreshold() == 0.0
+    deb.deblur(frame, sched, last)
+    assert not deb.getLastCorrection().reason.startswith("sharp") and len(deb.getLastPsfBank().kernels) > 0
+    for bad in (-1.0, float("nan"), float("inf")):
+        with pytest.raises(db.error, match="px = .* must be finite and >= 0"):
+            deb.setSharpThreshold(bad)
+
+
 def test_deblurrer_plan_and_preset(db, small_setup):
     plant, sched, cam, shutter = small_setup
     blurred = db.renderBlurred(make_scene(120, 160), plant, sched, cam, shutter)

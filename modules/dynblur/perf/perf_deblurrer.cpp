@@ -227,3 +227,38 @@ void BM_FrameRateByKernels(benchmark::State& state)
     }
 }
 BENCHMARK(BM_FrameRateByKernels)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(9)->Repetitions(1);
+
+/* A nearly sharp frame (DynamicDeblurrer::setSharpThreshold): the saccade's last frame before its
+   frames are still (1 ms steps), 8-bit, in the frame-rate setting. Arg 0: returned as it came (the
+   reference at the final rest, shift 0); 1: its rows moved back to a reference 0.5 px away (4e-4
+   rad); 2: deconvolved anyway (setSharpThreshold(0)). The first two cost the measure of the frame's
+   motion (and the resampling); the third the PSF bank and Richardson–Lucy. */
+void BM_SharpFrame(benchmark::State& state)
+{
+    static const SaccadeFrame f = [] {
+        const SaccadeScene scene;
+        RollingShutter shutter = scene.shutter;
+        while (classifyExposure(scene.plant, scene.schedule, shutter) != EXPOSURE_IV)
+            shutter.frameStart += 0.001;
+        shutter.frameStart -= 0.001;
+        return SaccadeFrame(&shutter);
+    }();
+    const int variant = static_cast<int>(state.range(0));
+    Ptr<DynamicDeblurrer> deblurrer = frameRateDeblurrer(f, PSF_AUTO);
+    if (variant == 2)
+        deblurrer->setSharpThreshold(0.0);
+    const double thetaRef = f.plant->restingAngle(f.schedule.finalLevel()) + (variant == 1 ? 4e-4 : 0.0);
+    Mat restored;
+    deblurrer->deblur(f.frame8, f.schedule, f.shutter, restored, thetaRef);
+    const std::string reason = deblurrer->getLastCorrection().reason;
+    const bool moved = reason.find("moved back") != std::string::npos;
+    if ((reason.rfind("sharp:", 0) == 0) != (variant != 2) || moved != (variant == 1))
+        state.SkipWithError(("not the frame this variant needs: " + reason).c_str());
+    for (auto _ : state)
+    {
+        deblurrer->deblur(f.frame8, f.schedule, f.shutter, restored, thetaRef);
+        benchmark::DoNotOptimize(restored.data);
+    }
+}
+BENCHMARK(BM_SharpFrame)->ArgName("passed_moved_deconvolved")->DenseRange(0, 2)->Unit(benchmark::kMillisecond)
+    ->UseRealTime()->Iterations(5);

@@ -333,5 +333,21 @@ Ptr<CameraMotion> GyroLog::toMotion(const Matx33d& initialOrientation) const
     return CameraMotion::fromAngularVelocity(times, corrected, initialOrientation);
 }
 
+GyroLog GyroLog::withAxisCorrection(const Matx33d& axisCorrection) const
+{
+    if (!(so3::rotationDefect(axisCorrection) <= 1e-6))
+        CV_Error(Error::StsBadArg, "GyroLog::withAxisCorrection: 'axisCorrection' is not a rotation (orthonormal, "
+                                   "determinant +1)");
+    GyroLog corrected = *this;
+    Mat rates64;
+    rates.convertTo(rates64, CV_64F);
+    // A new matrix: assigned as an expression, it would be written into the rates this log shares.
+    const Mat mapped = rates64 * Mat(axisCorrection).t();
+    corrected.rates = mapped;
+    corrected.bias = axisCorrection * bias;
+    corrected.cameraFromGyro = axisCorrection * cameraFromGyro;
+    return corrected;
+}
+
 }  // namespace dynblur
 }  // namespace cv

@@ -12,6 +12,7 @@
 #include "pipeline/frame_correction.hpp"
 #include "pipeline/frame_rate_preset.hpp"
 #include "pipeline/frame_restoration.hpp"
+#include "pipeline/frame_sharpness.hpp"
 #include "refine/fit_parameters.hpp"
 #include "restore/arguments.hpp"
 
@@ -21,6 +22,10 @@ namespace dynblur {
 namespace {
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 const char* const kDeblur = "DynamicDeblurrer::deblur";
+/* A sharp frame displaced from the reference view by less than this (pixels) is returned as it
+   came: moving it back would gain some hundredths of a dB (+0.02 to +0.16 dB at 0.06 px, less as the
+   square of the shift below; docs/quality.md, "Nearly sharp frames") for the resampling's time. */
+const double kNegligibleShiftPx = 0.05;
 }
 
 class DynamicDeblurrerImpl CV_FINAL : public DynamicDeblurrer
@@ -101,6 +106,26 @@ public:
     {
         corrector_.setNoiseFrames(stillA.getMat(), stillB.getMat());
     }
+    void setNeighbourFrame(InputArray frame, const RollingShutter& shutter) CV_OVERRIDE
+    {
+        const char* fn = "DynamicDeblurrer::setNeighbourFrame";
+        const Mat image = frame.getMat();
+        if (!image.empty())
+        {
+            detail::checkCameraFrame(image, *camera_, fn, "frame");
+            detail::checkShutter(shutter, fn, "shutter.", image.rows);
+        }
+        corrector_.setNeighbour(image, shutter);
+    }
+    double getNeighbourLimit() const CV_OVERRIDE { return corrector_.settings.neighbourLimitPx; }
+    void setNeighbourLimit(double limitPx) CV_OVERRIDE
+    {
+        if (!(limitPx > 0))
+            CV_Error(Error::StsOutOfRange,
+                     format("DynamicDeblurrer::setNeighbourLimit: limitPx = %g must be > 0 pixels (or +inf: no check)",
+                            limitPx));
+        corrector_.settings.neighbourLimitPx = limitPx;
+    }
     void clearReferenceFrame() CV_OVERRIDE { corrector_.clearStills(); }
     MotionCorrection getLastCorrection() const CV_OVERRIDE { return lastCorrection_; }
     bool getBlindRefinement() const CV_OVERRIDE { return corrector_.settings.blind; }
@@ -135,6 +160,17 @@ public:
             CV_Error(Error::StsOutOfRange,
                      format("DynamicDeblurrer::setConsistencyLimit: limit = %g must be > 1 (or +inf: no check)", limit));
         corrector_.settings.consistencyLimit = limit;
+    }
+
+    double getSharpThreshold() const CV_OVERRIDE { return sharpThreshold_; }
+    void setSharpThreshold(double px) CV_OVERRIDE
+    {
+        if (!(px >= 0) || std::isinf(px))
+            CV_Error(Error::StsOutOfRange,
+                     format("DynamicDeblurrer::setSharpThreshold: px = %g must be finite and >= 0 (pixels; 0: deconvolve "
+                            "every moving frame)",
+                            px));
+        sharpThreshold_ = px;
     }
 
     int getPsfModel() const CV_OVERRIDE { return restoration_.psfModel; }
@@ -258,8 +294,9 @@ private:
     }
 
     /* The last stages for a corrected frame: its PSF bank for `view` read by `shutter` (corrected),
-       then the restoration in the frame's encoding; a frame still throughout, or one no correction
-       explains, is returned as it came. The getters' report of the frame is written here. */
+       then the restoration in the frame's encoding. A frame still throughout, or one no correction
+       explains, is returned as it came; one whose motion keeps it sharp is not deconvolved (returned
+       as it came, or its rows moved back). The getters' report of the frame is written here. */
     void restoreFrame(const Mat& input, const detail::FrameCorrection& corrected, const detail::ViewMotion& view,
                       const RollingShutter& shutter, OutputArray restored, OutputArray validMask)
     {
@@ -269,6 +306,30 @@ private:
         lastPlan_ = PsfPlan();
         if (corrected.window == EXPOSURE_IV || !corrected.correction.applied)
             return detail::passThrough(input, restored, validMask);
+        /* Deconvolving a nearly sharp frame gains little, and on fine texture ends below the frame
+           (docs/quality.md, "Nearly sharp frames"): decided from the motion, before any kernel is made. */
+        if (sharpThreshold_ > 0)
+        {
+            const detail::FrameSharpness sharpness = detail::measureSharpness(view, shutter, *camera_);
+            if (sharpness.within(sharpThreshold_))
+            {
+                const auto report = [&](const char* what) {
+                    lastCorrection_.reason =
+                        format("sharp: blur %.2f px at (%.0f, %.0f), shift %.2f px at (%.0f, %.0f), both below %g px: %s",
+                               sharpness.blurPx, sharpness.blurAt.x, sharpness.blurAt.y, sharpness.shiftPx,
+                               sharpness.shiftAt.x, sharpness.shiftAt.y, sharpThreshold_, what) +
+                        (corrected.correction.reason.empty() ? String() : "; " + corrected.correction.reason);
+                };
+                if (sharpness.shiftPx < kNegligibleShiftPx)
+                {
+                    report("returned as it came");
+                    return detail::passThrough(input, restored, validMask);
+                }
+                if (restorer_.moveBack(input, sharpness, restoration_.unobservedFill, restored, validMask))
+                    return report("rows moved back to the reference view without deconvolution");
+                // Rows folded over one another (a vibration faster than the readout): deconvolved as any frame.
+            }
+        }
 
         PsfPlan plan;
         const PsfBank bank = detail::generatePsfBank(*generator_, restoration_.psfModel, view, shutter, &plan);
@@ -293,6 +354,7 @@ private:
     detail::FrameCorrector corrector_;        // the stills, the noise and the refinement's settings
     detail::RestorationSettings restoration_;  // PSF_AUTO: tiles where the motion needs them; see the quality tests
     detail::FrameRestorer restorer_;          // its workspaces, kept between frames
+    double sharpThreshold_ = 1.0;             // pixels; frames sharper than this are not deconvolved (0: none)
     // What the last frame's stages found (the getters' report).
     MotionCorrection lastCorrection_;
     int lastWindow_ = 0;

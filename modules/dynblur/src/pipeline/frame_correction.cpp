@@ -38,11 +38,19 @@ const double kEstimatedNoiseLimit = 3.0;
    (building, window I, as rendered), wrong ones that restore worse from 8.8 (baboon, the other
    sign, after JPEG at quality 80; RefinementNoisePair, docs/refinement.md): their geometric middle. */
 const double kMeasuredNoiseLimit = 7.5;
+/* A patch of a frame checked against its neighbour may carry a blur error up to this share of its blur
+   beyond the limit: shifts between blurred frames err in proportion to their blur (right logs measured
+   up to 0.33 of the shift at 40 px of blur, swapped axes mostly above 0.5) ... */
+const double kNeighbourShare = 0.4;
+// ... and a frame is refused when more than this share of its patches miss (a roll's error is at the edges).
+const double kNeighbourMissedShare = 0.25;
+// Fewer textured patches than this decide nothing.
+const int kNeighbourMinPatches = 6;
 
 }  // namespace
 
 FrameCorrector::FrameCorrector(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera)
-    : plant_(plant), camera_(camera)
+    : plant_(plant), camera_(camera), neighbour_(camera)
 {
 }
 
@@ -142,6 +150,54 @@ void FrameCorrector::clearStills()
     referenceType_ = -1;
 }
 
+/* Without a still, a neighbouring frame serves: the motion must carry its content onto this frame. Each
+   patch's error, over the interval between the two frames' exposures, is scaled to the error it
+   implies in this frame's blur (× exposure / interval, the share of that interval the blur spans); a
+   patch misses when that exceeds both the limit and kNeighbourShare of its blur (measurement under
+   heavy blur errs in proportion to it), and a frame with more than kNeighbourMissedShare of its
+   patches missed comes back as it was: a wrong log, axes or clock, or something moving across much
+   of the view. Too few textured patches decide nothing. */
+void FrameCorrector::checkAgainstNeighbour(const Mat& frame, const Ptr<CameraMotion>& motion,
+                                           const RollingShutter& shutter, MotionCorrection& correction) const
+{
+    if (!(std::abs(neighbour_.interval(shutter)) > 0))
+        CV_Error(Error::StsBadArg, "DynamicDeblurrer::deblur: the neighbour frame (setNeighbourFrame) starts when "
+                                   "this frame does; it must be the frame before or after it");
+    const NeighbourAgreement agreement = neighbour_.measure(frame, shutter, motion, correction);
+    const double scale = shutter.exposure / std::abs(neighbour_.interval(shutter));
+    const size_t patches = agreement.errorPx.size();
+    if (patches < size_t(kNeighbourMinPatches))
+    {
+        correction.reason += format("; too few textured patches (%zu) to check against the neighbouring frame",
+                                    patches);
+        return;
+    }
+    std::vector<double> blurErrors;
+    size_t missed = 0;
+    for (size_t k = 0; k < patches; k++)
+    {
+        const double blurError = agreement.errorPx[k] * scale, blur = agreement.shiftPx[k] * scale;
+        blurErrors.push_back(blurError);
+        missed += blurError > std::max(settings.neighbourLimitPx, kNeighbourShare * blur);
+    }
+    std::nth_element(blurErrors.begin(), blurErrors.begin() + long(patches / 2), blurErrors.end());
+    correction.consistency = blurErrors[patches / 2];
+    if (double(missed) <= kNeighbourMissedShare * double(patches))
+        correction.reason += format("; carried from the neighbouring frame within %.2f px of blur (median of %zu "
+                                    "patches)",
+                                    correction.consistency, patches);
+    else
+    {
+        correction.applied = false;
+        correction.reason = format("carried from the neighbouring frame, the motion misses %zu of %zu patches (median "
+                                   "%.1f px of blur error; limit %.1f px or %.0f %% of a patch's blur): the log does "
+                                   "not explain the frame (its units, axes or clock, or something moving across the "
+                                   "view?); returned unchanged",
+                                   missed, patches, correction.consistency, settings.neighbourLimitPx,
+                                   100 * kNeighbourShare);
+    }
+}
+
 /* A frame refined against the stills comes from their stream: the reference frames' type, and the
    noise frames' (setNoiseFrames measured the noise of frames of their own type only). */
 void FrameCorrector::checkStreamType(const char* fn, const Mat& input) const
@@ -236,6 +292,8 @@ MotionCorrection FrameCorrector::correctMeasuredFrame(const Mat& input, const Pt
         correction.reason = settings.calibrated ? "a measured motion without a reference frame: the calibration's clock "
                                           "offset, line delay and gyro bias"
                                         : "a measured motion without a reference frame: restored as given";
+        if (neighbour_.present())
+            checkAgainstNeighbour(input, motion, shutter, correction);
         return correction;
     }
     checkStreamType(fn, input);

@@ -6,6 +6,7 @@
 
 #include <opencv2/dynblur/refinement.hpp>
 
+#include "pipeline/neighbour_check.hpp"
 #include "refine/fit_pyramid.hpp"
 
 #include <limits>
@@ -37,6 +38,8 @@ struct CorrectionSettings
     //! The correction every frame starts from (its consistency, applied and reason unused).
     MotionCorrection calibration;
     bool calibrated = false;  //!< `calibration` was set
+    //! A measured motion's frame its neighbour implies a blur error above this (px; and a share of its blur) is refused.
+    double neighbourLimitPx = 1.0;
 };
 
 /** @brief The correction stage: the still frames a stream's frames are compared with, the noise
@@ -62,6 +65,8 @@ public:
                    const char* angleAfterName, bool single);
     //! One still of a measured motion, placed by its capture time (the middle row's mid-exposure of `stillShutter`).
     void setTimedStill(const char* fn, const Mat& still, const RollingShutter& stillShutter);
+    //! Keeps the frame before the next measured-motion frame (empty: forget it), checked by the caller.
+    void setNeighbour(const Mat& frame, const RollingShutter& shutter) { neighbour_.set(frame, shutter); }
     //! Measures the noise from two stills at rest (both empty: forget it).
     void setNoiseFrames(const Mat& stillA, const Mat& stillB);
     void clearStills();
@@ -94,8 +99,13 @@ private:
     MotionCorrection correctMeasuredFrame(const Mat& frame, const Ptr<CameraMotion>& motion,
                                           const RollingShutter& shutter) const;
 
+    //! A measured motion's frame checked against its neighbour: `correction` refused when the tracks disagree.
+    void checkAgainstNeighbour(const Mat& frame, const Ptr<CameraMotion>& motion, const RollingShutter& shutter,
+                               MotionCorrection& correction) const;
+
     Ptr<Plant> plant_;
     Ptr<CameraModel> camera_;
+    NeighbourCheck neighbour_;
     Still stills_[2];                 // before the move, after it
     std::vector<double> noiseSigma_;  // setNoiseFrames: one frame's noise at each pyramid level; empty: Immerkær's
     int noiseType_ = -1;              // the noise frames' type

@@ -7,6 +7,7 @@
 #include <opencv2/dynblur/deblurrer.hpp>
 
 #include "motion/view_motion.hpp"
+#include "pipeline/frame_sharpness.hpp"
 #include "restore/deconv_rl.hpp"
 
 namespace cv {
@@ -48,6 +49,18 @@ public:
                  const PsfGenerator& generator, const RestorationSettings& settings, OutputArray restored,
                  OutputArray validMask);
 
+    /** @brief A sharp frame's rows moved back to the reference view without deconvolution: each
+    pixel of the view read from where the frame recorded it (recordedPositions), bicubic, in the
+    frame's own encoding; alpha passes through. Returns false, having written nothing, where those
+    positions cannot be found (rows folded over one another).
+    @param input the frame (checked by the caller: a frame of the camera).
+    @param sharpness its sharpness, whose mean displacements place the rows.
+    @param unobservedFill UnobservedFill: what fills the pixels the frame never saw.
+    @param restored output, as `input`; may be `input` itself.
+    @param validMask optional output, CV_8U, 255 where the frame observed the pixel. */
+    bool moveBack(const Mat& input, const FrameSharpness& sharpness, int unobservedFill, OutputArray restored,
+                  OutputArray validMask);
+
 private:
     /* The restoration of `linear` by the method set, in [0, 1]: straight into `restored` when
        `direct` (8-bit there when the input is, with the color at half resolution), else into latent_. */
@@ -70,6 +83,7 @@ private:
     Ptr<PsfGenerator> halfGenerator_;
     RLWorkspace workspace_, halfWorkspace_;
     Mat linear_, latent_, mask_;
+    Mat mapX_, mapY_;  // moveBack's: where the frame recorded each pixel of the reference view
     Mat halfColor_, luminance_;  // DEBLUR_COLOR_HALF_RESOLUTION's planes
 };
 

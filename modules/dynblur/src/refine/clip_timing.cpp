@@ -136,7 +136,7 @@ public:
         f.frameStart = shutter.frameStart, f.exposure = shutter.exposure, f.lineDelay = shutter.lineDelay;
         f.rows = shutter.rows;
         frames_.push_back(f);
-        meter_.add(image, index, follows, turns_, pairs_);
+        meter_.add(image, index, follows, &turns_, pairs_);
     }
 
     int getFrameCount() const CV_OVERRIDE { return int(frames_.size()); }

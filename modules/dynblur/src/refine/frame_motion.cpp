@@ -47,10 +47,10 @@ Mat analysisImage(const Mat& frame, const Size& size)
 }
 
 /* The turn that best explains the patches' shifts (weighted least squares of the rotation flow); a
-   patch more than kMaxPatchResidual from it is left out and the rest fitted again. Two patches across
+   patch more than `maxResidual` from it is left out and the rest fitted again. Two patches across
    the band decide the roll; one does not. */
 bool fitTurn(std::vector<Vec3d>& du, std::vector<Vec3d>& dv, std::vector<Point2d>& shifts,
-             std::vector<double>& weights, Vec3d& turn, double& weight)
+             std::vector<double>& weights, double maxResidual, Vec3d& turn, double& weight)
 {
     for (;;)
     {
@@ -77,8 +77,8 @@ bool fitTurn(std::vector<Vec3d>& du, std::vector<Vec3d>& dv, std::vector<Point2d
             if (residual > worstResidual)
                 worstResidual = residual, worst = k;
         }
-        if (worstResidual <= kMaxPatchResidual || shifts.size() == 2)
-            return worstResidual <= kMaxPatchResidual;
+        if (worstResidual <= maxResidual || shifts.size() == 2)
+            return worstResidual <= maxResidual;
         du.erase(du.begin() + long(worst)), dv.erase(dv.begin() + long(worst));
         shifts.erase(shifts.begin() + long(worst)), weights.erase(weights.begin() + long(worst));
     }
@@ -100,13 +100,14 @@ Point2f FrameMotionMeter::toFull(const Point2f& p) const
     return Point2f(float((p.x + 0.5) / scale_ - 0.5), float((p.y + 0.5) / scale_ - 0.5));
 }
 
-void FrameMotionMeter::add(const Mat& frame, int index, bool follows, std::vector<BandTurn>& turns,
+void FrameMotionMeter::add(const Mat& frame, int index, bool follows, std::vector<BandTurn>* turns,
                            std::vector<TrackPair>& pairs)
 {
-    const Mat next = analysisImage(frame, analysisSize_);
+    const Mat next = reduce(frame);
     if (follows && !previous_.empty())
     {
-        measureTurns(next, index, turns);
+        if (turns)
+            measureTurns(next, index, *turns);
         track(next, index, pairs);
     }
     else
@@ -134,51 +135,102 @@ void FrameMotionMeter::add(const Mat& frame, int index, bool follows, std::vecto
     previousIndex_ = index;
 }
 
-void FrameMotionMeter::measureTurns(const Mat& next, int index, std::vector<BandTurn>& turns) const
+Mat FrameMotionMeter::reduce(const Mat& frame) const
+{
+    return analysisImage(frame, analysisSize_);
+}
+
+Rect FrameMotionMeter::patch(int band, int column) const
 {
     const Size size = analysisSize_;
     const int width = size.width / kColumns, height = std::min(size.height, std::max(size.height / kBands, kMinPatch));
-    if (width < kMinPatch)
-        return;
-    // The whole frame's shift first: each patch is then read where its content went, so a turn of
-    // tens of pixels between frames leaves a patch only its own small residual shift to find.
-    Mat a, b, window;
-    previous_.convertTo(a, CV_32F);
-    next.convertTo(b, CV_32F);
-    createHanningWindow(window, size, CV_32F);
-    const Point2d global = phaseCorrelate(a, b, window);
-    createHanningWindow(window, Size(width, height), CV_32F);
-    const double fx = camera_->getFx() * scale_, fy = camera_->getFy() * scale_;
-    const double cx = (camera_->getCx() + 0.5) * scale_ - 0.5, cy = (camera_->getCy() + 0.5) * scale_ - 0.5;
+    const int top = std::min(size.height - height, std::max(0, int((band + 0.5) * size.height / kBands) - height / 2));
+    return Rect(column * width, top, width, height);
+}
+
+std::vector<Point2d> FrameMotionMeter::patchCentres() const
+{
+    std::vector<Point2d> centres;
     for (int band = 0; band < kBands; band++)
-    {
-        const int top = std::min(size.height - height, std::max(0, int((band + 0.5) * size.height / kBands) - height / 2));
-        std::vector<Vec3d> du, dv;
-        std::vector<Point2d> shifts;
-        std::vector<double> weights;
         for (int column = 0; column < kColumns; column++)
         {
-            const Rect from(column * width, top, width, height);
-            Rect to = from + Point(int(std::lround(global.x)), int(std::lround(global.y)));
-            to.x = std::min(size.width - width, std::max(0, to.x));
-            to.y = std::min(size.height - height, std::max(0, to.y));
-            double response = 0;
-            const Point2d shift = phaseCorrelate(a(from), b(to), window, &response) + Point2d(to.tl() - from.tl());
-            if (!(response >= kMinResponse))
+            const Rect from = patch(band, column);
+            centres.emplace_back(toFull(Point2f(float(from.x + 0.5 * (from.width - 1)),
+                                                float(from.y + 0.5 * (from.height - 1)))));
+        }
+    return centres;
+}
+
+std::vector<PatchShift> FrameMotionMeter::shifts(const Mat& previous, const Mat& next,
+                                                 const std::vector<Point2d>& expected) const
+{
+    std::vector<PatchShift> patches;
+    const Size size = analysisSize_;
+    const Rect first = patch(0, 0);
+    if (first.width < kMinPatch)
+        return patches;
+    Mat a, b, window;
+    previous.convertTo(a, CV_32F);
+    next.convertTo(b, CV_32F);
+    Point2d global;
+    if (expected.empty())
+    {
+        createHanningWindow(window, size, CV_32F);
+        global = phaseCorrelate(a, b, window);
+    }
+    createHanningWindow(window, first.size(), CV_32F);
+    const std::vector<Point2d> centres = patchCentres();
+    for (int band = 0, k = 0; band < kBands; band++)
+        for (int column = 0; column < kColumns; column++, k++)
+        {
+            const Rect from = patch(band, column);
+            const Point2d guess = expected.empty() ? global : expected[size_t(k)] * scale_;
+            const Rect to = from + Point(int(std::lround(std::min(1e6, std::max(-1e6, guess.x)))),
+                                         int(std::lround(std::min(1e6, std::max(-1e6, guess.y)))));
+            // Read within the frame: a patch whose content left it partly is still found where it overlaps.
+            const Rect inside(std::min(size.width - to.width, std::max(0, to.x)),
+                              std::min(size.height - to.height, std::max(0, to.y)), to.width, to.height);
+            PatchShift p;
+            const Point2d shift = phaseCorrelate(a(from), b(inside), window, &p.response) + Point2d(inside.tl() - from.tl());
+            if (!(p.response >= kMinResponse))
                 continue;
-            // The rotation flow at the patch's centre: d(shift)/d(rotation), analysis pixels per radian.
-            const double x = (from.x + 0.5 * (width - 1) - cx) / fx, y = (from.y + 0.5 * (height - 1) - cy) / fy;
+            p.index = k;
+            p.band = band;
+            p.centre = centres[size_t(k)];
+            p.shift = shift * (1 / scale_);
+            patches.push_back(p);
+        }
+    return patches;
+}
+
+void FrameMotionMeter::measureTurns(const Mat& next, int index, std::vector<BandTurn>& turns) const
+{
+    const std::vector<PatchShift> patches = shifts(previous_, next);
+    const double fx = camera_->getFx(), fy = camera_->getFy(), cx = camera_->getCx(), cy = camera_->getCy();
+    for (int band = 0; band < kBands; band++)
+    {
+        std::vector<Vec3d> du, dv;
+        std::vector<Point2d> bandShifts;
+        std::vector<double> weights;
+        double row = 0;
+        for (const PatchShift& p : patches)
+        {
+            if (p.band != band)
+                continue;
+            // The rotation flow at the patch's centre: d(shift)/d(rotation), pixels per radian.
+            const double x = (p.centre.x - cx) / fx, y = (p.centre.y - cy) / fy;
             du.emplace_back(fx * x * y, -fx * (1 + x * x), fx * y);
             dv.emplace_back(fy * (1 + y * y), -fy * x * y, -fy * x);
-            shifts.push_back(shift);
-            weights.push_back(response);
+            bandShifts.push_back(p.shift);
+            weights.push_back(p.response);
+            row = p.centre.y;
         }
         BandTurn t;
-        if (!fitTurn(du, dv, shifts, weights, t.turn, t.weight))
+        if (!fitTurn(du, dv, bandShifts, weights, kMaxPatchResidual / scale_, t.turn, t.weight))
             continue;
         t.frameA = previousIndex_;
         t.frameB = index;
-        t.row = (top + 0.5 * height + 0.5) / scale_ - 0.5;
+        t.row = row;
         turns.push_back(t);
     }
 }

@@ -20,6 +20,16 @@ struct BandTurn
     double weight = 0;           //!< the patches' phase-correlation peaks, summed
 };
 
+//! A patch's shift between two frames, full-resolution pixels.
+struct PatchShift
+{
+    int index = 0;      //!< its place in FrameMotionMeter::patchCentres()
+    int band = 0;       //!< its band of rows
+    Point2d centre;     //!< its centre in the first frame
+    Point2d shift;      //!< where its content went in the second, minus where it was
+    double response = 0;  //!< the phase-correlation peak, in (0, 1]
+};
+
 //! One feature seen in two frames, at full-resolution pixels.
 struct TrackPair
 {
@@ -44,12 +54,26 @@ public:
     FrameMotionMeter(const Ptr<CameraModel>& camera, int analysisWidth);
 
     /** @brief Measures `frame` (a camera frame, checked by the caller) against the previous one when
-    `follows`, appending to `turns` and `pairs`; otherwise starts afresh from it.
+    `follows`, appending to `turns` (when given) and `pairs`; otherwise starts afresh from it.
     @param index its index in the clip. */
-    void add(const Mat& frame, int index, bool follows, std::vector<BandTurn>& turns, std::vector<TrackPair>& pairs);
+    void add(const Mat& frame, int index, bool follows, std::vector<BandTurn>* turns, std::vector<TrackPair>& pairs);
+
+    //! `frame` (a camera frame) reduced as the meter measures it: 8-bit luminance at the analysis width.
+    Mat reduce(const Mat& frame) const;
+    //! The centres of the kBands × kColumns patches shifts() measures, band by band, full-resolution pixels.
+    std::vector<Point2d> patchCentres() const;
+    /** @brief The shifts of the patches from `previous` to `next` (both reduce()d). Each patch is read
+    in `next` where its content is expected, so a turn of tens of pixels leaves only a small residual
+    shift to find: at `expected` (one shift per patch of patchCentres(), full-resolution pixels), or
+    when that is empty after the whole frame's shift, the patch read where it overlaps the frame.
+    Patches whose peak is too weak are left out. */
+    std::vector<PatchShift> shifts(const Mat& previous, const Mat& next,
+                                   const std::vector<Point2d>& expected = std::vector<Point2d>()) const;
 
 private:
     void measureTurns(const Mat& next, int index, std::vector<BandTurn>& turns) const;
+    //! Patch `column` of `band`, reduced pixels.
+    Rect patch(int band, int column) const;
     void track(const Mat& next, int index, std::vector<TrackPair>& pairs);
     Point2f toFull(const Point2f& p) const;
 

@@ -15,6 +15,8 @@ namespace detail {
 
 namespace {
 
+// Instants over an exposure at which a feature's path is sampled for its centroid.
+const int kExposureSamples = 5;
 // Pairs the fit evaluates at most: beyond, every k-th (a rotation per pair end, per evaluation).
 const size_t kMaxPairs = 20000;
 // Levenberg–Marquardt steps per round, and robust rounds.
@@ -83,7 +85,8 @@ FitMatrix groupedCovariance(TrackResiduals& residuals, const std::vector<TrackPa
 
 TrackResiduals::TrackResiduals(const Ptr<CameraMotion>& motion, const Ptr<CameraModel>& camera,
                                const std::vector<TrackPair>& pairs, const std::vector<ClipFrame>& frames)
-    : motion_(motion), focal_(0.5 * (camera->getFx() + camera->getFy())), pairs_(pairs), frames_(frames)
+    : motion_(motion), camera_(camera), focal_(0.5 * (camera->getFx() + camera->getFy())), pairs_(pairs),
+      frames_(frames)
 {
     rays_.reserve(pairs.size());
     targets_.reserve(pairs.size());
@@ -103,17 +106,39 @@ bool TrackResiduals::predict(int k, const MotionCorrection& c, Point2d& predicte
     const double ta = a.frameStart + pair.a.y * a.lineDelay * c.lineDelayScale + 0.5 * a.exposure + c.timeOffset;
     const double tb = b.frameStart + pair.b.y * b.lineDelay * c.lineDelayScale + 0.5 * b.exposure + c.timeOffset;
     const Vec2d span = motion_->getTimeSpan();
-    if (!(ta >= span[0] && ta <= span[1] && tb >= span[0] && tb <= span[1]))
+    if (!(ta - 0.5 * a.exposure >= span[0] && ta + 0.5 * a.exposure <= span[1] && tb - 0.5 * b.exposure >= span[0] &&
+          tb + 0.5 * b.exposure <= span[1]))
         return false;
-    Matx33d R = motion_->orientation(ta).t() * motion_->orientation(tb);
-    if (c.gyroBias != Vec3d())  // the bias's turn from t_a, removed as withCorrectedRates removes it
-        R = R * so3::matrixFromQuat(so3::quatFromRotationVector(-c.gyroBias * (tb - ta)));
-    if (c.rateScale != 1)
-        R = so3::matrixFromQuat(so3::quatFromRotationVector(c.rateScale * so3::rotationVectorFromQuat(so3::quatFromMatrix(R))));
-    const Vec3d d = R.t() * rays_[size_t(k)];
-    if (!(d[2] > 0))
-        return false;
-    predicted = Point2d(d[0] / d[2], d[1] / d[2]);
+    // The view at t relative to t_a, with the bias's turn from t_a removed and the turn scaled, as
+    // withCorrectedRates corrects a motion about t_a.
+    const Matx33d start = motion_->orientation(ta);
+    auto view = [&](double t) {
+        Matx33d R = start.t() * motion_->orientation(t);
+        if (c.gyroBias != Vec3d())
+            R = R * so3::matrixFromQuat(so3::quatFromRotationVector(-c.gyroBias * (t - ta)));
+        if (c.rateScale != 1)
+            R = so3::matrixFromQuat(
+                so3::quatFromRotationVector(c.rateScale * so3::rotationVectorFromQuat(so3::quatFromMatrix(R))));
+        return R;
+    };
+    /* A blurred feature sits at the centroid of its path over the exposure, not where it was at
+       mid-exposure (the two part by a few pixels at tens of pixels of accelerating blur): the point
+       seen at p_a is carried by the difference of its centroids in the two frames. */
+    const Vec3d& ray = rays_[size_t(k)];
+    Point2d centroid[2];
+    for (int frame = 0; frame < 2; frame++)
+    {
+        const double mid = frame == 0 ? ta : tb, exposure = frame == 0 ? a.exposure : b.exposure;
+        for (int i = 0; i < kExposureSamples; i++)
+        {
+            const double t = mid + exposure * ((i + 0.5) / kExposureSamples - 0.5);
+            const Vec3d d = view(t).t() * ray;
+            if (!(d[2] > 0))
+                return false;
+            centroid[frame] += Point2d(d[0] / d[2], d[1] / d[2]) * (1.0 / kExposureSamples);
+        }
+    }
+    predicted = Point2d(ray[0], ray[1]) + centroid[1] - centroid[0];
     return true;
 }
 
@@ -142,6 +167,18 @@ std::vector<double> TrackResiduals::errors(const MotionCorrection& c)
         e.push_back(predict(k, c, p) ? focal_ * norm(p - targets_[size_t(k)]) : std::numeric_limits<double>::quiet_NaN());
     }
     return e;
+}
+
+std::vector<Point2d> TrackResiduals::carried(const MotionCorrection& c)
+{
+    std::vector<Point2d> points;
+    for (int k : used_)
+    {
+        Point2d p;
+        points.push_back(predict(k, c, p) ? camera_->normalizedToPixel(p)
+                                          : Point2d(std::numeric_limits<double>::quiet_NaN(), 0));
+    }
+    return points;
 }
 
 void TrackResiduals::select(const std::vector<bool>& keep)

@@ -35,6 +35,9 @@ public:
 
     //! Each used pair's reprojection error under `c`, pixels.
     std::vector<double> errors(const MotionCorrection& c);
+    /** @brief Where `c` carries each used pair's point of frame a in frame b, full-resolution pixels
+    (its instant there read at the pair's row in b); NaN where the motion does not cover it. */
+    std::vector<Point2d> carried(const MotionCorrection& c);
     //! Leaves out the used pairs whose `keep` is false (in the order errors() gives them).
     void select(const std::vector<bool>& keep);
     //! The pairs in use, as indices into the pairs given.
@@ -45,6 +48,7 @@ private:
     bool predict(int k, const MotionCorrection& c, Point2d& predicted) const;
 
     Ptr<CameraMotion> motion_;
+    Ptr<CameraModel> camera_;
     double focal_;
     const std::vector<TrackPair>& pairs_;
     std::vector<ClipFrame> frames_;

@@ -80,6 +80,10 @@ bound, or a consistency above setConsistencyLimit: a wrong schedule, something m
 a bumped camera) is returned unchanged rather than made worse. Without a still the model is used as
 told (with setCalibration's correction), or, with setBlindRefinement, the time offset is estimated
 from the frame alone.
+
+A frame whose motion keeps it sharp (within setSharpThreshold, 1 px by default) is not
+deconvolved, which gains little there and can end below the recorded frame: it is returned as it
+came, or, displaced from the reference view, its rows are moved back by resampling.
 */
 class CV_EXPORTS_W DynamicDeblurrer : public Algorithm
 {
@@ -94,7 +98,7 @@ public:
     @param schedule the command in force around the frame.
     @param shutter the frame's timing (rows = frame height).
     @param restored output, same size, type and channels as frame. A frame in window IV comes
-           back unchanged.
+           back unchanged; one its motion keeps sharp is not deconvolved (setSharpThreshold).
     @param thetaRef reference angle, radians; NaN: the schedule's final resting angle.
     @param validMask optional output, CV_8U, 255 where the frame observed the restored pixel (the
            others hold what setUnobservedFill says). */
@@ -190,6 +194,29 @@ public:
            from `stillA` in most pixels (the same capture twice measures no noise: refused). Both
            empty: forget the measurement (Immerkær's estimate again). */
     CV_WRAP virtual void setNoiseFrames(InputArray stillA, InputArray stillB) = 0;
+    /** @brief Sets a neighbour of the next frame of a measured motion's stream (a video's previous
+    frame, or for the first frame the one after it): with no still frame set, the next frame is
+    checked against it. A grid of patches of the
+    neighbour is looked for in the frame where the motion, with setCalibration's clock offset, line
+    delay, bias and rate scale, carries it (each from the instant its row was exposed in the
+    neighbour to the instant its row was exposed in the frame); phase correlation finds how far off
+    the content is. The median error, times the frame's exposure over the interval between the two
+    frames, is the error it implies in the frame's blur (getLastCorrection().consistency, pixels).
+    Where it exceeds both getNeighbourLimit and 0.4 of the frame's blur (measurement between
+    heavily blurred frames errs in proportion to their blur) the frame is returned unchanged, reason
+    saying so: a wrong log (rates in °/s read as rad/s, swapped axes, another clip's log, a clock
+    off) or something moving across the view. A frame with fewer than 6 textured patches is not
+    judged. Call it before each frame with its neighbour; an empty frame forgets it. Not used for a
+    plant's frames, nor while a still frame is set.
+    @param frame a neighbouring frame of the stream (its type and channels), the camera's image size.
+    @param shutter its timing as the camera reports it (rows = its height), frameStart other than the
+           next frame's. */
+    CV_WRAP virtual void setNeighbourFrame(InputArray frame, const RollingShutter& shutter) = 0;
+    /** @brief The blur error, pixels, that setNeighbourFrame's check accepts whatever the frame's blur
+    (default 1 px: an error below it does not harm a restoration). */
+    CV_WRAP virtual double getNeighbourLimit() const = 0;
+    /** @param limitPx > 0, pixels (+inf: no check). */
+    CV_WRAP virtual void setNeighbourLimit(double limitPx) = 0;
     /** @brief Forgets the still frames (not the noise frames): frames are restored with the model as told. */
     CV_WRAP virtual void clearReferenceFrame() = 0;
     /** @brief Whether a frame without a reference frame is refined blind (default false: the
@@ -228,6 +255,29 @@ public:
     CV_WRAP virtual double getConsistencyLimit() const = 0;
     /** @param limit > 1, or +inf. */
     CV_WRAP virtual void setConsistencyLimit(double limit) = 0;
+
+    /** @brief Frames whose corrected motion keeps them sharp to this many pixels are not
+    deconvolved: no PSF bank, no Richardson–Lucy (default 1 px; 0: every moving frame is).
+
+    Decided from the motion before any kernel is made, over a grid of points (17 columns edge to
+    edge, every 8th row and the last): a frame is sharp when, for every point, both the extent of
+    its path during its row's exposure (the greatest distance between two of its positions, at 17
+    instants: its blur) and the distance of that path's mean (its kernel's centre of mass) from where
+    the reference view has it (its shift: the rolling-shutter geometry and the offset from the
+    reference view) stay strictly below the threshold. A sharp frame whose shift stays below 0.05 px
+    is returned as it came; otherwise its rows are moved back to the reference view by bicubic
+    resampling (the validMask and setUnobservedFill as for a restored frame), since a tenth of a
+    pixel of misplacement already costs a few tenths of a dB against the reference view.
+    Deconvolving a frame this sharp gains little, and on fine texture its regularisation costs more
+    than that: such frames ended up to 2.6 dB below the recorded frame (docs/quality.md, "Nearly
+    sharp frames"). For a frame not deconvolved, getLastCorrection() has applied = true (the
+    correction stands: the frame needs no more) and a reason that starts with "sharp:", gives both
+    figures and says whether the rows were moved back; getLastPlan() and getLastPsfBank() are empty,
+    as for a frame still throughout. Rows whose displacements fold over one another (a vibration
+    faster than the readout) cannot be moved back: such a frame is deconvolved. */
+    CV_WRAP virtual double getSharpThreshold() const = 0;
+    /** @param px the threshold, pixels, finite and ≥ 0 (0: every moving frame is deconvolved). */
+    CV_WRAP virtual void setSharpThreshold(double px) = 0;
 
     /** @brief PsfModel (default PSF_AUTO: per band of rows the cheapest model within
     getPsfGenerator()->getAutoTolerance() of the exact blur; getLastPlan says what it chose). */

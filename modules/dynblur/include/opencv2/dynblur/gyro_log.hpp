@@ -178,6 +178,11 @@ struct CV_EXPORTS_W_SIMPLE GyroLog
     offset is the shutter's (or the refinement's) business.
     @param initialOrientation Q at the first sample, a rotation. */
     CV_WRAP Ptr<CameraMotion> toMotion(const Matx33d& initialOrientation = Matx33d::eye()) const;
+
+    /** @brief The log with its camera axes turned as a calibration found them (TimingCalibration::
+    axisCorrection, ClipTimingCalibrator): rates and bias mapped, cameraFromGyro composed.
+    @param axisCorrection a rotation R: the rates become R·ω, the bias R·bias. */
+    CV_WRAP GyroLog withAxisCorrection(const Matx33d& axisCorrection) const;
 };
 
 //! @}

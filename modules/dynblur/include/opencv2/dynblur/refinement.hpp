@@ -110,8 +110,13 @@ struct CV_EXPORTS_W_SIMPLE MotionCorrection
     /** the frame's brightness over its still's (least squares at the fit's result: a webcam's
         automatic exposure, a change of lighting); 1 without a still */
     CV_PROP_RW double stillGain;
-    CV_PROP_RW bool applied;             //!< false: the frame was returned unrestored (see reason)
-    CV_PROP_RW String reason;            //!< why it was not applied, or how the correction was found
+    /** false: the correction was refused and the frame returned unrestored (see reason); a frame
+        still throughout, or sharp (DynamicDeblurrer::setSharpThreshold: returned as it came or its
+        rows only moved back), has applied true */
+    CV_PROP_RW bool applied;
+    /** why it was not applied, or how the correction was found; "sharp: ..." for a frame not
+        deconvolved because its motion keeps it sharp */
+    CV_PROP_RW String reason;
 
     /** @brief The shutter as corrected: frameStart + timeOffset, lineDelay × lineDelayScale.
     @param shutter the shutter as told. */

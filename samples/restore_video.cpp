@@ -66,7 +66,9 @@ static CliOptions restoreVideoOptions()
             "Gyro mode (--gyro):",
             "A clip whose motion is a gyro log (docs/hand-held.md): every frame is restored with the log's motion, on "
             "the clock, line delay, bias and axes of --timing (dynblur_calibrate_timing --gyro; without it, as the "
-            "logs tell), to the view at its middle row's mid-exposure; frames the log shows still pass through. "
+            "logs tell), to the view at its middle row's mid-exposure, once checked against the frame before (one "
+            "whose motion from it the log does not explain is written as recorded); frames the log shows still pass "
+            "through, frames it shows sharp are not deconvolved. "
             "Without --frames the frame times come from the video's container (its timestamps, else the frame "
             "index at its rate); the exposure from --exposure or --timing, the line delay from --timing (the one "
             "its calibration was told, which its scale corrects), --readout, --line-delay or a gcsv log's "

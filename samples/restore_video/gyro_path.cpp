@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 // dynblur_restore_video --gyro: a clip whose motion is a gyro log, streamed frame by frame (its frame
 // times from a frame log or the video's own timestamps), each frame restored with the log's motion as
-// --timing corrects it (clock offset, line delay, bias, rate scale, axes); the video at the input's
-// size and rate, the CSV of each frame's window, outcome and blur, the contact sheet of the most
-// blurred frames and the summary. A failure midway keeps the frames written so far.
+// --timing corrects it (clock offset, line delay, bias, rate scale, axes) and checked against its
+// neighbour (a frame whose motion the log does not explain comes back unchanged); the video at the
+// input's size and rate, the CSV of each frame's window, outcome and blur, the contact sheet of the
+// most blurred frames and the summary. A failure midway keeps the frames written so far.
 #include "restore_video.hpp"
 
 #include "atomic_file.hpp"  // samples/support
@@ -34,32 +35,32 @@ const char* const kGyroCsvColumns = ",frame_start_s,gyro_bias_x,gyro_bias_y,gyro
 //! The frames by outcome, and the most blurred.
 struct ClipSummary
 {
-    int frames = 0, restored = 0, still = 0, refused = 0, mostBlurred = -1;
+    int frames = 0, restored = 0, skipped = 0, refused = 0, mostBlurred = -1;
     double mostBlurPx = -1;
 
-    void add(int frame, int window, bool applied, double blurPx)
+    void add(int frame, bool deconvolved, bool applied, double blurPx)
     {
         frames++;
-        still += window == EXPOSURE_IV;
-        restored += window != EXPOSURE_IV && applied;
-        refused += window != EXPOSURE_IV && !applied;
+        restored += deconvolved;
+        skipped += applied && !deconvolved;
+        refused += !applied;
         if (blurPx > mostBlurPx)
             mostBlurPx = blurPx, mostBlurred = frame;
     }
 
     void print() const
     {
-        std::printf("%d frame(s): %d restored, %d passed through (still), %d refused (written as recorded); the most "
+        std::printf("%d frame(s): %d restored, %d skipped (still or sharp), %d refused (written as recorded); the most "
                     "blurred is frame %d (%.1f px)\n",
-                    frames, restored, still, refused, mostBlurred, mostBlurPx);
+                    frames, restored, skipped, refused, mostBlurred, mostBlurPx);
     }
 };
 
-//! The frame before the one being restored: what a frame's motion is checked against.
-struct NeighbourFrame
+//! A frame of the stream and its timing.
+struct StreamFrame
 {
     Mat image;
-    RollingShutter shutter;
+    FrameRecord record;
 };
 
 /* The largest extent of a point's path during its row's exposure, pixels, under the motion as
@@ -78,7 +79,7 @@ MotionCorrection calibrationOf(GyroRecording& recording)
     if (recording.timingPath.empty())
         return MotionCorrection();
     const TimingCalibration t = TimingCalibration::load(recording.timingPath);
-    correctAxes(recording.gyro, t.axisCorrection);
+    recording.gyro = recording.gyro.withAxisCorrection(t.axisCorrection);
     return t.correction;
 }
 
@@ -123,39 +124,46 @@ int restoreGyroRecording(const CliArgs& args, const RestorationSettings& setting
                         std::string(kFrameCsvHeader) + kGyroCsvColumns + "\n");
     ContactSheet sheet(kSheetRows);  // the most blurred frames, recorded beside restored, for a look
     ClipSummary summary;
-    NeighbourFrame previous;
     const Vec2d span = motion->getTimeSpan();
-    Mat image, restored;
-    FrameRecord f;
+    // Each frame is checked against its neighbour: the frame before, or for the first the one after it.
+    StreamFrame previous, current, after;
+    bool more = recording.next(current.image, current.record);
+    bool moreAfter = more && recording.next(after.image, after.record);
+    Mat restored;
     try
     {
-        while (recording.next(image, f))
+        while (more)
         {
+            const FrameRecord& f = current.record;
             const RollingShutter shutter = recording.shutterOf(f);
             const RollingShutter corrected = calibration.correctShutter(shutter);
             checkCovered(recording, f, corrected, span, calibration);
-            /* The check of the frame's motion from its neighbour against the log belongs here, where the
-               deblurrer offers it (DynamicDeblurrer::setNeighbourFrame(previous.image, previous.shutter), not
-               in this library yet): a frame whose motion the log does not explain then comes back unchanged,
-               with its reason. */
-            deblurrer->deblur(image, motion, shutter, restored);
+            const StreamFrame& neighbour = previous.image.empty() && moreAfter ? after : previous;
+            deblurrer->setNeighbourFrame(neighbour.image, neighbour.image.empty() ? RollingShutter()
+                                                                                   : recording.shutterOf(neighbour.record));
+            deblurrer->deblur(current.image, motion, shutter, restored);
             const MotionCorrection c = deblurrer->getLastCorrection();
             const int window = deblurrer->getLastExposureWindow();
             const double blurPx = blurPixels(motion, recording.camera, corrected, calibration.rateScale);
             const bool still = window == EXPOSURE_IV;
+            // A sharp frame is not deconvolved (at most its rows are moved back): its correction stands.
+            const bool deconvolved = !still && c.applied && c.reason.rfind("sharp:", 0) != 0;
             video.write(restored);
-            video.csv() << frameCsvColumns(f.frame, still ? "still" : exposureWindowName(window), !still && c.applied,
-                                           c, still ? std::string("still") : c.reason,
+            video.csv() << frameCsvColumns(f.frame, still ? "still" : exposureWindowName(window), deconvolved, c,
+                                           still ? std::string("still") : c.reason,
                                            exposureWindowName(classifyExposure(motion, corrected)), blurPx)
                         << format(",,,,,%.9f,%.6g,%.6g,%.6g,%.6f\n", f.frameStart, c.gyroBias[0], c.gyroBias[1],
                                   c.gyroBias[2], c.rateScale);
-            summary.add(f.frame, window, c.applied, blurPx);
+            summary.add(f.frame, deconvolved, c.applied, blurPx);
             if (!still)
-                sheet.offer(image, restored, f.frame, exposureWindowName(window), blurPx, c, "");
-            previous = {image, shutter};
-            std::printf("\rframe %d (%.2f s) written: %d restored, %d still, %d refused", f.frame, f.frameStart,
-                        summary.restored, summary.still, summary.refused);
+                sheet.offer(current.image, restored, f.frame, exposureWindowName(window), blurPx, c, "");
+            std::printf("\rframe %d (%.2f s) written: %d restored, %d skipped, %d refused", f.frame, f.frameStart,
+                        summary.restored, summary.skipped, summary.refused);
             std::fflush(stdout);
+            previous = current;
+            current = after;  // next() reads into a buffer of its own: `current` keeps this frame
+            more = moreAfter;
+            moreAfter = more && recording.next(after.image, after.record);
         }
     }
     catch (const cv::Exception& e)

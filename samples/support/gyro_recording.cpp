@@ -164,16 +164,6 @@ ToldShutter toldShutterOf(const std::string& timingPath)
     return told;
 }
 
-void correctAxes(GyroLog& log, const Matx33d& axisCorrection)
-{
-    if (axisCorrection == Matx33d::eye())
-        return;
-    Mat rates;
-    log.rates.convertTo(rates, CV_64F);
-    log.rates = rates * Mat(axisCorrection).t();
-    log.bias = axisCorrection * log.bias;
-}
-
 namespace {
 
 //! The exposure: --exposure, else the timing file's record (a frame log's column fills in later).

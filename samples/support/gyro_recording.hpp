@@ -54,10 +54,6 @@ void saveClipCalibration(const cv::dynblur::TimingCalibration& calibration, cons
 calibration against still frames, whose frame log tells the shutter). */
 ToldShutter toldShutterOf(const std::string& timingPath);
 
-/** @brief Takes the log's rates and bias to the axes a calibration found (TimingCalibration::
-axisCorrection): ω_camera = axisCorrection · ω_log. */
-void correctAxes(cv::dynblur::GyroLog& log, const cv::Matx33d& axisCorrection);
-
 //! What GyroRecording::open does when nothing tells the readout.
 enum class UntoldReadout
 {

@@ -5,7 +5,8 @@
 # commands. Checks the calibration against the truth (offset within 1 ms, readout within 3 %, bias
 # within 0.1 deg/s), the restored video (the input's frame count, size and rate) and its CSV (a row per
 # frame, the positioner mode's columns). Then the refusals of bad input on the same clip, each naming
-# the file and the option; a restoration that fails midway keeps the frames it wrote.
+# the file and the option; a restoration that fails midway keeps the frames it wrote; a log the frames
+# contradict leaves every frame as recorded, with the reason.
 # -DBIN=build/samples -DCALIB=build/calib -DINFO=dynblur_video_info -DDOC=docs/hand-held.md -DWORK=scratch
 include(${CMAKE_CURRENT_LIST_DIR}/cli_test_run.cmake)
 file(REMOVE_RECURSE ${WORK})
@@ -100,7 +101,7 @@ message(STATUS "restored.csv: ${rows} rows, ${restored} frames restored")
 if(NOT rows EQUAL 75 OR restored LESS 60)
   message(FATAL_ERROR "restored.csv has ${rows} frame rows (75 expected), ${restored} restored")
 endif()
-if(NOT rehearsal MATCHES "75 frame\\(s\\): [0-9]+ restored, [0-9]+ passed through \\(still\\), [0-9]+ refused")
+if(NOT rehearsal MATCHES "75 frame\\(s\\): [0-9]+ restored, [0-9]+ skipped \\(still or sharp\\), [0-9]+ refused")
   message(FATAL_ERROR "dynblur_restore_video printed no summary line")
 endif()
 
@@ -182,6 +183,21 @@ list(LENGTH partRows partCount)
 if(failed LESS 1 OR NOT last_output MATCHES "^frames ${failed} size 640x480 fps 30 " OR NOT partCount EQUAL failed)
   message(FATAL_ERROR "part.mp4 ('${last_output}') and part.csv (${partCount} rows) do not hold the ${failed} frames "
                       "written")
+endif()
+# A log the frames contradict (its axes mapped wrong after the calibration): each frame, checked against
+# its neighbour, is written as recorded, the CSV saying why.
+run(0 ${RESTORE} ${gyro} --gyro-orientation YXz --video ${dir}/clip.mp4 --camera ${dir}/camera.xml
+    --timing ${dir}/timing.yml --out ${WORK}/wrong.mp4)
+if(NOT last_output MATCHES "75 frame\\(s\\): 0 restored, 0 skipped \\(still or sharp\\), 75 refused \\(written as recorded\\)")
+  message(FATAL_ERROR "the frames of a log with wrong axes are not all refused")
+endif()
+file(READ ${WORK}/wrong.csv text)
+string(REGEX MATCHALL "\n[0-9]+,II,0," rows "${text}")
+list(LENGTH rows rows)
+string(REGEX MATCHALL "the log does not explain the frame" reasons "${text}")
+list(LENGTH reasons reasons)
+if(NOT rows EQUAL 75 OR NOT reasons EQUAL 75)
+  message(FATAL_ERROR "wrong.csv has ${rows} frames not restored, ${reasons} saying why, of 75")
 endif()
 if(EXISTS ${WORK}/bad.mp4 OR EXISTS ${WORK}/part_frames.png)
   message(FATAL_ERROR "a refused restoration wrote bad.mp4, or the failed one its contact sheet")

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // A hand-held clip as the programs read it: a video's frame times from its container or its rate
 // (samples/support/video_clip.hpp), and the timing file of a clip's calibration with the shutter it
-// was told, and its axes applied to a log (gyro_recording.hpp).
+// was told (gyro_recording.hpp).
 #include "gyro_recording.hpp"
 #include "test_common.hpp"
 #include "video_clip.hpp"
@@ -124,18 +124,4 @@ TEST(ClipCalibrationFile, KeepsTheShutterItWasTold)
     const std::string xml = scratch("timing.xml");
     expectErrorNaming([&] { saveClipCalibration(t, told, xml); }, "--out: '" + xml + "'");
     EXPECT_FALSE(std::ifstream(xml).good());
-}
-
-TEST(ClipCalibrationFile, AxesTakeTheLogsRatesAndBias)
-{
-    GyroLog log;
-    log.times = {0.0, 0.005};
-    log.rates = (Mat_<double>(2, 3) << 1, 2, 3, 4, 5, 6);
-    log.bias = Vec3d(0.1, 0.2, 0.3);
-    const Matx33d A(0, -1, 0, 1, 0, 0, 0, 0, 1);  // x_camera = -y_log, y_camera = x_log
-    correctAxes(log, A);
-    EXPECT_EQ(log.rates.at<double>(0, 0), -2);
-    EXPECT_EQ(log.rates.at<double>(0, 1), 1);
-    EXPECT_EQ(log.rates.at<double>(1, 2), 6);
-    EXPECT_NEAR(norm(log.bias - Vec3d(-0.2, 0.1, 0.3)), 0, 1e-15);
 }

@@ -7,6 +7,8 @@
 //     dynblur_calibrate_timing --video rec/frame_%04d.png --frames rec/frames.csv
 //                              --commands rec/commands.csv --camera rec/camera.xml --plant rec/plant.yml
 //     dynblur_calibrate_timing --simulate rec --true-offset 0.0012      (a recording with a drifted truth)
+//     dynblur_calibrate_timing --gyro Gyroscope.csv --video clip.mp4 --camera camera.xml --exposure 0.01
+//                                                                       (a hand-held clip: docs/hand-held.md)
 //
 // Writes the timing file (TimingCalibration::save, atomically) and a plot of the objective around
 // the result (TIMING_objective.png).
@@ -40,7 +42,7 @@ static CliOptions calibrateTimingOptions()
     CliOptions options("dynblur_calibrate_timing");
     options.synopsis("--video V --frames FRAMES.csv --commands COMMANDS.csv [options]")
         .synopsis("--recording DIR [options]")
-        .synopsis("--gyro LOG --video V --frames FRAMES.csv [options]")
+        .synopsis("--gyro LOG --video V [--frames FRAMES.csv] [options]")
         .synopsis("--simulate DIR [simulation options]")
         .description("Estimates, from a recording, the offset between the camera's clock and the actuator's (s), the "
                      "line delay and optionally the plant's natural frequency and damping, as one correction for the "
@@ -49,7 +51,8 @@ static CliOptions calibrateTimingOptions()
         .group(recordingOptions())
         .option("refine", "LIST", "offset,line-delay", "what to estimate: offset, line-delay, plant, comma-separated")
         .option("max-frames", "N", "10", "moving frames used, at most")
-        .option("max-offset", "S", "0.02", "the offset is searched within +-S seconds")
+        .option("max-offset", "S", "", "the offset is searched within +-S seconds (default 0.02; 2 for a clip in "
+                                       "continuous motion: see the gyro mode)")
         .option("out", "FILE.yml", "timing.yml", "timing file to write (with --recording: DIR/timing.yml)")
         .option("plot", "FILE.png", "", "objective around the result (default: OUT_objective.png)")
         .flag("no-png", "do not write the plot")
@@ -211,7 +214,7 @@ int main(int argc, char** argv)
         if (!parseRefinementList(args.str("refine"), REFINE_ALL, flags) || flags == REFINE_NONE)
             return usageError("--refine takes offset, line-delay, plant (or all), comma-separated");
         const int maxFrames = args.integer("max-frames");
-        const double maxOffset = args.num("max-offset");
+        const double maxOffset = args.num("max-offset", 0.02);
         if (maxFrames < 2 || !(maxOffset > 0 && maxOffset <= 1))
             return usageError("--max-frames must be >= 2 and --max-offset in (0, 1] s");
         const std::string out =

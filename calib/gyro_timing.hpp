@@ -8,6 +8,9 @@
 
 #include <string>
 
+//! What --refine estimates with --gyro unless told, against stills or on a clip.
+extern const char* const kGyroRefinement;
+
 //! The gyro path's options (the gyro log's, the stills', --simulate-gyro's) under their heading.
 dynblur_samples::CliOptionGroup gyroTimingOptions();
 /** Calibrates the recording the options name (--gyro ...), writes the timing file and the plot;

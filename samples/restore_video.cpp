@@ -9,6 +9,8 @@
 //
 //     dynblur_restore_video --video rec/frame_%04d.png --frames rec/frames.csv --commands rec/commands.csv
 //                           --camera rec/camera.xml --plant rec/plant.yml --timing rec/timing.yml
+//     dynblur_restore_video --gyro Gyroscope.csv --video clip.mp4 --camera camera.xml --timing timing.yml
+//                           --out restored.mp4                        (a hand-held clip: docs/hand-held.md)
 #include "restore_video/restore_video.hpp"
 
 #include "cli_args.hpp"  // samples/support
@@ -26,7 +28,7 @@ static CliOptions restoreVideoOptions()
     CliOptions options("dynblur_restore_video");
     options.synopsis("--video V --frames FRAMES.csv --commands COMMANDS.csv [options]")
         .synopsis("--recording DIR [options]")
-        .synopsis("--gyro LOG --video V --frames FRAMES.csv [options]")
+        .synopsis("--gyro LOG --video V [--frames FRAMES.csv] [options]")
         .description("Restores the frames of a recording that a move blurred, with the blur predicted from the plant "
                      "and the commands, corrected per frame against the still frame before the move (a frame that "
                      "starts at rest) or after it (one that ends at rest), in units of the noise measured from the "
@@ -54,19 +56,27 @@ static CliOptions restoreVideoOptions()
                 "them): each moving frame's PSNR against the view it is restored to, as recorded and restored, its "
                 "true window, and a summary")
         .option("out", "FILE", "restored.avi",
-                "restored video (MJPG at the frame log's rate); beside it OUT_frames.png, the most blurred moving "
-                "frames as recorded and restored")
+                "restored video, the input's size and rate (a name ending .mp4: MPEG-4 in MP4; otherwise MJPG); "
+                "beside it OUT_frames.png, the most blurred moving frames as recorded and restored")
         .option("csv", "FILE", "",
                 "per-frame log (default: OUT's name with .csv); window is the frame's exposure window under the "
                 "motion it was restored with, window_as_told under the model as given, blur_px the largest image "
                 "motion during one row's exposure")
         .group(gyroLogOptions(
             "Gyro mode (--gyro):",
-            "A recording whose motion is a gyro log: every frame is restored with the log's motion, on the clock, line "
-            "delay and bias of --timing (dynblur_calibrate_timing --gyro; without it, as the logs tell), to the view "
-            "at its middle row's mid-exposure. --camera, --timing, --exposure, --line-delay, --preset, --model, --out "
-            "and --csv as above; frames the log shows still pass through."))
-        .footer("Output is written to temporary files and renamed into place only when the whole recording is done.")
+            "A clip whose motion is a gyro log (docs/hand-held.md): every frame is restored with the log's motion, on "
+            "the clock, line delay, bias and axes of --timing (dynblur_calibrate_timing --gyro; without it, as the "
+            "logs tell), to the view at its middle row's mid-exposure, once checked against the frame before (one "
+            "whose motion from it the log does not explain is written as recorded); frames the log shows still pass "
+            "through, frames it shows sharp are not deconvolved. "
+            "Without --frames the frame times come from the video's container (its timestamps, else the frame "
+            "index at its rate); the exposure from --exposure or --timing, the line delay from --timing (the one "
+            "its calibration was told, which its scale corrects), --readout, --line-delay or a gcsv log's "
+            "frame_readout_time. --camera, --preset, --model, --out and --csv as above; the CSV has the columns "
+            "above, then frame_start_s, gyro_bias_x, _y, _z (rad/s) and rate_scale. A failure midway (a log shorter "
+            "than the clip) keeps the frames written so far, closed."))
+        .footer("Output is written to temporary files and renamed into place only when the whole recording is done "
+                "(--gyro: or when it fails midway, as far as it was written).")
         .footer("Exit status: 0 restored, 1 bad or unusable recording (the message says why), 2 bad usage.");
     return options;
 }

@@ -28,10 +28,6 @@ namespace {
 
 const size_t kSheetRows = 6;
 
-const char* const kCsvHeader =
-    "frame,window,restored,time_offset_s,line_delay_scale,natural_freq_scale,damping_scale,consistency,reason,"
-    "window_as_told,blur_px,window_true,psnr_recorded_db,psnr_restored_db,gain_db\n";
-
 //! --no-still-after and --unobserved, checked before any file is opened.
 struct StreamSettings
 {
@@ -87,17 +83,14 @@ struct RecordingSummary
     }
 };
 
-//! One line of the CSV (kCsvHeader); `truthColumns` ",,," without a truth.
+//! One line of the CSV (kFrameCsvHeader); `truthColumns` ",,," without a truth.
 std::string csvRow(const ReferencePairing::Item& item, const RestoredFrame& r, const std::string& truthColumns)
 {
-    const MotionCorrection& c = r.correction;
-    std::string reason = item.still ? std::string("still") : c.reason;
-    for (char& ch : reason)
-        ch = ch == ',' || ch == '"' ? ';' : ch;
-    return format("%d,%s,%d,%.9f,%.6f,%.6f,%.6f,%.4f,%s,%s,%.2f,%s\n", item.record.frame,
-                  item.still ? "still" : exposureWindowName(r.window), int(!item.still && c.applied), c.timeOffset,
-                  c.lineDelayScale, c.naturalFreqScale, c.dampingScale, c.consistency, reason.c_str(),
-                  item.still ? "still" : exposureWindowName(item.window), r.blurPx, truthColumns.c_str());
+    return frameCsvColumns(item.record.frame, item.still ? "still" : exposureWindowName(r.window),
+                           !item.still && r.correction.applied, r.correction,
+                           item.still ? std::string("still") : r.correction.reason,
+                           item.still ? "still" : exposureWindowName(item.window), r.blurPx) +
+           "," + truthColumns + "\n";
 }
 
 //! The frame's window for the contact sheet, with the window as told where the refinement changed it.
@@ -143,7 +136,9 @@ int restoreCommandedRecording(const CliArgs& args, const RestorationSettings& se
         createDeblurrer(recording, settings, stream, refinement, calibrated ? &calibration : nullptr);
 
     const Size size = recording.camera->getImageSize();
-    RestoredVideo video(videoOut, csvOut, log, size, kCsvHeader);
+    const double fps =
+        log.size() > 1 ? (log.size() - 1) / (log.back().frameStart - log.front().frameStart) : 30.0;
+    RestoredVideo video(videoOut, csvOut, fps, size, std::string(kFrameCsvHeader) + "\n");
     ReferencePairing pairing(recording.plant, recording.camera, recording.commands, calibration, 0.005);
     ProgressLine progress(pairing, log.size(), int(std::count_if(log.begin(), log.end(), [&](const FrameRecord& f) {
                                                    return !pairing.isStill(f, size.height);

@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 namespace dynblur_samples {
 
@@ -31,14 +32,18 @@ Mat cell(const Mat& image, const std::string& line1, const std::string& line2)
 void ContactSheet::offer(const Mat& recorded, const Mat& restored, int frame, const std::string& window,
                          double blurPx, const MotionCorrection& c, const std::string& gain)
 {
+    // A measured motion has no plant: its wn stays 1 and goes unsaid.
     const std::string correction =
-        format("clock %+.2f ms, line delay x%.3f, wn x%.3f", c.timeOffset * 1e3, c.lineDelayScale, c.naturalFreqScale);
+        format("clock %+.2f ms, line delay x%.3f", c.timeOffset * 1e3, c.lineDelayScale) +
+        (c.naturalFreqScale != 1 ? format(", wn x%.3f", c.naturalFreqScale) : std::string());
+    // Without a still frame (a measured motion as calibrated) there is no consistency to show.
+    const std::string consistency = std::isnan(c.consistency) ? "" : format(", consistency %.2f", c.consistency);
     Row row{frame, blurPx, Mat()};
     hconcat(cell(recorded, format("frame %d: as recorded", frame),
                  format("window %s, blur %.0f px", window.c_str(), blurPx)),
             cell(restored,
-                 c.applied ? format("RESTORED, consistency %.2f%s", c.consistency, gain.c_str())
-                           : format("REFUSED (written as recorded), consistency %.2f", c.consistency),
+                 (c.applied ? "RESTORED" : "REFUSED (written as recorded)") + consistency +
+                     (c.applied ? gain : std::string()),
                  correction),
             row.image);
     kept_.push_back(row);

@@ -32,7 +32,8 @@ against the stills of its move and restored, still frames passed through; the vi
 contact sheet of the most blurred frames; with --truth, each moving frame's gain. */
 int restoreCommandedRecording(const CliArgs& args, const RestorationSettings& settings);
 
-//! --gyro LOG: each frame restored with the log's motion as --timing corrects it; the video and the CSV.
+/** @brief --gyro LOG: each frame restored with the log's motion as --timing corrects it, streamed; the
+video, the CSV, the contact sheet and the summary; a failure midway keeps the frames written. */
 int restoreGyroRecording(const CliArgs& args, const RestorationSettings& settings);
 
 }  // namespace dynblur_samples

@@ -2,9 +2,12 @@
 // A recording whose motion is a gyro log: its files opened and checked, its frames read.
 #include "gyro_recording.hpp"
 
+#include "atomic_file.hpp"
 #include "cli_args.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -94,84 +97,243 @@ GyroLogOptions gyroOptions(const CliArgs& args, Vec3d& bias)
     return options;
 }
 
-void GyroRecording::open(const CliArgs& args, const std::string& defaultCameraPath, GyroRecording& r)
+GyroLog loadGyroLog(const CliArgs& args)
 {
-    if (!args.has("gyro") || !args.has("video") || !args.has("frames"))
-        throw std::runtime_error("--gyro, --video and --frames are required for a recording whose motion is a "
-                                 "gyro log");
     Vec3d bias;
     const GyroLogOptions options = gyroOptions(args, bias);
-    r.log = readFrameLog(args.str("frames", ""), args.num("exposure", NAN), args.num("line-delay", NAN));
-    const std::string camera = args.str("camera", "");
-    r.camera = CameraModel::load(camera.empty() ? defaultCameraPath : camera);
+    GyroLog log;
     try
     {
-        r.gyro = GyroLog::load(args.str("gyro", ""), options);
+        log = GyroLog::load(args.str("gyro", ""), options);
     }
     catch (const cv::Exception& e)
     {
-        CV_Error(e.code, "--gyro: " + e.err);
+        // The reader names its options as the library spells them; the command line spells them so.
+        const char* const kOptionNames[][2] = {{"options.columns:", "--gyro-columns:"},
+                                               {"options.timeUnit:", "--gyro-time-unit:"},
+                                               {"options.rateUnit:", "--gyro-rate-unit:"},
+                                               {"options.orientation:", "--gyro-orientation:"},
+                                               {"options.gcsvAxes:", "--gyro-gcsv-axes:"}};
+        std::string message = e.err;
+        for (const auto& name : kOptionNames)
+            for (size_t at = message.find(name[0]); at != std::string::npos; at = message.find(name[0], at))
+                message.replace(at, std::strlen(name[0]), name[1]);
+        CV_Error(e.code, "--gyro: " + message);
     }
     if (bias != Vec3d())
-        r.gyro.bias = bias;
-    r.motion = r.gyro.toMotion();
-    r.timingPath = args.declares("timing") ? args.str("timing") : "";
-    const Vec2d span = r.motion->getTimeSpan();
-    const int rows = r.camera->getImageSize().height;
-    for (const FrameRecord& f : r.log)
-    {
-        const Vec2d readout = shutterOf(f, rows).readoutInterval();
-        if (!(readout[0] >= span[0] && readout[1] <= span[1]))
-            CV_Error(Error::StsOutOfRange,
-                     format("--frames: frame %d is read over [%.6f, %.6f] s, outside the gyro log's time span "
-                            "[%.6f, %.6f] s (--gyro): the log must cover every frame (same clock)%s",
-                            f.frame, readout[0], readout[1], span[0], span[1],
-                            r.gyro.timeOrigin == 0 ? ""
-                                                   : format("; the log's times are counted from %.0f s on its clock "
-                                                            "(GyroLog::timeOrigin), and so must the frames' be",
-                                                            r.gyro.timeOrigin)
-                                                         .c_str()));
-    }
-    const std::string video = args.str("video", "");
-    if (video.find('%') == std::string::npos && !std::ifstream(video).good())
-        CV_Error(Error::StsError, "--video: '" + video + "' does not exist");
-    if (!r.video.open(video))
-        CV_Error(Error::StsError, "--video: cannot open '" + video + "'");
-    r.position = 0;
+        log.bias = bias;
+    return log;
 }
 
-Mat GyroRecording::read(const FrameRecord& record)
+void saveClipCalibration(const TimingCalibration& calibration, const ToldShutter& told, const std::string& path)
 {
-    Mat image;
-    while (position <= record.frame)
+    const std::string extension = path.substr(pathStem(path).size());
+    if (extension != ".yml" && extension != ".yaml")
+        CV_Error(Error::StsBadArg, "--out: '" + path + "': a clip's timing file is YAML (.yml or .yaml)");
+    const std::string temporary = temporaryPathFor(path);
+    calibration.save(temporary);
     {
-        if (!video.read(image))
-            CV_Error(Error::StsBadArg, format("--frames: line for frame %d, but the video ends after %d frames",
-                                              record.frame, position));
-        position++;
+        // The YAML mapping TimingCalibration::save writes takes more keys at its end.
+        std::ofstream out(temporary, std::ios::app);
+        // Only what was told for every frame (a frame log's columns tell it frame by frame).
+        out << "# the shutter the calibration was told (s): lineDelayScale scales this lineDelay\n";
+        if (std::isfinite(told.exposure))
+            out << format("exposure: %.17g\n", told.exposure);
+        if (std::isfinite(told.lineDelay))
+            out << format("lineDelay: %.17g\n", told.lineDelay);
+        if (!out)
+        {
+            std::remove(temporary.c_str());
+            CV_Error(Error::StsError, "--out: cannot write '" + path + "'");
+        }
+    }
+    renameIntoPlace(temporary, path);
+}
+
+ToldShutter toldShutterOf(const std::string& timingPath)
+{
+    ToldShutter told;
+    FileStorage fs(timingPath, FileStorage::READ);
+    if (!fs.isOpened())
+        CV_Error(Error::StsError, "--timing: cannot read '" + timingPath + "'");
+    const std::string from = "--timing '" + timingPath + "'";
+    if (fs["exposure"].isReal())
+        told.exposure = double(fs["exposure"]), told.exposureFrom = from;
+    if (fs["lineDelay"].isReal())
+        told.lineDelay = double(fs["lineDelay"]), told.lineDelayFrom = from;
+    return told;
+}
+
+namespace {
+
+//! The exposure: --exposure, else the timing file's record (a frame log's column fills in later).
+void tellExposure(const CliArgs& args, const ToldShutter& recorded, ToldShutter& told)
+{
+    if (args.has("exposure"))
+    {
+        told.exposure = args.num("exposure"), told.exposureFrom = "--exposure";
+        if (!(told.exposure > 0 && told.exposure < 1))
+            throw std::runtime_error(format("--exposure %g must be in (0, 1) s (seconds: 1/250 s is 0.004)",
+                                            told.exposure));
+    }
+    else if (std::isfinite(recorded.exposure))
+        told.exposure = recorded.exposure, told.exposureFrom = recorded.exposureFrom;
+}
+
+/* The line delay: the timing file's record (its lineDelayScale scales that one, whatever else is
+   told), else --line-delay or --readout, else the gcsv log's frame_readout_time. */
+void tellLineDelay(const CliArgs& args, const GyroLog& gyro, int rows, const ToldShutter& recorded, ToldShutter& told)
+{
+    const double option = toldLineDelay(args, rows);
+    const std::string optionName = args.has("readout") ? "--readout" : "--line-delay";
+    if (std::isfinite(recorded.lineDelay))
+    {
+        told.lineDelay = recorded.lineDelay, told.lineDelayFrom = recorded.lineDelayFrom;
+        if (std::isfinite(option) && std::abs(option - recorded.lineDelay) > 1e-3 * recorded.lineDelay)
+            std::fprintf(stderr, "note: %s is not used: the calibration (%s) was told a line delay of %.4g us, which "
+                                 "its line delay scale corrects\n",
+                         optionName.c_str(), recorded.lineDelayFrom.c_str(), recorded.lineDelay * 1e6);
+    }
+    else if (std::isfinite(option))
+        told.lineDelay = option, told.lineDelayFrom = optionName;
+    else if (std::isfinite(gyro.frameReadoutTime))
+        told.lineDelay = gyro.frameReadoutTime / rows,
+        told.lineDelayFrom = "--gyro's frame_readout_time";
+}
+
+}  // namespace
+
+void GyroRecording::open(const CliArgs& args, const std::string& defaultCameraPath, UntoldReadout untold,
+                         GyroRecording& r)
+{
+    if (!args.has("gyro") || !args.has("video"))
+        throw std::runtime_error("--gyro and --video are required for a recording whose motion is a gyro log");
+    r.cameraPath = args.str("camera", "");
+    if (r.cameraPath.empty())
+    {
+        r.cameraPath = defaultCameraPath;
+        std::fprintf(stderr, "note: no --camera: using the default camera '%s'\n", defaultCameraPath.c_str());
+    }
+    r.camera = CameraModel::load(r.cameraPath);
+    const Size size = r.camera->getImageSize();
+    r.gyro = loadGyroLog(args);
+    r.gyroPath = args.str("gyro");
+    if (r.gyro.frameReadoutDirection != READOUT_DIRECTION_UNKNOWN &&
+        r.gyro.frameReadoutDirection != READOUT_TOP_TO_BOTTOM)
+        CV_Error(Error::StsBadArg,
+                 format("--gyro: '%s' states frame_readout_direction %d: only a readout from the top row to the "
+                        "bottom one (0) is modelled; rotate the video so that its first row is read first",
+                        r.gyroPath.c_str(), r.gyro.frameReadoutDirection));
+    r.timingPath = args.declares("timing") ? args.str("timing") : "";
+    const ToldShutter recorded = r.timingPath.empty() ? ToldShutter() : toldShutterOf(r.timingPath);
+    tellExposure(args, recorded, r.told);
+    tellLineDelay(args, r.gyro, size.height, recorded, r.told);
+
+    const std::string video = args.str("video");
+    if (args.has("frames"))
+    {
+        const std::string frames = args.str("frames");
+        r.log = readFrameLog(frames, r.told.exposure, r.told.lineDelay);
+        for (FrameRecord& f : r.log)  // the line delay a calibration scales wins over the frame log's
+            f.lineDelay = std::isfinite(recorded.lineDelay) ? recorded.lineDelay : f.lineDelay;
+        r.told.exposureFrom = std::isnan(r.told.exposure) ? "the frame log" : r.told.exposureFrom;
+        r.told.lineDelayFrom = std::isnan(r.told.lineDelay) ? "the frame log" : r.told.lineDelayFrom;
+        r.timeSource = "the frame log '" + frames + "'";
+        r.fps = r.log.size() > 1 ? (r.log.size() - 1) / (r.log.back().frameStart - r.log.front().frameStart) : 30.0;
+        if (video.find('%') == std::string::npos && !std::ifstream(video).good())
+            CV_Error(Error::StsError, "--video: '" + video + "' does not exist");
+        if (!r.video_.open(video))
+            CV_Error(Error::StsError, "--video: cannot open '" + video + "'");
+        return;
+    }
+    r.clip_.open(video, "--video");
+    r.timeSource = r.clip_.clockText();
+    const double period = r.clip_.framePeriod();
+    r.fps = 1 / period;
+    if (std::isnan(r.told.exposure))
+        throw std::runtime_error("--exposure: the exposure of a frame is not known: give --exposure S, the shutter "
+                                 "speed the clip was taken at (lock it: docs/hand-held.md), or a --timing file that "
+                                 "records it");
+    if (std::isnan(r.told.lineDelay))
+    {
+        if (untold == UntoldReadout::Refuse)
+            throw std::runtime_error("--readout: the line delay is not known: give --readout S or --line-delay S, a "
+                                     "--timing file from dynblur_calibrate_timing (which measures it), or a gcsv log "
+                                     "that states frame_readout_time");
+        r.told.lineDelay = 0.5 * period / size.height;
+        r.told.lineDelayFrom = "untold: half the frame period, searched from a quarter to twice that";
+    }
+    if (r.clip_.frameSize() != size)
+        CV_Error(Error::StsBadSize, format("--video: '%s' is %dx%d but the camera '%s' (--camera) is %dx%d: give the "
+                                           "camera that took the video",
+                                           video.c_str(), r.clip_.frameSize().width, r.clip_.frameSize().height,
+                                           r.cameraPath.c_str(), size.width, size.height));
+    if (r.told.exposure > period)
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: the exposure %g s is longer than the frame period %g s of '%s' (%s, %.6g fps): seconds "
+                        "expected (1/250 s is 0.004)",
+                        r.told.exposureFrom.c_str(), r.told.exposure, period, video.c_str(), r.timeSource.c_str(),
+                        r.fps));
+    if ((size.height - 1) * r.told.lineDelay > period)
+        CV_Error(Error::StsOutOfRange,
+                 format("%s: the readout %g s (line delay %g s over %d rows) is longer than the frame period %g s of "
+                        "'%s' (%.6g fps)",
+                        r.told.lineDelayFrom.c_str(), (size.height - 1) * r.told.lineDelay, r.told.lineDelay,
+                        size.height, period, video.c_str(), r.fps));
+}
+
+bool GyroRecording::next(Mat& image, FrameRecord& record)
+{
+    if (log.empty())
+    {
+        double seconds = 0;
+        if (!clip_.read(image, seconds))
+            return false;
+        record.frame = clip_.framesRead() - 1;
+        record.frameStart = seconds;
+        record.exposure = told.exposure;
+        record.lineDelay = told.lineDelay;
+    }
+    else
+    {
+        if (logNext_ == log.size())
+            return false;
+        record = log[logNext_++];
+        while (position_ <= record.frame)
+        {
+            Mat frame;  // a fresh buffer: the caller may still hold the previous frame
+            if (!video_.read(frame))
+                CV_Error(Error::StsBadArg, format("--frames: line for frame %d, but the video ends after %d frames",
+                                                  record.frame, position_));
+            image = frame;
+            position_++;
+        }
     }
     const Size size = camera->getImageSize();
     if (image.size() != size)
-        CV_Error(Error::StsBadSize, format("--video: frame %d is %dx%d but the camera is %dx%d", record.frame,
-                                           image.cols, image.rows, size.width, size.height));
-    return image;
+        CV_Error(Error::StsBadSize, format("--video: frame %d is %dx%d but the camera '%s' (--camera) is %dx%d",
+                                           record.frame, image.cols, image.rows, cameraPath.c_str(), size.width,
+                                           size.height));
+    return true;
 }
 
-RollingShutter GyroRecording::shutterOf(const FrameRecord& record, int rows)
+RollingShutter GyroRecording::shutterOf(const FrameRecord& record) const
 {
-    return RollingShutter(record.frameStart, record.exposure, record.lineDelay, rows);
+    return RollingShutter(record.frameStart, record.exposure, record.lineDelay, camera->getImageSize().height);
 }
 
-double GyroRecording::peakRate(const FrameRecord& record) const
+std::string GyroRecording::toldText() const
 {
-    const Vec2d readout = shutterOf(record, camera->getImageSize().height).readoutInterval();
-    const Vec2d span = motion->getTimeSpan();
-    if (!(readout[0] >= span[0] && readout[1] <= span[1]))
-        return std::numeric_limits<double>::infinity();
-    double peak = 0;
-    for (double t = readout[0]; t <= readout[1]; t += 5e-4)
-        peak = std::max(peak, norm(motion->angularVelocity(t)));
-    return peak;
+    const int rows = camera->getImageSize().height;
+    const std::string exposure =
+        std::isnan(told.exposure) ? "exposure from the frame log"
+                                  : format("exposure %.4g ms (%s)", told.exposure * 1e3, told.exposureFrom.c_str());
+    const std::string lineDelay =
+        std::isnan(told.lineDelay)
+            ? "line delay from the frame log"
+            : format("line delay %.4g us, readout %.2f ms (%s)", told.lineDelay * 1e6, told.lineDelay * rows * 1e3,
+                     told.lineDelayFrom.c_str());
+    return "frame times from " + timeSource + ", " + exposure + ", " + lineDelay;
 }
 
 }  // namespace dynblur_samples

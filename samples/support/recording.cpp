@@ -15,6 +15,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 namespace dynblur_samples {
 
@@ -197,7 +198,22 @@ CliOptionGroup recordingOptions()
               "nominal plant file; default: the recording's plant.yml, else the seed's (14.4 Hz, zeta 0.12, 1 deg per "
               "level)"},
              {"exposure", "S", "", "exposure of one row, seconds, when the frame log has no exposure column"},
-             {"line-delay", "S", "", "line delay, seconds, when the frame log has no line_delay column"}}};
+             {"line-delay", "S", "", "line delay, seconds, when the frame log has no line_delay column"},
+             {"readout", "S", "", "the readout of a whole frame, seconds, in place of --line-delay (line delay = S / rows)"}}};
+}
+
+double toldLineDelay(const CliArgs& args, int rows)
+{
+    if (args.has("line-delay") && args.has("readout"))
+        throw std::runtime_error("--line-delay and --readout both tell the line delay: give one");
+    if (args.has("readout"))
+    {
+        const double readout = args.num("readout");
+        if (!(readout >= 0 && readout < 1))
+            throw std::runtime_error(cv::format("--readout %g must be in [0, 1) s (seconds: 20 ms is 0.02)", readout));
+        return readout / rows;
+    }
+    return args.num("line-delay", NAN);
 }
 
 bool OpenedRecording::named(const CliArgs& args)
@@ -208,8 +224,6 @@ bool OpenedRecording::named(const CliArgs& args)
 void OpenedRecording::open(const CliArgs& args, const std::string& defaultCameraPath, OpenedRecording& r)
 {
     const RecordingFolder folder = args.has("recording") ? findRecording(args.str("recording", "")) : RecordingFolder();
-    r.log = readFrameLog(args.str("frames", folder.frames), args.num("exposure", NAN), args.num("line-delay", NAN));
-    r.commands = readCommandLog(args.str("commands", folder.commands));
     // A default is said aloud: a recording without its camera or plant is restored with the wrong blur.
     r.cameraPath = args.str("camera", folder.camera);
     if (r.cameraPath.empty())
@@ -219,6 +233,9 @@ void OpenedRecording::open(const CliArgs& args, const std::string& defaultCamera
                      args.has("recording") ? " and no camera.xml in the recording" : "", defaultCameraPath.c_str());
     }
     r.camera = cv::dynblur::CameraModel::load(r.cameraPath);
+    r.log = readFrameLog(args.str("frames", folder.frames), args.num("exposure", NAN),
+                         toldLineDelay(args, r.camera->getImageSize().height));
+    r.commands = readCommandLog(args.str("commands", folder.commands));
     const std::string plant = args.str("plant", folder.plant);
     if (plant.empty())
         std::fprintf(stderr, "note: no --plant%s: using the seed's plant (14.4 Hz, zeta 0.12, 1 deg per level)\n",

@@ -78,8 +78,13 @@ void checkFramesMeetCommands(const std::vector<FrameRecord>& frames, const Comma
                              const cv::Ptr<cv::dynblur::Plant>& plant, int rows);
 
 /** @brief The options that name a recording: --recording, --video, --frames, --commands, --camera,
---plant, --exposure, --line-delay. */
+--plant, --exposure, --line-delay, --readout. */
 CliOptionGroup recordingOptions();
+
+/** @brief The line delay the command line tells, seconds: --line-delay, or --readout over `rows`;
+NaN when neither is given. Throws std::runtime_error naming the options when both are given or the
+readout is out of [0, 1) s. */
+double toldLineDelay(const CliArgs& args, int rows);
 
 /** @brief A recording opened by a program: its logs, camera and nominal plant, from `--recording DIR`
 and/or the options of recordingOptions() and `--timing` where the program declares it (an option

@@ -2,7 +2,7 @@
 # Shared by the CLI test scripts: run(EXPECTED_EXIT_CODE command args...) runs a command, shows its
 # output, fails unless it exits with EXPECTED_EXIT_CODE, and leaves the output in `last_output`.
 # (Below: expect_written, read_yaml_numbers and read_timing_file check and read what a program wrote;
-# require_test_data finds the test data.)
+# require_test_data finds the test data; run_rehearsal runs a document's rehearsal block.)
 function(run expected)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   message(STATUS "$ ${ARGN}\n${out}${err}")
@@ -57,3 +57,28 @@ macro(require_test_data file)
     return()
   endif()
 endmacro()
+
+# run_rehearsal(DOC): runs the block of DOC between its <!-- rehearsal --> markers (a ```sh fence) as the
+# document writes it, in order, under bash -e, in WORK, with BIN and CALIB (the programs' folders) first
+# on the PATH and DATA in the environment; fails when a command fails. The output is left in
+# `last_output`.
+function(run_rehearsal doc)
+  file(READ ${doc} text)
+  string(FIND "${text}" "<!-- rehearsal -->" begin)
+  string(FIND "${text}" "<!-- /rehearsal -->" end)
+  if(begin EQUAL -1 OR end EQUAL -1)
+    message(FATAL_ERROR "${doc} has no <!-- rehearsal --> block")
+  endif()
+  math(EXPR length "${end} - ${begin}")
+  string(SUBSTRING "${text}" ${begin} ${length} block)
+  string(REGEX REPLACE "<!-- rehearsal -->[^\n]*\n```sh\n" "" block "${block}")
+  string(REGEX REPLACE "```\n$" "" block "${block}")
+  file(WRITE ${WORK}/rehearsal.sh "set -euo pipefail\nset -x\n${block}")
+  execute_process(COMMAND env "PATH=${BIN}:${CALIB}:$ENV{PATH}" "DATA=${DATA}" bash ${WORK}/rehearsal.sh
+                  WORKING_DIRECTORY ${WORK} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  message(STATUS "${out}${err}")
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "the rehearsal of ${doc} failed (exit ${rc})")
+  endif()
+  set(last_output "${out}${err}" PARENT_SCOPE)
+endfunction()

@@ -9,24 +9,7 @@ require_test_data(left01.jpg)
 file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})
 
-file(READ ${DOC} text)
-string(FIND "${text}" "<!-- rehearsal -->" begin)
-string(FIND "${text}" "<!-- /rehearsal -->" end)
-if(begin EQUAL -1 OR end EQUAL -1)
-  message(FATAL_ERROR "${DOC} has no <!-- rehearsal --> block")
-endif()
-math(EXPR length "${end} - ${begin}")
-string(SUBSTRING "${text}" ${begin} ${length} block)
-string(REGEX REPLACE "<!-- rehearsal -->[^\n]*\n```sh\n" "" block "${block}")
-string(REGEX REPLACE "```\n$" "" block "${block}")
-file(WRITE ${WORK}/rehearsal.sh "set -euo pipefail\nset -x\n${block}")
-
-execute_process(COMMAND env "PATH=${BIN}:${CALIB}:$ENV{PATH}" "DATA=${DATA}" bash ${WORK}/rehearsal.sh
-                WORKING_DIRECTORY ${WORK} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-message(STATUS "${out}${err}")
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "the rehearsal of ${DOC} failed (exit ${rc})")
-endif()
+run_rehearsal(${DOC})
 expect_written(${WORK} "the rehearsal" rig/camera.xml rig/step.yml rig/response.csv rig/plant.yml rec/frames.csv
                rec/commands.csv rec/camera.xml rec/plant.yml rec/timing.yml restored.avi restored.csv)
 # Every moving frame of the recording was restored or refused with a reason; the timing was found.

@@ -151,6 +151,21 @@ middle row's mid-exposure of stillShutter (the frames' clock, moved by the refin
             R"doc(The still frames before and after a move (None: none on that side; not both); each frame is
 compared with the one that observed its moving rows (window I: before; window III: after; window II: both).
 Angles in radians; NaN: the schedule's initial (before) or final (after) resting angle.)doc")
+        .def("setNeighbourFrame",
+            [](DynamicDeblurrer& db, py::handle frame, const RollingShutter& shutter) {
+                MatIn f;
+                if (!frame.is_none())
+                    f = toFrame(frame, "frame");
+                py::gil_scoped_release release;
+                db.setNeighbourFrame(f.mat, shutter);
+            },
+            py::arg("frame"), py::arg("shutter"),
+            R"doc(A neighbouring frame of the next one of a measured motion's stream (None: forget it): with no still
+set, the next frame is checked against it (the motion must carry its content onto the frame) and
+returned unchanged when it does not.)doc")
+        .def("getNeighbourLimit", &DynamicDeblurrer::getNeighbourLimit,
+             "The blur error, pixels, the neighbour check accepts whatever the frame's blur (default 1).")
+        .def("setNeighbourLimit", &DynamicDeblurrer::setNeighbourLimit, py::arg("limitPx"))
         .def("setNoiseFrames",
             [](DynamicDeblurrer& db, py::handle stillA, py::handle stillB) {
                 MatIn a, b;

@@ -93,7 +93,9 @@ reads the gyro a video embeds (telemetry-parser).)doc")
         .def("toMotion",
              [](const GyroLog& g, const cv::Matx33d& q0) { return shared(g.toMotion(q0)); },
              py::arg("initialOrientation") = cv::Matx33d::eye(),
-             "CameraMotion.fromAngularVelocity(times, rates - bias, initialOrientation).");
+             "CameraMotion.fromAngularVelocity(times, rates - bias, initialOrientation).")
+        .def("withAxisCorrection", &GyroLog::withAxisCorrection, py::arg("axisCorrection"),
+             "The log with its camera axes turned as a calibration found them (TimingCalibration.axisCorrection).");
 }
 
 }  // namespace dynblur_py

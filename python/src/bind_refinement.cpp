@@ -27,18 +27,6 @@ std::string repr(const MotionCorrection& c)
     return o.str();
 }
 
-//! A list of frames → Mats that own no Python memory past the call (copied when needed).
-std::vector<cv::Mat> toMats(py::handle list, const char* name)
-{
-    std::vector<cv::Mat> mats;
-    size_t index = 0;
-    for (py::handle item : py::iter(list))
-    {
-        const std::string itemName = std::string(name) + "[" + std::to_string(index++) + "]";
-        mats.push_back(toFrame(item, itemName.c_str()).mat.clone());
-    }
-    return mats;
-}
 
 }  // namespace
 
@@ -130,6 +118,14 @@ plant has naturalFreqScale times ωn and dampingScale times ζ.)doc")
         .def_readwrite("dampingScaleStd", &TimingCalibration::dampingScaleStd)
         .def_readwrite("gyroBiasStd", &TimingCalibration::gyroBiasStd, "rad/s (a measured motion's bias)")
         .def_readwrite("rateScaleStd", &TimingCalibration::rateScaleStd, "a measured motion's rate scale")
+        .def_readwrite("axisCorrection", &TimingCalibration::axisCorrection,
+                       "the rotation from the log's camera axes to the camera's the images showed (3x3; identity: as "
+                       "read); GyroLog.withAxisCorrection applies it")
+        .def_readwrite("explainedMotion", &TimingCalibration::explainedMotion,
+                       "share of the image's turn between frames the log explains at the offset found (NaN: not "
+                       "measured)")
+        .def_readwrite("trackResidualPx", &TimingCalibration::trackResidualPx,
+                       "RMS reprojection error of the tracked features, pixels (NaN: not measured)")
         .def_readwrite("frameUsed", &TimingCalibration::frameUsed, "1 for each frame in the fit, else 0")
         .def_readwrite("frameConsistency", &TimingCalibration::frameConsistency,
                        "each frame's consistency at the result (NaN: a still frame)")

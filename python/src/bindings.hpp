@@ -41,6 +41,7 @@ void bindMount(py::module_& m);
 void bindGyroLog(py::module_& m);
 void bindCamera(py::module_& m);
 void bindRefinement(py::module_& m);
+void bindClipTiming(py::module_& m);
 void bindRender(py::module_& m);
 void bindPsf(py::module_& m);
 void bindDeconv(py::module_& m);

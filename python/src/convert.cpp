@@ -217,4 +217,17 @@ cv::Mat rowsArg(py::handle obj, Doubles& keep, const char* name, std::initialize
     return cv::Mat(int(keep.shape(0)), cols, CV_64F, keep.mutable_data());
 }
 
+//! A list of frames → Mats that own no Python memory past the call (copied when needed).
+std::vector<cv::Mat> toMats(py::handle list, const char* name)
+{
+    std::vector<cv::Mat> mats;
+    size_t index = 0;
+    for (py::handle item : py::iter(list))
+    {
+        const std::string itemName = std::string(name) + "[" + std::to_string(index++) + "]";
+        mats.push_back(toFrame(item, itemName.c_str()).mat.clone());
+    }
+    return mats;
+}
+
 }  // namespace dynblur_py

@@ -60,6 +60,9 @@ cv::Mat timesArg(py::handle obj, Doubles& keep, const char* name = "times");
 cv::Mat rowsArg(py::handle obj, Doubles& keep, const char* name, std::initializer_list<int> columns,
                 const char* allowed);
 
+//! A list of frames (toFrame each, named `name`[i]) → Mats that own no Python memory past the call.
+std::vector<cv::Mat> toMats(py::handle list, const char* name);
+
 }  // namespace dynblur_py
 
 namespace pybind11 {

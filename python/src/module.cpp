@@ -70,6 +70,7 @@ PYBIND11_MODULE(_dynblur, m)
     bindGyroLog(m);
     bindCamera(m);
     bindRefinement(m);
+    bindClipTiming(m);
     bindRender(m);
     bindPsf(m);
     bindDeconv(m);

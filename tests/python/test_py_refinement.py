@@ -217,3 +217,49 @@ def test_refinement_parameters_table(db):
     assert db.refinementFlags("all") == db.REFINE_ALL
     with pytest.raises(db.error, match="'offest'"):
         db.refinementFlags("offest")
+
+
+def test_clip_timing_from_frames_alone(db):
+    """A clip in continuous motion calibrated against its gyro log with no still: the clock seconds off,
+    found from the frames; a log whose rates are in deg/s is refused by name; the neighbour check returns
+    a frame the log does not explain unchanged."""
+    import cv2
+    rng = np.random.default_rng(5)
+    texture = cv2.GaussianBlur(rng.uniform(0.1, 0.9, (480, 640)).astype(np.float32), (0, 0), 1.2)
+    cam = db.CameraModel.create(300.0, 300.0, 159.5, 119.5, 320, 240)
+    t = np.arange(0.0, 4.0, 0.005)
+    # A hand's shake: white noise smoothed to a few hertz (a sum of sines would repeat itself).
+    noise = rng.normal(size=(t.size, 3))
+    kernel = np.exp(-0.5 * (np.arange(-40, 41) * 0.005 / 0.015) ** 2)
+    rates = np.stack([np.convolve(noise[:, i], kernel, mode="same") for i in range(3)], axis=1)
+    rates *= 0.5 / np.abs(rates).max(axis=0)
+    truth = db.CameraMotion.fromAngularVelocity(t, rates)
+    offset, frames, shutters = 1.2, [], []
+    for k in range(30):
+        shutter = db.RollingShutter(frameStart=0.5 + k / 30.0, exposure=0.005, lineDelay=0.02 / 240, rows=240)
+        # The frames on the camera's clock: the log's clock reads `offset` later.
+        on_log = db.RollingShutter(frameStart=shutter.frameStart + offset, exposure=0.005, lineDelay=0.02 / 240,
+                                   rows=240)
+        scene = texture[120:360, 160:480].copy()
+        frames.append(db.renderBlurred(scene, truth, cam, on_log, tRef=offset + 0.5))
+        shutters.append(shutter)
+    log = db.GyroLog()
+    log.times = t
+    log.rates = rates
+    c = db.calibrateTiming(log, cam, frames, shutters)
+    assert abs(c.correction.timeOffset - offset) < 2e-3
+    assert c.explainedMotion > 0.5
+    wrong = db.GyroLog()
+    wrong.times = t
+    wrong.rates = np.degrees(rates)
+    with pytest.raises(db.error, match="degrees per second"):
+        db.calibrateTiming(wrong, cam, frames, shutters)
+    d = db.DynamicDeblurrer.create(cam)
+    d.setCalibration(c.correction)
+    d.setNeighbourFrame(frames[4], shutters[4])
+    restored = d.deblur(frames[5], wrong.toMotion(), shutters[5])
+    assert not d.getLastCorrection().applied
+    assert np.array_equal(restored, frames[5])
+    d.setNeighbourFrame(None, shutters[4])
+    with pytest.raises(db.error, match="limitPx"):
+        d.setNeighbourLimit(-1.0)

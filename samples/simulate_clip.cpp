@@ -56,6 +56,9 @@ CliOptions simulateClipOptions()
         .option("shaky", "S", numberText(d.stretches.shakySeconds), "shaky stretches between them, seconds")
         .option("depth", "M", "0", "a translation in front of a plane at M metres (0: rotation only)")
         .option("translation-speed", "M/S", numberText(d.translation.peakSpeed), "its peak speed, m/s")
+        .option("pivot", "M", "0", "with --depth, a sweep about the arm instead: the camera turns about a pivot M "
+                                   "metres behind it (the image moves about 1 + M / depth times as far as the gyro "
+                                   "says)")
         .option("translation-band", "LO,HI", "1,20", "its band, Hz")
         .option("seed", "N", "1", "random seed of the motion and the noise")
         .heading("Gyro log:")
@@ -115,6 +118,7 @@ const char* const kOptionOfField[][2] = {
     {"rotation.lowHz", "--band"}, {"rotation.highHz", "--band"},    {"rotation.peakRate", "--peak-rate"},
     {"rotation.maxBlurPx", "--max-blur"}, {"rotation.axisWeights", "--axis-weights"},
     {"translation.planeDepth", "--depth"}, {"translation.peakSpeed", "--translation-speed"},
+    {"translation.pivotDistance", "--pivot"},
     {"translation.lowHz", "--translation-band"}, {"translation.highHz", "--translation-band"},
     {"translation.axisWeights", "--axis-weights"}, {"stretches.stillSeconds", "--still"},
     {"stretches.shakySeconds", "--shaky"}, {"stretches.rampSeconds", "--shaky"}, {"gyro.rateHz", "--gyro-rate"},
@@ -183,6 +187,7 @@ HandHeldClip describe(const CliArgs& args)
     clip.stretches.rampSeconds = std::min(clip.stretches.rampSeconds, 0.5 * clip.stretches.shakySeconds);
     clip.translation.planeDepth = args.num("depth");
     clip.translation.peakSpeed = args.num("translation-speed");
+    clip.translation.pivotDistance = args.num("pivot");
     const std::vector<double> moveBand = numbers(args, "translation-band", 2);
     clip.translation.lowHz = moveBand[0];
     clip.translation.highHz = moveBand[1];

@@ -19,6 +19,20 @@ using namespace cv::dynblur;
 
 namespace {
 
+//! The camera centres of a sweep about a pivot `pivot` metres behind the camera, at the rotation's samples.
+Mat sweepPositions(const CameraPath& rotation, double pivot, int samples)
+{
+    Mat positions(samples, 3, CV_64F);
+    for (int k = 0; k < samples; k++)
+    {
+        const Matx33d Q = rotation.rotation->orientation(rotation.start + k / rotation.sampleRateHz);
+        const Vec3d c = (Q - Matx33d::eye()) * Vec3d(0, 0, pivot);
+        for (int i = 0; i < 3; i++)
+            positions.at<double>(k, i) = c[i];
+    }
+    return positions;
+}
+
 //! Throws naming the field, its value and the allowed range when `ok` is false.
 void require(bool ok, const char* field, double value, const std::string& range)
 {
@@ -83,6 +97,8 @@ void HandHeldClip::validate() const
         require(translation.peakSpeed > 0 && translation.peakSpeed <= 10, "translation.peakSpeed",
                 translation.peakSpeed, "in (0, 10] (m/s)");
         requireWeights(translation.axisWeights, "translation.axisWeights");
+        require(within(translation.pivotDistance, 0, 2), "translation.pivotDistance", translation.pivotDistance,
+                "in [0, 2] (metres)");
     }
 
     require(within(stretches.stillSeconds, 0, 1e4), "stretches.stillSeconds", stretches.stillSeconds,
@@ -139,7 +155,7 @@ void HandHeldSimulator::scaleMotion(const HandShake& shake)
     const int first = int(std::floor(-start * rate)), last = int(std::ceil((end - start) * rate));
     Mat positions;
     const TranslationShake& move = clip_.translation;
-    if (move.planeDepth > 0)
+    if (move.planeDepth > 0 && move.pivotDistance == 0)
     {
         positions = shake.positions(move.lowHz, move.highHz, move.axisWeights, 1.0);
         double fastest = 0;
@@ -157,8 +173,11 @@ void HandHeldSimulator::scaleMotion(const HandShake& shake)
     double scale = 1.0;
     for (int iteration = 0; iteration < 6; iteration++)
     {
-        path_ = shake.path(shake.rotationVectors(turn.lowHz, turn.highHz, turn.axisWeights, scale), positions,
-                           move.planeDepth);
+        const Mat rotationVectors = shake.rotationVectors(turn.lowHz, turn.highHz, turn.axisWeights, scale);
+        if (move.planeDepth > 0 && move.pivotDistance > 0)
+            positions = sweepPositions(shake.path(rotationVectors, Mat(), 0), move.pivotDistance,
+                                       rotationVectors.rows);
+        path_ = shake.path(rotationVectors, positions, move.planeDepth);
         peakRate_ = 0;
         for (int k = first; k <= last; k++)
             peakRate_ = std::max(peakRate_, norm(path_.rotation->angularVelocity(start + k / rate)));

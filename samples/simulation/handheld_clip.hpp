@@ -34,6 +34,11 @@ struct TranslationShake
     double highHz = 20.0;    //!< Hz, in (lowHz, 200]
     double peakSpeed = 0.05; //!< m/s, > 0: the largest |c'(t)| over the clip's frames
     cv::Vec3d axisWeights{1.0, 1.0, 0.5};  //!< relative RMS speed along x, y, z, each ≥ 0
+    /** m, in [0, 2]: a sweep about the arm or the body: the camera turns about a pivot this far behind
+        it, so its centre rides on the rotation, c(t) = (Q(t) − I)·(0, 0, pivotDistance), instead of the
+        band-limited translation above (peakSpeed, the band and the weights then unused). Over a plane at
+        depth d the image moves about 1 + pivotDistance / d times as far as the rotation turns it. */
+    double pivotDistance = 0;
 };
 
 /** @brief The gyroscope rigidly fixed to the camera: samples at rateHz on the log's clock, which reads

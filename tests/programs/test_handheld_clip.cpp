@@ -485,6 +485,10 @@ TEST(HandHeldClip, RefusesBadDescriptions)
                    c.translation.planeDepth = 1;
                    c.translation.peakSpeed = 0;
                }, {"translation.peakSpeed", "m/s"}),
+        refuse("pivotDistance 3 m", [](HandHeldClip& c) {
+                   c.translation.planeDepth = 1;
+                   c.translation.pivotDistance = 3;
+               }, {"translation.pivotDistance", "[0, 2]"}),
         refuse("stillSeconds -1", [](HandHeldClip& c) { c.stretches.stillSeconds = -1; }, {"stretches.stillSeconds"}),
         refuse("ramp longer than half the shake", [](HandHeldClip& c) {
                    c.stretches.stillSeconds = 1;

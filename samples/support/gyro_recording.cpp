@@ -240,10 +240,7 @@ void GyroRecording::open(const CliArgs& args, const std::string& defaultCameraPa
         r.told.lineDelayFrom = std::isnan(r.told.lineDelay) ? "the frame log" : r.told.lineDelayFrom;
         r.timeSource = "the frame log '" + frames + "'";
         r.fps = r.log.size() > 1 ? (r.log.size() - 1) / (r.log.back().frameStart - r.log.front().frameStart) : 30.0;
-        if (video.find('%') == std::string::npos && !std::ifstream(video).good())
-            CV_Error(Error::StsError, "--video: '" + video + "' does not exist");
-        if (!r.video_.open(video))
-            CV_Error(Error::StsError, "--video: cannot open '" + video + "'");
+        openVideo(r.video_, video, "--video");
         return;
     }
     r.clip_.open(video, "--video");

@@ -5,6 +5,7 @@
 #include "cli_args.hpp"
 #include "csv_fields.hpp"
 #include "plant_file.hpp"
+#include "video_clip.hpp"
 
 #include <opencv2/core/utils/filesystem.hpp>
 
@@ -244,12 +245,7 @@ void OpenedRecording::open(const CliArgs& args, const std::string& defaultCamera
     r.timingPath = args.declares("timing") ? args.str("timing", folder.timing) : folder.timing;
     const std::string video = args.str("video", folder.video);
     r.videoOption = args.has("video") ? "--video" : "--recording";  // what the user typed
-    // A missing file is named here: VideoCapture would try every backend on it (and GStreamer's
-    // device probing leaks inside libusb, which the sanitizer run reports).
-    if (video.find('%') == std::string::npos && !std::ifstream(video).good())
-        CV_Error(cv::Error::StsError, r.videoOption + ": '" + video + "' does not exist");
-    if (!r.video.open(video))
-        CV_Error(cv::Error::StsError, r.videoOption + ": cannot open '" + video + "'");
+    openVideo(r.video, video, r.videoOption);
     r.position = 0;
     const cv::Size size = r.camera->getImageSize();
     const int width = int(r.video.get(cv::CAP_PROP_FRAME_WIDTH)), height = int(r.video.get(cv::CAP_PROP_FRAME_HEIGHT));

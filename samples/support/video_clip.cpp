@@ -22,6 +22,22 @@ FrameClock chooseFrameClock(double firstMsec, double secondMsec, double fps, con
                     option.c_str(), path.c_str(), firstMsec, secondMsec, fps));
 }
 
+void openVideo(VideoCapture& capture, const std::string& path, const std::string& option)
+{
+    if (path.find('%') != std::string::npos)
+    {
+        if (!capture.open(path, CAP_IMAGES))
+            CV_Error(Error::StsError, option + ": no image of the sequence '" + path + "' can be read");
+        return;
+    }
+    // A missing file is named here: VideoCapture would try every backend on it.
+    if (!std::ifstream(path).good())
+        CV_Error(Error::StsError, option + ": '" + path + "' does not exist");
+    const int backend = videoio_registry::hasBackend(CAP_FFMPEG) ? CAP_FFMPEG : CAP_ANY;
+    if (!capture.open(path, backend))
+        CV_Error(Error::StsError, option + ": cannot open '" + path + "' (not a video this OpenCV reads)");
+}
+
 void VideoClip::open(const std::string& path, const std::string& option)
 {
     path_ = path, option_ = option;
@@ -29,11 +45,7 @@ void VideoClip::open(const std::string& path, const std::string& option)
         CV_Error(Error::StsBadArg, option + ": '" + path + "' is an image sequence, which has no frame timestamps: "
                                    "give the frames' times in a frame log, --frames FRAMES.csv "
                                    "(docs/recording-format.md)");
-    // A missing file is named here: VideoCapture would try every backend on it.
-    if (!std::ifstream(path).good())
-        CV_Error(Error::StsError, option + ": '" + path + "' does not exist");
-    if (!capture_.open(path))
-        CV_Error(Error::StsError, option + ": cannot open '" + path + "' (not a video this OpenCV reads)");
+    openVideo(capture_, path, option);
     fps_ = capture_.get(CAP_PROP_FPS);
     if (!(fps_ > 0 && fps_ <= 1000))
         fps_ = NAN;

@@ -7,6 +7,7 @@
 
 #include <opencv2/core.hpp>
 #include <opencv2/videoio.hpp>
+#include <opencv2/videoio/registry.hpp>
 
 #include <string>
 
@@ -18,6 +19,12 @@ enum class FrameClock
     Timestamps,  //!< the container's timestamps
     FrameIndex   //!< frame k at k / the stream's rate
 };
+
+/** @brief Opens a video file, or an image sequence (a name holding '%'), for reading. A file is read
+through FFmpeg where this OpenCV has it: its timestamps are the ones the clock trusts, and no other
+backend is tried on a file FFmpeg refuses (GStreamer's device probing leaks inside libusb). Throws
+cv::Exception naming `option` and `path` when the file is missing or no backend opens it. */
+void openVideo(cv::VideoCapture& capture, const std::string& path, const std::string& option);
 
 /** @brief The clock of a video from the container's first two timestamps (milliseconds, as
 CAP_PROP_POS_MSEC reports them after each read) and its stream rate (CAP_PROP_FPS): its timestamps

@@ -36,6 +36,9 @@ void openVideo(VideoCapture& capture, const std::string& path, const std::string
     const int backend = videoio_registry::hasBackend(CAP_FFMPEG) ? CAP_FFMPEG : CAP_ANY;
     if (!capture.open(path, backend))
         CV_Error(Error::StsError, option + ": cannot open '" + path + "' (not a video this OpenCV reads)");
+    // A phone's portrait clip is stored sideways with a rotation in its metadata. Turned upright, its
+    // rows would no longer be the sensor's rows, which the rolling shutter reads one after another.
+    capture.set(CAP_PROP_ORIENTATION_AUTO, 0);
 }
 
 void VideoClip::open(const std::string& path, const std::string& option)
@@ -47,6 +50,8 @@ void VideoClip::open(const std::string& path, const std::string& option)
                                    "(docs/recording-format.md)");
     openVideo(capture_, path, option);
     fps_ = capture_.get(CAP_PROP_FPS);
+    const double rotation = capture_.get(CAP_PROP_ORIENTATION_META);
+    storedTurnDegrees_ = std::isfinite(rotation) ? (int(std::lround(rotation)) % 360 + 360) % 360 : 0;
     if (!(fps_ > 0 && fps_ <= 1000))
         fps_ = NAN;
     double msec[2] = {NAN, NAN};
@@ -96,8 +101,12 @@ double VideoClip::framePeriod() const
 
 std::string VideoClip::clockText() const
 {
-    return clock_ == FrameClock::Timestamps ? std::string("the container's timestamps")
-                                            : format("the frame index at the stream's %.6g fps", fps_);
+    std::string text = clock_ == FrameClock::Timestamps ? std::string("the container's timestamps")
+                                                        : format("the frame index at the stream's %.6g fps", fps_);
+    if (storedTurnDegrees_ != 0)
+        text += format(" (the video is shown turned %d deg by its metadata: read and written as stored, its rows the "
+                       "sensor's)", storedTurnDegrees_);
+    return text;
 }
 
 }  // namespace dynblur_samples

@@ -52,7 +52,12 @@ public:
     //! One over the stream's rate, else the step between the first two frames' times; NaN for one frame.
     double framePeriod() const;
     FrameClock clock() const { return clock_; }
-    //! How the times were found: "the container's timestamps" or "the frame index at 29.97 fps".
+    /** The turn a player applies to show the video, degrees in {0, 90, 180, 270} (its rotation
+    metadata; a phone's portrait clip). The frames are read as stored, unturned: their rows are the
+    sensor's rows, in the order the rolling shutter reads them. */
+    int storedTurnDegrees() const { return storedTurnDegrees_; }
+    //! How the times were found: "the container's timestamps" or "the frame index at 29.97 fps",
+    //! and the turn the frames are not given, if any.
     std::string clockText() const;
     //! The frames read so far.
     int framesRead() const { return next_; }
@@ -63,6 +68,7 @@ private:
     cv::VideoCapture capture_;
     std::string path_, option_;
     double fps_ = 0;
+    int storedTurnDegrees_ = 0;
     FrameClock clock_ = FrameClock::Timestamps;
     cv::Size size_;
     // The two frames read ahead to choose the clock, and their times.

@@ -75,6 +75,48 @@ TEST(VideoClip, ReadsAVideoWithItsFrameTimes)
     std::remove(path.c_str());
 }
 
+/* A phone's portrait clip: stored sideways, with a 90-degree display matrix in its track header. It is
+   read as stored (64 wide, its first row bright as written), since its rows are the sensor's. */
+TEST(VideoClip, ReadsAPortraitClipAsStored)
+{
+    const std::string path = scratch("portrait.mp4");
+    {
+        VideoWriter writer(path, VideoWriter::fourcc('m', 'p', '4', 'v'), 30.0, Size(64, 48), true);
+        ASSERT_TRUE(writer.isOpened());
+        Mat frame(48, 64, CV_8UC3, Scalar::all(0));
+        frame.rowRange(0, 8).setTo(Scalar::all(255));
+        for (int k = 0; k < 3; k++)
+            writer.write(frame);
+    }
+    // The 'tkhd' box (ISO/IEC 14496-12 8.3.2, version 0): its 3x3 matrix, 16.16 fixed point, starts
+    // 48 bytes into the box; {0, 1, 0; -1, 0, 0; 0, 0, 1} is a turn of 90 degrees.
+    std::string bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    const size_t box = bytes.find("tkhd");
+    ASSERT_NE(box, std::string::npos);
+    ASSERT_EQ(bytes[box + 4], 0) << "a version-0 track header";
+    const unsigned char matrix[36] = {0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0xff, 0xff, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+                                      0, 0, 0, 0, 0, 0, 0, 0, 0x40, 0, 0, 0};
+    bytes.replace(box - 4 + 48, 36, reinterpret_cast<const char*>(matrix), 36);
+    {
+        std::ofstream out(path, std::ios::binary | std::ios::trunc);
+        out << bytes;
+    }
+    VideoClip clip;
+    clip.open(path, "--video");
+    EXPECT_EQ(clip.storedTurnDegrees() % 180, 90);
+    EXPECT_EQ(clip.frameSize(), Size(64, 48));
+    Mat image;
+    double seconds = 0;
+    ASSERT_TRUE(clip.read(image, seconds));
+    EXPECT_GT(mean(image.rowRange(0, 6))[0], 200.0);
+    EXPECT_NE(clip.clockText().find("read and written as stored"), std::string::npos) << clip.clockText();
+    std::remove(path.c_str());
+}
+
 TEST(VideoClip, RefusesWhatHasNoTimes)
 {
     VideoClip clip;

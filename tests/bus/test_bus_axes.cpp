@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <thread>
@@ -69,6 +70,7 @@ void expectThrowsWith(const std::function<void()>& f, const std::vector<std::str
     }
     catch (const cv::Exception& e)
     {
+        std::printf("[ refused ] %s\n", e.err.c_str());
         for (const std::string& needle : needles)
             EXPECT_NE(e.err.find(needle), std::string::npos) << "message: " << e.err;
     }

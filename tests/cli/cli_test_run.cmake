@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # Shared by the CLI test scripts: run(EXPECTED_EXIT_CODE command args...) runs a command, shows its
 # output, fails unless it exits with EXPECTED_EXIT_CODE, and leaves the output in `last_output`.
-# (Below: expect_written, read_yaml_numbers and read_timing_file check and read what a program wrote;
+# (Below: expect checks that output, expect_written, read_yaml_numbers and read_timing_file check and read what a program wrote;
 # require_test_data finds the test data; run_rehearsal runs a document's rehearsal block;
 # start_actuator_sim and stop_actuator_sim run the actuator simulator in the background.)
 function(run expected)
@@ -11,6 +11,13 @@ function(run expected)
     message(FATAL_ERROR "exit code ${rc}, expected ${expected}")
   endif()
   set(last_output "${out}${err}" PARENT_SCOPE)
+endfunction()
+
+# expect(PATTERN WHAT): fails with WHAT unless the last run's output matches PATTERN.
+function(expect pattern what)
+  if(NOT last_output MATCHES "${pattern}")
+    message(FATAL_ERROR "${what}: the message does not match '${pattern}'")
+  endif()
 endfunction()
 
 # expect_written(DIR WHO FILE...): fails unless WHO (a program, a step) wrote each FILE under DIR.

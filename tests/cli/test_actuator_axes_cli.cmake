@@ -9,12 +9,6 @@ file(REMOVE_RECURSE ${dir})
 file(MAKE_DIRECTORY ${dir})
 include(${CMAKE_CURRENT_LIST_DIR}/cli_test_run.cmake)
 
-function(expect pattern what)
-  if(NOT last_output MATCHES "${pattern}")
-    message(FATAL_ERROR "${what}: the message does not match '${pattern}'")
-  endif()
-endfunction()
-
 function(write_schedule name levels)
   file(WRITE ${dir}/${name}.yml "%YAML:1.0\n---\ntimes: [ 0.0, 0.0113, 0.0262, 0.04 ]\nlevels: [ ${levels} ]\ninitialLevel: 0\n")
 endfunction()

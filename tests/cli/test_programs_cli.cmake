@@ -9,12 +9,6 @@ file(REMOVE_RECURSE ${dir})
 file(MAKE_DIRECTORY ${dir})
 include(${CMAKE_CURRENT_LIST_DIR}/cli_test_run.cmake)
 
-function(expect pattern what)
-  if(NOT last_output MATCHES "${pattern}")
-    message(FATAL_ERROR "${what}: the message does not match '${pattern}'")
-  endif()
-endfunction()
-
 # --- dynblur_plan: both spellings, the schedule file it writes, units in its CSV header.
 run(0 ${BIN}/dynblur_plan --deg --from 0 --to 10 --out ${dir}/move)
 run(0 ${BIN}/dynblur_plan --deg --from=0 --to=10 --mode=robust --out=${dir}/robust)

@@ -189,11 +189,22 @@ StartStamp readStartStamp(ActuatorBus& bus, int axis)
     const uint64_t clockUs = asU64(r, IR_CLOCK_US - IR_STATUS);
     if (clockUs < startUs)
         CV_Error(Error::StsError, "the device's clock is before its start stamp");
-    stamp.state = r[0];
     stamp.status = statusFromInputs(r);
     stamp.controllerStartTime = startUs * 1e-6;
     stamp.hostStartTime = mid - (clockUs - startUs) * 1e-6;
     return stamp;
+}
+
+StartStamp readStartStampFastest(ActuatorBus& bus, int axis)
+{
+    StartStamp best = readStartStamp(bus, axis);
+    for (int i = 1; i < 3; ++i)
+    {
+        const StartStamp stamp = readStartStamp(bus, axis);
+        if (stamp.roundTrip < best.roundTrip)
+            best = stamp;
+    }
+    return best;
 }
 
 void runGuarded(ActuatorBus& bus, const std::string& who, const char* what, const std::function<void()>& body,

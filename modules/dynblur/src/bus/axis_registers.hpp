@@ -43,14 +43,16 @@ through the axis's command register, reads everything back and requires LOADED w
 Throws naming what differed; the caller applies the safe level. @return the CRC. */
 int writeAndVerify(ActuatorBus& bus, int axis, const SwitchSchedule& s);
 
-//! One read of an axis's start stamp and the clock, mapped onto the host's clock.
+//! An axis's start stamp read with the clock in one request, mapped onto the host's clock.
 struct StartStamp
 {
-    double hostStartTime = 0, controllerStartTime = 0, roundTrip = 0;
-    int state = ACTUATOR_IDLE;
-    ActuatorStatus status;
+    double hostStartTime = 0, controllerStartTime = 0;  //!< seconds, host steady clock and controller clock
+    double roundTrip = 0;                                //!< of the read, seconds
+    ActuatorStatus status;                               //!< the axis's, from the same read
 };
 StartStamp readStartStamp(ActuatorBus& bus, int axis);
+//! The fastest of three readStartStamp: the tightest bracket of the clock mapping.
+StartStamp readStartStampFastest(ActuatorBus& bus, int axis);
 
 /** Runs `body`; on a cv::Exception writes STOP (the safe level on every axis), then rethrows as
 "<who>::<what> failed: <error>; safe level applied, device status: <describeStatus()>". */

@@ -4,7 +4,6 @@
 #include "bus/axis_registers.hpp"
 
 #include <chrono>
-#include <cstdint>
 #include <thread>
 
 namespace cv {
@@ -161,21 +160,12 @@ public:
         guarded("start", [&] {
             bus_->writeRegister(HR_COMMAND, CMD_START);
             report.commandRoundTrip = bus_->getLastRoundTrip();
-            // Start stamp and clock in one read; keep the fastest of a few (the tightest bracket).
-            double best = 1e9;
-            for (int k = 0; k < 3; ++k)
-            {
-                const StartStamp stamp = readStartStamp(*bus_, 0);
-                if (k == 0 && stamp.state != ACTUATOR_RUNNING && stamp.state != ACTUATOR_DONE)
-                    CV_Error(Error::StsError, "the device did not start: " + stamp.status.describe());
-                if (stamp.roundTrip < best)
-                {
-                    best = stamp.roundTrip;
-                    report.controllerStartTime = stamp.controllerStartTime;
-                    report.hostStartTime = stamp.hostStartTime;
-                    report.uncertainty = stamp.roundTrip;
-                }
-            }
+            const StartStamp stamp = readStartStampFastest(*bus_, 0);
+            if (stamp.status.state != ACTUATOR_RUNNING && stamp.status.state != ACTUATOR_DONE)
+                CV_Error(Error::StsError, "the device did not start: " + stamp.status.describe());
+            report.controllerStartTime = stamp.controllerStartTime;
+            report.hostStartTime = stamp.hostStartTime;
+            report.uncertainty = stamp.roundTrip;
             report.scheduleOrigin = schedule_.times.front();
         });
         return report;

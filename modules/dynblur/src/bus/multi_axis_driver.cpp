@@ -93,7 +93,9 @@ public:
         guarded("start", [&] {
             bus_->writeRegister(HR_COMMAND, CMD_START);
             const double commandRoundTrip = bus_->getLastRoundTrip();
-            const StartStamp mapping = clockMapping();
+            // One clock mapping for every axis (axis 0's tightest bracket), so that the host start
+            // times differ exactly as the controller's do.
+            const StartStamp mapping = readStartStampFastest(*bus_, 0);
             for (int k = 0; k < axes_; ++k)
             {
                 reports[k] = onAxis(k, [&] { return startReport(k, mapping); });
@@ -186,26 +188,10 @@ private:
         }
     }
 
-    // The controller's clock on the host's, from the fastest of three reads of axis 0's start stamp
-    // and the clock (the tightest bracket): one mapping for every axis, so that the host start
-    // times differ exactly as the controller's do.
-    StartStamp clockMapping()
-    {
-        StartStamp best;
-        best.roundTrip = 1e9;
-        for (int i = 0; i < 3; ++i)
-        {
-            const StartStamp stamp = readStartStamp(*bus_, 0);
-            if (stamp.roundTrip < best.roundTrip)
-                best = stamp;
-        }
-        return best;
-    }
-
     StartReport startReport(int k, const StartStamp& mapping)
     {
         const StartStamp stamp = readStartStamp(*bus_, k);
-        if (stamp.state != ACTUATOR_RUNNING && stamp.state != ACTUATOR_DONE)
+        if (stamp.status.state != ACTUATOR_RUNNING && stamp.status.state != ACTUATOR_DONE)
             CV_Error(Error::StsError, "the device did not start it: " + stamp.status.describe());
         StartReport report;
         report.controllerStartTime = stamp.controllerStartTime;

@@ -1,15 +1,19 @@
 // SPDX-License-Identifier: Apache-2.0
-// dynblur_actuator_sim: a stand-in for the actuator controller. Serves the register map of
-// docs/actuator-bus.md over Modbus TCP on 127.0.0.1 and Modbus RTU on a pseudo-terminal, runs the
-// plant in real time while a schedule runs and logs θ(t) to CSV (t,theta,level).
+// dynblur_actuator_sim: a stand-in for the actuator controller of one axis or several. Serves the
+// register map of docs/actuator-bus.md over Modbus TCP on 127.0.0.1 and Modbus RTU on a
+// pseudo-terminal, runs each axis's plant in real time while a schedule runs and logs θ(t) to CSV
+// (t,theta,level; with several axes t,theta0,level0,theta1,level1,...).
 //
 //     dynblur_actuator_sim --tcp-port 1502 --rtu --csv theta.csv --max-seconds 60
+//     dynblur_actuator_sim --axes 2 --plant pan.yml --plant tilt.yml --drift-wn 0.03,-0.02
 #include "actuator_sim.hpp"
 #include "cli_args.hpp"
 #include "plant_file.hpp"
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -41,6 +45,63 @@ static std::string faultLine(const ActuatorSim& sim)
 
 static void onSignal(int sig) { gSignal = sig; }
 
+// "0.03,-0.02" as numbers; throws naming the option.
+static std::vector<double> numberList(const std::string& option, const std::string& text)
+{
+    std::vector<double> values;
+    std::stringstream list(text);
+    std::string item;
+    while (std::getline(list, item, ','))
+    {
+        char* end = nullptr;
+        const double v = std::strtod(item.c_str(), &end);
+        if (item.empty() || *end != '\0' || !std::isfinite(v))
+            throw std::runtime_error("--" + option + " expects comma-separated numbers, got '" + text + "'");
+        values.push_back(v);
+    }
+    return values;
+}
+
+/* Each axis's true plant: its plant file (one per axis, or one for all, else the seed's), scaled by
+   --true-hz-scale and --true-zeta-scale and by the axis's --drift-wn: hardware that drifted from the
+   model its host plans with. maxLevel becomes the smallest of the files'. */
+static std::vector<cv::Ptr<cv::dynblur::Plant>> axisPlants(const CliArgs& args, int axes, int& maxLevel)
+{
+    const std::vector<std::string> files = args.all("plant");
+    if (files.size() > 1 && (int)files.size() != axes)
+        throw std::runtime_error(cv::format("%d --plant files for --axes %d: give one per axis, or one for all",
+                                            (int)files.size(), axes));
+    std::vector<double> drift(axes, 0.0);
+    if (args.has("drift-wn"))
+    {
+        drift = numberList("drift-wn", args.str("drift-wn"));
+        if ((int)drift.size() != axes)
+            throw std::runtime_error(cv::format("--drift-wn has %d values for --axes %d: give one per axis",
+                                                (int)drift.size(), axes));
+    }
+    const double hzScale = args.num("true-hz-scale"), zetaScale = args.num("true-zeta-scale");
+    if (!(hzScale > 0.5 && hzScale < 2) || !(zetaScale > 0.1 && zetaScale < 5))
+        throw std::runtime_error("--true-hz-scale must be in (0.5, 2) and --true-zeta-scale in (0.1, 5)");
+    std::vector<cv::Ptr<cv::dynblur::Plant>> plants;
+    for (int k = 0; k < axes; ++k)
+    {
+        cv::Ptr<cv::dynblur::Plant> plant = cv::dynblur::Plant::create(14.4, 0.12, CV_PI / 180);
+        if (!files.empty())
+        {
+            const PlantFile pf = loadPlantFile(files[files.size() == 1 ? 0 : k]);
+            plant = pf.plant;
+            maxLevel = k == 0 ? pf.maxLevel : std::min(maxLevel, pf.maxLevel);
+        }
+        if (!(drift[k] > -0.5 && drift[k] < 1))
+            throw std::runtime_error(cv::format("--drift-wn value %d = %g must be in (-0.5, 1)", k, drift[k]));
+        cv::dynblur::MotionCorrection truth;
+        truth.naturalFreqScale = hzScale * (1 + drift[k]);
+        truth.dampingScale = zetaScale;
+        plants.push_back(truth.correctPlant(plant));
+    }
+    return plants;
+}
+
 static CliOptions actuatorSimOptions()
 {
     const SimConfig config;
@@ -52,9 +113,13 @@ static CliOptions actuatorSimOptions()
         .flag("no-tcp", "do not serve TCP")
         .flag("rtu", "also serve Modbus RTU on a new pseudo-terminal (its path is printed)")
         .option("slave", "N", std::to_string(config.rtuSlave), "RTU slave address")
+        .option("axes", "N", "1", cv::format("axes the controller drives, 1 to %d", (int)cv::dynblur::busmap::MAX_AXES))
         .option("plant", "FILE", "",
-                "plant file (naturalFreqHz, dampingRatio, gain, maxLevel); default: seed 14.4 Hz, zeta 0.12, 1 "
-                "deg/level, max level 16")
+                "plant file (naturalFreqHz, dampingRatio, gain, maxLevel); repeat it once per axis, in axis order, or "
+                "give one for every axis; default: seed 14.4 Hz, zeta 0.12, 1 deg/level, max level 16")
+        .option("drift-wn", "LIST", "",
+                "comma-separated relative errors of each axis's natural frequency, one per axis (0.03 = the hardware "
+                "is 3 % stiffer than its plant file)")
         .option("true-hz-scale", "X", "1",
                 "the simulated plant's natural frequency is X times the plant file's (hardware that drifted from its "
                 "model)")
@@ -99,26 +164,19 @@ int main(int argc, char** argv)
         if (options.printHelp(args))
             return 0;
         SimConfig cfg;
-        if (args.has("plant"))
-        {
-            const PlantFile pf = loadPlantFile(args.str("plant"));
-            cfg.plant = pf.plant;
-            cfg.maxLevel = pf.maxLevel;
-        }
-        // Hardware that is not the model its host plans with: the plant drifted, the motion late.
-        const double hzScale = args.num("true-hz-scale"), zetaScale = args.num("true-zeta-scale");
-        if (!(hzScale > 0.5 && hzScale < 2) || !(zetaScale > 0.1 && zetaScale < 5))
-            throw std::runtime_error("--true-hz-scale must be in (0.5, 2) and --true-zeta-scale in (0.1, 5)");
-        cv::dynblur::MotionCorrection drift;
-        drift.naturalFreqScale = hzScale;
-        drift.dampingScale = zetaScale;
-        cfg.plant = drift.correctPlant(cfg.plant ? cfg.plant : cv::dynblur::Plant::create(14.4, 0.12, CV_PI / 180));
+        cfg.axes = args.integer("axes");
+        if (cfg.axes < 1 || cfg.axes > cv::dynblur::busmap::MAX_AXES)
+            throw std::runtime_error(cv::format("--axes = %d must be in [1, %d]", cfg.axes, (int)cv::dynblur::busmap::MAX_AXES));
+        cfg.axisPlants = axisPlants(args, cfg.axes, cfg.maxLevel);
         cfg.startLatency = args.num("start-latency");
         if (!(cfg.startLatency >= 0 && cfg.startLatency < 1))
             throw std::runtime_error("--start-latency must be in [0, 1) s");
         cfg.maxLevel = args.integer("max-level", cfg.maxLevel);
         cfg.minDwellUs = args.integer("min-dwell-us");
         cfg.capacity = args.integer("capacity");
+        if (cfg.axes > 1 && (cfg.capacity < 1 || cfg.capacity > cv::dynblur::busmap::MAX_AXIS_CAPACITY))
+            throw std::runtime_error(cv::format("--capacity = %d must be in [1, %d] with several axes (an axis's block of "
+                                                "registers)", cfg.capacity, (int)cv::dynblur::busmap::MAX_AXIS_CAPACITY));
         cfg.tcp = !args.has("no-tcp");
         cfg.tcpPort = args.integer("tcp-port");
         cfg.rtu = args.has("rtu");

@@ -12,7 +12,8 @@ ratios, each the median of rounds that run the compared restorations back to bac
 minutes than within a round. Run it through scripts/benchmark.sh, which builds what it needs first.
 
 Targets are of three kinds (docs/performance.md): held (the filter2D ratio, tile-wise over
-row-wise, the PSF bank, the classification, the bus start's uncertainty over a round trip; the memory target is held by the test DeconvMemory):
+row-wise, the PSF bank, the classification, the bus start's uncertainty over a round trip, the start skew
+between a controller's axes; the memory target is held by the test DeconvMemory):
 PASS or FAIL, and the exit status is 1 when one fails; out of reach (50x scikit-image, see
 docs/performance.md): measured and reported, never failing the run; reported (the absolute frame
 time, which drifts by +-20 % with the machine): measured and shown against its target.
@@ -76,11 +77,12 @@ def run_cpp(perf, repetitions):
 
 
 def run_bus(program):
-    """Runs dynblur_bus_perf: {benchmark name: its counters} (start uncertainty and round trip, us)."""
+    """Runs dynblur_bus_perf: {benchmark name with its arguments: its counters} (start uncertainty and round
+    trip, start skew between axes; us)."""
     progress(f"running {program} (actuator bus over loopback TCP and a pty, against the simulator)")
     out = subprocess.run([str(program), "--benchmark_format=json"], check=True, stdout=subprocess.PIPE,
                          text=True).stdout
-    return {b["name"].split("/")[0]: b for b in json.loads(out)["benchmarks"]}
+    return {b["name"].split("/iterations:")[0]: b for b in json.loads(out)["benchmarks"]}
 
 
 def paired_rounds(functions, rounds):
@@ -323,6 +325,14 @@ def main():
         targets.append(("held", f"actuator start's time uncertainty over {link} / a bare request's round trip "
                         f"(medians: {b['start_uncertainty_us']:.1f} vs {b['round_trip_us']:.1f} us)",
                         f"{ratio:.2f}x", "<= 1.5x", ratio <= 1.5))
+    for axes in (2, 3):
+        one = bus[f"BM_BusStartSkewOneController/axes:{axes}"]
+        separate = bus[f"BM_BusStartSkewSeparateControllers/axes:{axes}"]
+        targets.append(("held", f"start skew between {axes} axes of one controller, one START (largest of the rounds; "
+                        f"their first switches {one['max_first_switch_skew_us']:.0f} us apart, "
+                        f"{one['first_switch_late_us']:.0f} us after their time; {axes} one-axis controllers "
+                        f"started in turn: {separate['start_skew_us']:.0f} us)",
+                        f"{one['max_start_skew_us']:.0f} us", "0 us (one instant)", one["max_start_skew_us"] == 0))
 
     def verdict(kind, met):
         if kind == "held":

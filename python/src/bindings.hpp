@@ -47,6 +47,7 @@ void bindPsf(py::module_& m);
 void bindDeconv(py::module_& m);
 void bindDeblurrer(py::module_& m);
 void bindCalibration(py::module_& m);
+void bindBus(py::module_& m);
 
 //! First exception raised by a Python callback (OdePlant rhs) during the current call on this thread.
 extern thread_local std::exception_ptr pendingCallbackError;

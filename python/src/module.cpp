@@ -76,4 +76,5 @@ PYBIND11_MODULE(_dynblur, m)
     bindDeconv(m);
     bindDeblurrer(m);
     bindCalibration(m);
+    bindBus(m);
 }

@@ -34,15 +34,6 @@ namespace {
 
 int16_t asInt16(uint16_t w) { return static_cast<int16_t>(w); }
 
-void setU64(uint16_t* regs, uint64_t v)
-{
-    for (int i = 3; i >= 0; --i)
-    {
-        regs[i] = static_cast<uint16_t>(v & 0xFFFF);
-        v >>= 16;
-    }
-}
-
 }  // namespace
 
 const char* simFaultName(int kind)
@@ -79,21 +70,9 @@ struct ActuatorSim::Impl
     std::chrono::steady_clock::time_point epoch = std::chrono::steady_clock::now();
 
     // Controller state (guarded by mtx).
-    int state = ACTUATOR_IDLE, fault = FAULT_NONE, level = 0, entryIndex = -1;
-    uint64_t startUs = 0;
-    int loadedCrc = 0, loadedInitial = 0;
-    std::vector<uint32_t> offsets;  // loaded schedule, µs from start
-    std::vector<int> levels;
-    SwitchSchedule history;         // every level change, controller seconds
+    std::vector<SimAxis> axes;
+    SimAxisLimits limits;
     double logUntil = -1, lastLogT = -1;
-
-    void logRow(double t)
-    {
-        if (!csv.is_open() || t <= lastLogT)
-            return;
-        csv << cv::format("%.6f,%.9f,%d\n", t, thetaAt(t), level);
-        lastLogT = t;
-    }
     std::ofstream csv;
     int starts = 0, requests = 0;
     SimFaults faults;
@@ -102,7 +81,6 @@ struct ActuatorSim::Impl
     std::mt19937 faultRng{1};       // random fault decisions (seeded by setFaults)
     SimFaultCounts counts;
     std::deque<SimStartRecord> startLog;
-    double historyHorizon = -1;     // s after which a switch no longer moves θ (< 1e-12); -1: keep all
 
     uint64_t clockUs() const
     {
@@ -111,154 +89,117 @@ struct ActuatorSim::Impl
                1000000;  // the controller's clock does not start at 0
     }
 
-    void applyLevel(int newLevel, double tSec)
+    // Host steady_clock seconds of a controller clock value.
+    double hostTime(uint64_t us) const
     {
-        if (newLevel == level)
+        return std::chrono::duration<double>(epoch.time_since_epoch()).count() + (double(us) - 1e6) * 1e-6;
+    }
+
+    void logRow(double t)
+    {
+        if (!csv.is_open() || t <= lastLogT)
             return;
-        if (!history.times.empty() && tSec <= history.times.back())
-            tSec = history.times.back() + 1e-6;
-        history.times.push_back(tSec);
-        history.levels.push_back(newLevel);
-        level = newLevel;
-        pruneHistory(tSec);
+        csv << cv::format("%.6f", t);
+        for (const SimAxis& axis : axes)
+            csv << cv::format(",%.9f,%d", axis.thetaAt(t), axis.level());
+        csv << "\n";
+        lastLogT = t;
     }
 
-    // θ is only evaluated from now on, where a switch older than the horizon contributes less than
-    // e^-28 of its step: fold such switches into the initial level so that the history (and the
-    // cost of thetaAt) stays bounded however long the simulator runs.
-    void pruneHistory(double nowSec)
-    {
-        if (historyHorizon <= 0 || history.times.size() < 64)
-            return;
-        size_t k = 0;  // entries [0, k) are older than the horizon
-        while (k + 1 < history.times.size() && history.times[k] < nowSec - historyHorizon)
-            ++k;
-        if (k < 32)
-            return;
-        history.initialLevel = history.levels[k - 1];
-        history.times.erase(history.times.begin(), history.times.begin() + k);
-        history.levels.erase(history.levels.begin(), history.levels.begin() + k);
-    }
-
-    double thetaAt(double tSec) const
-    {
-        if (history.times.empty())
-            return cfg.plant->restingAngle(history.initialLevel);
-        cv::Mat out;
-        cfg.plant->response(history, cv::Mat(1, 1, CV_64F, cv::Scalar(tSec - cfg.startLatency)), out);
-        return out.at<double>(0);
-    }
-
-    int safeLevel() const { return asInt16(map->tab_registers[HR_SAFE_LEVEL]); }
-
-    void enterFault(int code)
-    {
-        state = ACTUATOR_FAULT;
-        fault = code;
-        entryIndex = -1;
-        applyLevel(safeLevel(), clockUs() * 1e-6);
-    }
+    uint16_t* holding(int k) const { return map->tab_registers + axisHoldingBase(k); }
+    int safeLevel(int k) const { return asInt16(holding(k)[HR_SAFE_LEVEL - HR_COMMAND]); }
 
     void refreshInputs()
     {
         uint16_t* ir = map->tab_input_registers;
         ir[IR_MAGIC] = MAGIC;
-        ir[IR_VERSION] = (PROTOCOL_MAJOR << 8) | PROTOCOL_MINOR;
-        ir[IR_STATUS] = static_cast<uint16_t>(state);
-        ir[IR_FAULT] = static_cast<uint16_t>(fault);
-        ir[IR_MAX_LEVEL] = static_cast<uint16_t>(cfg.maxLevel);
-        ir[IR_MIN_DWELL_US] = static_cast<uint16_t>(cfg.minDwellUs);
-        ir[IR_CAPACITY] = static_cast<uint16_t>(cfg.capacity);
-        ir[IR_CURRENT_LEVEL] = static_cast<uint16_t>(level & 0xFFFF);
-        setU64(ir + IR_START_TIME_US, startUs);
-        setU64(ir + IR_CLOCK_US, clockUs());
-        ir[IR_LOADED_CHECKSUM] = static_cast<uint16_t>(state == ACTUATOR_LOADED ? loadedCrc : 0);
-        ir[IR_ENTRY_INDEX] = static_cast<uint16_t>(entryIndex < 0 ? 0xFFFF : entryIndex);
+        ir[IR_VERSION] = (PROTOCOL_MAJOR << 8) | (cfg.oneAxisMap ? 0 : PROTOCOL_MINOR);
+        ir[IR_MAX_LEVEL] = static_cast<uint16_t>(limits.maxLevel);
+        ir[IR_MIN_DWELL_US] = static_cast<uint16_t>(limits.minDwellUs);
+        ir[IR_CAPACITY] = static_cast<uint16_t>(limits.capacity);
+        if (!cfg.oneAxisMap)
+            ir[IR_AXIS_COUNT] = static_cast<uint16_t>(axes.size());
+        const uint64_t now = clockUs();
+        for (size_t k = 0; k < axes.size(); ++k)
+            axes[k].fillInputs(ir + axisInputBase((int)k), now);
     }
 
-    void load()
+    // One START for every axis: each LOADED axis starts at the same instant of the clock. A START
+    // while an axis runs or is in FAULT, or with nothing loaded, puts every axis in FAULT.
+    void startAll()
     {
-        const uint16_t* hr = map->tab_registers;
-        const int n = hr[HR_LENGTH];
-        if (n < 1 || n > cfg.capacity)
-            return enterFault(FAULT_BAD_LENGTH);
-        std::vector<int> regs = {n, hr[HR_INITIAL_LEVEL]};
-        for (int i = 0; i < n * ENTRY_WORDS; ++i)
-            regs.push_back(hr[HR_ENTRIES + i]);
-        const int crc = busChecksum(regs);
-        if (crc != hr[HR_CHECKSUM])
-            return enterFault(FAULT_BAD_CHECKSUM);
-        offsets.assign(n, 0);
-        levels.assign(n, 0);
-        loadedInitial = asInt16(hr[HR_INITIAL_LEVEL]);
-        if (std::abs(asInt16(hr[HR_INITIAL_LEVEL])) > cfg.maxLevel)
-            return enterFault(FAULT_LEVEL_RANGE);
-        for (int i = 0; i < n; ++i)
+        const uint64_t now = clockUs();
+        bool anyLoaded = false, blocked = false;
+        for (const SimAxis& axis : axes)
         {
-            const uint16_t* e = hr + HR_ENTRIES + ENTRY_WORDS * i;
-            offsets[i] = (static_cast<uint32_t>(e[0]) << 16) | e[1];
-            levels[i] = asInt16(e[2]);
-            if (std::abs(levels[i]) > cfg.maxLevel)
-                return enterFault(FAULT_LEVEL_RANGE);
-            if ((i == 0 && offsets[0] != 0) ||
-                (i > 0 && (offsets[i] <= offsets[i - 1] || offsets[i] - offsets[i - 1] < (uint32_t)cfg.minDwellUs)))
-                return enterFault(FAULT_DWELL);
+            anyLoaded = anyLoaded || axis.state() == ACTUATOR_LOADED;
+            blocked = blocked || axis.state() == ACTUATOR_RUNNING || axis.state() == ACTUATOR_FAULT;
         }
-        state = ACTUATOR_LOADED;
-        fault = FAULT_NONE;
-        loadedCrc = crc;
+        if (blocked || !anyLoaded)
+        {
+            for (size_t k = 0; k < axes.size(); ++k)
+                if (axes[k].state() != ACTUATOR_FAULT)
+                    axes[k].enterFault(FAULT_NOT_LOADED, safeLevel((int)k), now);
+            return;
+        }
+        logRow(now * 1e-6);  // the sample before the first switch
+        for (size_t k = 0; k < axes.size(); ++k)
+        {
+            SimAxis& axis = axes[k];
+            if (axis.state() != ACTUATOR_LOADED)
+                continue;
+            axis.start(now);
+            logUntil = std::max(logUntil, axis.lastSwitch() + cfg.logTail);
+            SimStartRecord rec;
+            rec.axis = (int)k;
+            rec.initialLevel = axis.initialLevel();
+            rec.offsetsUs = axis.offsetsUs();
+            rec.levels = axis.levels();
+            rec.checksum = axis.checksum();
+            startLog.push_back(std::move(rec));
+            if (startLog.size() > 1000)
+                startLog.pop_front();
+        }
+        ++starts;
     }
 
+    // A command written to HR_COMMAND: LOAD concerns axis 0, the others every axis.
     void command(int code)
     {
+        const uint64_t now = clockUs();
         switch (code)
         {
         case CMD_LOAD:
-            if (state == ACTUATOR_RUNNING)
-                return;  // ignored while running
-            load();
+            axes[0].load(holding(0), limits, now);
             break;
         case CMD_START:
-            if (state != ACTUATOR_LOADED)
-                return enterFault(FAULT_NOT_LOADED);
-            startUs = clockUs();
-            logRow(startUs * 1e-6);  // the sample before the first switch
-            state = ACTUATOR_RUNNING;
-            entryIndex = 0;
-            applyLevel(levels[0], startUs * 1e-6);
-            logUntil = (startUs + offsets.back()) * 1e-6 + cfg.logTail;
-            ++starts;
-            {
-                SimStartRecord rec;
-                rec.initialLevel = loadedInitial;
-                rec.offsetsUs = offsets;
-                rec.levels = levels;
-                rec.checksum = loadedCrc;
-                startLog.push_back(std::move(rec));
-                if (startLog.size() > 1000)
-                    startLog.pop_front();
-            }
-            if (offsets.size() == 1)
-                state = ACTUATOR_DONE;
+            startAll();
             break;
         case CMD_STOP:
-            applyLevel(safeLevel(), clockUs() * 1e-6);
-            if (state == ACTUATOR_RUNNING)
-                logUntil = clockUs() * 1e-6 + cfg.logTail;
-            if (state != ACTUATOR_FAULT)
-                state = ACTUATOR_IDLE;
-            entryIndex = -1;
-            break;
-        case CMD_CLEAR_FAULT:
-            if (state == ACTUATOR_FAULT)
+            for (size_t k = 0; k < axes.size(); ++k)
             {
-                state = ACTUATOR_IDLE;
-                fault = FAULT_NONE;
+                if (axes[k].state() == ACTUATOR_RUNNING)
+                    logUntil = now * 1e-6 + cfg.logTail;
+                axes[k].stop(safeLevel((int)k), now);
             }
             break;
+        case CMD_CLEAR_FAULT:
+            for (SimAxis& axis : axes)
+                axis.clearFault();
+            break;
         default:
-            enterFault(FAULT_BAD_COMMAND);
+            for (size_t k = 0; k < axes.size(); ++k)
+                axes[k].enterFault(FAULT_BAD_COMMAND, safeLevel((int)k), now);
         }
+    }
+
+    // A command written to a further axis's command register: LOAD only.
+    void axisCommand(int k, int code)
+    {
+        if (code == CMD_LOAD)
+            axes[k].load(holding(k), limits, clockUs());
+        else
+            axes[k].enterFault(FAULT_BAD_COMMAND, safeLevel(k), clockUs());
     }
 
     // One tick of the real-time loop: switch due entries, log a sample.
@@ -266,16 +207,8 @@ struct ActuatorSim::Impl
     {
         std::lock_guard<std::mutex> lock(mtx);
         const uint64_t now = clockUs();
-        if (state == ACTUATOR_RUNNING)
-        {
-            while (entryIndex + 1 < (int)offsets.size() && startUs + offsets[entryIndex + 1] <= now)
-            {
-                ++entryIndex;
-                applyLevel(levels[entryIndex], (startUs + offsets[entryIndex]) * 1e-6);
-            }
-            if (entryIndex + 1 == (int)offsets.size())
-                state = ACTUATOR_DONE;
-        }
+        for (SimAxis& axis : axes)
+            axis.tick(now);
         if (now * 1e-6 <= logUntil)
             logRow(now * 1e-6);
     }
@@ -300,18 +233,29 @@ struct ActuatorSim::Impl
 
     // A write's effect on the controller once its values are in the map: a changed schedule must
     // be loaded (checked) again, and a command is executed.
+    // First register after axis k's holding block.
+    static int blockEnd(int k) { return k + 1 < MAX_AXES ? axisHoldingBase(k + 1) : 65536; }
+
     void afterWrite(int address, int count)
     {
         const int end = address + count;
-        const bool touchesSchedule = (address <= HR_CHECKSUM && end > HR_LENGTH) || end > HR_ENTRIES;
-        if (touchesSchedule && state == ACTUATOR_LOADED)
-            state = ACTUATOR_IDLE;
-        if (address <= HR_COMMAND && end > HR_COMMAND)
+        const int corrupt = faults.corruptRegister;
+        if (corrupt >= address && corrupt < end)
+            map->tab_registers[corrupt] ^= 1;
+        for (int k = 0; k < (int)axes.size(); ++k)
         {
-            const int code = map->tab_registers[HR_COMMAND];
-            map->tab_registers[HR_COMMAND] = 0;
-            if (code != CMD_NONE)
-                command(code);
+            const int base = axisHoldingBase(k);
+            const bool touchesSchedule = (address <= base + HR_CHECKSUM - HR_COMMAND && end > base + HR_LENGTH - HR_COMMAND) ||
+                                         (end > base + HR_ENTRIES - HR_COMMAND && address < blockEnd(k));
+            if (touchesSchedule)
+                axes[k].unload();
+            if (address <= base && end > base)
+            {
+                const int code = map->tab_registers[base];
+                map->tab_registers[base] = 0;
+                if (code != CMD_NONE)
+                    k == 0 ? command(code) : axisCommand(k, code);
+            }
         }
     }
 
@@ -542,13 +486,24 @@ ActuatorSim::ActuatorSim(const SimConfig& config) : impl_(new Impl)
     CV_Assert(config.logRateHz >= 1 && config.logRateHz <= 20000);
     CV_Assert(config.logTail >= 0);
     CV_Assert(config.tcpPort >= 0 && config.tcpPort <= 65535);
-    s.map = modbus_mapping_new_start_address(0, 0, 0, 0, 0, HR_ENTRIES + ENTRY_WORDS * s.cfg.capacity, 0, IR_COUNT);
+    CV_Assert(config.axes >= 1 && config.axes <= MAX_AXES);
+    CV_Assert(config.axes == 1 || (config.capacity <= MAX_AXIS_CAPACITY && !config.oneAxisMap));
+    CV_Assert((int)config.axisPlants.size() <= config.axes);
+    for (int k = 0; k < config.axes; ++k)
+    {
+        const bool own = k < (int)config.axisPlants.size() && config.axisPlants[k];
+        s.axes.emplace_back(own ? config.axisPlants[k] : s.cfg.plant, config.startLatency);
+    }
+    s.limits.maxLevel = config.maxLevel;
+    s.limits.minDwellUs = config.minDwellUs;
+    s.limits.capacity = config.capacity;
+    const int lastAxis = config.axes - 1;
+    const int holdingCount = axisHoldingBase(lastAxis) + (HR_ENTRIES - HR_COMMAND) + ENTRY_WORDS * config.capacity;
+    const int inputCount = config.axes > 1 ? axisInputBase(lastAxis) + IR_AXIS_STRIDE
+                                           : (config.oneAxisMap ? IR_COUNT : IR_AXIS_COUNT + 1);
+    s.map = modbus_mapping_new_start_address(0, 0, 0, 0, 0, holdingCount, 0, inputCount);
     if (!s.map)
         CV_Error(cv::Error::StsNoMem, "ActuatorSim: cannot allocate the register map");
-    s.history.initialLevel = 0;
-    const double sigma = 2 * CV_PI * s.cfg.plant->getNaturalFreqHz() * s.cfg.plant->getDampingRatio();
-    if (sigma > 0 && std::isfinite(sigma))
-        s.historyHorizon = 28.0 / sigma;  // e^-28 < 1e-12
 }
 
 ActuatorSim::~ActuatorSim()
@@ -566,7 +521,10 @@ void ActuatorSim::start()
         s.csv.open(s.cfg.csvPath);
         if (!s.csv)
             CV_Error(cv::Error::StsError, "ActuatorSim: cannot write the log '" + s.cfg.csvPath + "'");
-        s.csv << "t,theta,level\n";
+        s.csv << "t";
+        for (size_t k = 0; k < s.axes.size(); ++k)
+            s.csv << (s.axes.size() == 1 ? std::string(",theta,level") : cv::format(",theta%d,level%d", (int)k, (int)k));
+        s.csv << "\n";
     }
     if (s.cfg.tcp)
     {
@@ -667,36 +625,73 @@ std::vector<SimStartRecord> ActuatorSim::takeStarts()
     return out;
 }
 
-int ActuatorSim::state() const { std::lock_guard<std::mutex> l(impl_->mtx); return impl_->state; }
-int ActuatorSim::fault() const { std::lock_guard<std::mutex> l(impl_->mtx); return impl_->fault; }
-int ActuatorSim::currentLevel() const { std::lock_guard<std::mutex> l(impl_->mtx); return impl_->level; }
+int ActuatorSim::axisCount() const { return (int)impl_->axes.size(); }
+
+// The axis `axis`, checked (under the caller's lock).
+static const SimAxis& axisAt(const std::vector<SimAxis>& axes, int axis)
+{
+    CV_Assert(axis >= 0 && axis < (int)axes.size());
+    return axes[axis];
+}
+
+int ActuatorSim::state(int axis) const
+{
+    std::lock_guard<std::mutex> l(impl_->mtx);
+    return axisAt(impl_->axes, axis).state();
+}
+
+int ActuatorSim::fault(int axis) const
+{
+    std::lock_guard<std::mutex> l(impl_->mtx);
+    return axisAt(impl_->axes, axis).fault();
+}
+
+int ActuatorSim::currentLevel(int axis) const
+{
+    std::lock_guard<std::mutex> l(impl_->mtx);
+    return axisAt(impl_->axes, axis).level();
+}
+
 int ActuatorSim::startCount() const { std::lock_guard<std::mutex> l(impl_->mtx); return impl_->starts; }
 int ActuatorSim::requestCount() const { std::lock_guard<std::mutex> l(impl_->mtx); return impl_->requests; }
 
-double ActuatorSim::theta() const
+double ActuatorSim::theta(int axis) const
 {
     std::lock_guard<std::mutex> l(impl_->mtx);
-    return impl_->thetaAt(impl_->clockUs() * 1e-6);
+    return axisAt(impl_->axes, axis).thetaAt(impl_->clockUs() * 1e-6);
 }
 
-double ActuatorSim::lastStartHostTime() const
+double ActuatorSim::lastStartHostTime(int axis) const
 {
     std::lock_guard<std::mutex> l(impl_->mtx);
-    const Impl& s = *impl_;
-    return std::chrono::duration<double>(s.epoch.time_since_epoch()).count() + (double(s.startUs) - 1e6) * 1e-6;
+    return impl_->hostTime(axisAt(impl_->axes, axis).startUs());
+}
+
+double ActuatorSim::lastFirstSwitchHostTime(int axis) const
+{
+    std::lock_guard<std::mutex> l(impl_->mtx);
+    const uint64_t us = axisAt(impl_->axes, axis).firstSwitchUs();
+    return us ? impl_->hostTime(us) : 0.0;
 }
 
 std::string ActuatorSim::statusLine() const
 {
     std::lock_guard<std::mutex> l(impl_->mtx);
     const Impl& s = *impl_;
-    ActuatorStatus st;
-    st.state = s.state;
-    st.fault = s.fault;
-    st.currentLevel = s.level;
-    st.entryIndex = s.entryIndex;
-    return cv::format("t=%.3f s  %s  theta=%.3f deg  requests=%d starts=%d", s.clockUs() * 1e-6, st.describe().c_str(),
-                      s.thetaAt(s.clockUs() * 1e-6) * 180.0 / CV_PI, s.requests, s.starts);
+    const double t = s.clockUs() * 1e-6;
+    std::string line = cv::format("t=%.3f s", t);
+    for (size_t k = 0; k < s.axes.size(); ++k)
+    {
+        const SimAxis& axis = s.axes[k];
+        ActuatorStatus st;
+        st.state = axis.state();
+        st.fault = axis.fault();
+        st.currentLevel = axis.level();
+        st.entryIndex = axis.entryIndex();
+        line += cv::format("  %s%s  theta=%.3f deg", s.axes.size() > 1 ? cv::format("axis %d: ", (int)k).c_str() : "",
+                           st.describe().c_str(), axis.thetaAt(t) * 180.0 / CV_PI);
+    }
+    return line + cv::format("  requests=%d starts=%d", s.requests, s.starts);
 }
 
 }  // namespace dynblur_samples

@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 // The actuator controller simulator: serves the register map of docs/actuator-bus.md over Modbus
-// TCP (127.0.0.1 only) and Modbus RTU on a pseudo-terminal, runs the plant in real time while a
-// schedule runs, logs θ(t) as CSV (t,theta,level) and injects faults for tests. Used by the
-// dynblur_actuator_sim program and, in-process, by tests/bus/test_bus.cpp.
+// TCP (127.0.0.1 only) and Modbus RTU on a pseudo-terminal for one axis or several (actuator_axis.hpp),
+// runs each axis's plant in real time while a schedule runs, logs θ(t) as CSV (t,theta,level; with
+// several axes t,theta0,level0,theta1,level1,...) and injects faults for tests. Used by the
+// dynblur_actuator_sim program and, in-process, by tests/bus/.
 #ifndef DYNBLUR_SAMPLES_ACTUATOR_SIM_HPP
 #define DYNBLUR_SAMPLES_ACTUATOR_SIM_HPP
+
+#include "actuator_axis.hpp"
 
 #include <opencv2/dynblur.hpp>
 
@@ -40,6 +43,7 @@ struct SimFaults
     int exceptionCode = 4;       //!< Modbus exception code sent (4: server device failure)
     int garbageAfter = -1;       //!< answer request N with random bytes, once
     int shortAfter = -1;         //!< answer request N with the first half of its reply, once
+    int corruptRegister = -1;    //!< store every write to this holding register with its lowest bit flipped (a memory fault)
 
     // Random faults: each request gets one fault with probability randomRate, of a kind drawn
     // uniformly among randomKinds, from a generator seeded with randomSeed (the same seed gives
@@ -62,6 +66,7 @@ struct SimFaultCounts
 //! What the simulator started: the loaded schedule as it held it at START.
 struct SimStartRecord
 {
+    int axis = 0;                    //!< the axis started (one record per axis a START started)
     int initialLevel = 0;            //!< cells
     std::vector<uint32_t> offsetsUs; //!< entry offsets from the start, microseconds
     std::vector<int> levels;         //!< cells
@@ -71,6 +76,9 @@ struct SimStartRecord
 struct SimConfig
 {
     cv::Ptr<cv::dynblur::Plant> plant;  //!< default: the seed's 14.4 Hz, ζ 0.12, 1°/level
+    int axes = 1;                       //!< axes the controller drives, in [1, busmap::MAX_AXES]
+    std::vector<cv::Ptr<cv::dynblur::Plant>> axisPlants;  //!< plant of axis k when given (k < size), else `plant`
+    bool oneAxisMap = false;            //!< serve the protocol 1.0 map (no IR_AXIS_COUNT), as a device made before several axes
     int maxLevel = 16;                  //!< advertised, cells
     int minDwellUs = 1000;              //!< advertised, microseconds
     int capacity = 256;                 //!< advertised, entries
@@ -106,15 +114,18 @@ public:
     //! The schedules started since the last call (at most the last 1000 are kept), oldest first.
     std::vector<SimStartRecord> takeStarts();
 
-    // Inspection (thread-safe).
-    int state() const;            //!< cv::dynblur::ActuatorState
-    int fault() const;            //!< cv::dynblur::ActuatorFault
-    int currentLevel() const;     //!< cells
-    int startCount() const;       //!< schedules started so far
-    int requestCount() const;     //!< requests received so far
-    double theta() const;         //!< current plant angle, radians
-    //! Host steady_clock time (seconds) of the last start, the truth a driver's StartReport estimates.
-    double lastStartHostTime() const;
+    // Inspection (thread-safe); `axis` in [0, axes).
+    int axisCount() const;
+    int state(int axis = 0) const;         //!< cv::dynblur::ActuatorState
+    int fault(int axis = 0) const;         //!< cv::dynblur::ActuatorFault
+    int currentLevel(int axis = 0) const;  //!< cells
+    int startCount() const;                //!< START commands that started something
+    int requestCount() const;              //!< requests received so far
+    double theta(int axis = 0) const;      //!< current plant angle, radians
+    //! Host steady_clock time (seconds) of the axis's last start, the truth a driver's StartReport estimates.
+    double lastStartHostTime(int axis = 0) const;
+    //! Host steady_clock time (seconds) when the switching loop applied the axis's entry 1 in its last run; 0 before.
+    double lastFirstSwitchHostTime(int axis = 0) const;
     std::string statusLine() const;  //!< one line for progress output
 
 private:

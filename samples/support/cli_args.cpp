@@ -253,6 +253,7 @@ CliArgs CliOptions::parse(int argc, char** argv) const
             value = argv[++i];
         }
         args.values_[name] = value;
+        args.given_[name].push_back(value);
     }
     return args;
 }
@@ -272,6 +273,11 @@ bool CliArgs::has(const std::string& name) const
 {
     declared(name);
     return values_.count(name) > 0;
+}
+
+std::vector<std::string> CliArgs::all(const std::string& name) const
+{
+    return has(name) ? given_.at(name) : std::vector<std::string>();
 }
 
 std::string CliArgs::str(const std::string& name) const

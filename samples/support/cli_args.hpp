@@ -106,6 +106,8 @@ public:
     //! Throws std::runtime_error naming the option when the value is not an integer.
     int integer(const std::string& name) const;
     int integer(const std::string& name, int fallback) const;
+    //! Every value given to a repeatable option, in command-line order (--plant A --plant B); none when absent.
+    std::vector<std::string> all(const std::string& name) const;
     //! Arguments that are not options, in order (only with CliOptions::positional).
     const std::vector<std::string>& positional() const { return positional_; }
 
@@ -116,7 +118,8 @@ private:
     std::string numberSource(const std::string& name) const;
 
     std::map<std::string, CliOption> declared_;
-    std::map<std::string, std::string> values_;
+    std::map<std::string, std::string> values_;          // the last value given
+    std::map<std::string, std::vector<std::string>> given_;  // every value given
     std::vector<std::string> positional_;
 };
 

@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: Apache-2.0
 # Shared by the CLI test scripts: run(EXPECTED_EXIT_CODE command args...) runs a command, shows its
 # output, fails unless it exits with EXPECTED_EXIT_CODE, and leaves the output in `last_output`.
-# (Below: expect_written, read_yaml_numbers and read_timing_file check and read what a program wrote;
-# require_test_data finds the test data; run_rehearsal runs a document's rehearsal block.)
+# (Below: expect checks that output, expect_written, read_yaml_numbers and read_timing_file check and read what a program wrote;
+# require_test_data finds the test data; run_rehearsal runs a document's rehearsal block;
+# start_actuator_sim and stop_actuator_sim run the actuator simulator in the background.)
 function(run expected)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   message(STATUS "$ ${ARGN}\n${out}${err}")
@@ -10,6 +11,13 @@ function(run expected)
     message(FATAL_ERROR "exit code ${rc}, expected ${expected}")
   endif()
   set(last_output "${out}${err}" PARENT_SCOPE)
+endfunction()
+
+# expect(PATTERN WHAT): fails with WHAT unless the last run's output matches PATTERN.
+function(expect pattern what)
+  if(NOT last_output MATCHES "${pattern}")
+    message(FATAL_ERROR "${what}: the message does not match '${pattern}'")
+  endif()
 endfunction()
 
 # expect_written(DIR WHO FILE...): fails unless WHO (a program, a step) wrote each FILE under DIR.
@@ -81,4 +89,32 @@ function(run_rehearsal doc)
     message(FATAL_ERROR "the rehearsal of ${doc} failed (exit ${rc})")
   endif()
   set(last_output "${out}${err}" PARENT_SCOPE)
+endfunction()
+
+# start_actuator_sim(DIR URI_VAR SIMULATOR ARGS...): starts the actuator simulator in the background
+# (execute_process cannot leave a process running: a shell starts it, its output in DIR/sim.txt, its
+# pid in DIR/sim.pid) on a free TCP port, waits for its URI and sets URI_VAR to it; fails when it
+# prints none. Every ARG is passed quoted.
+function(start_actuator_sim dir uri_var simulator)
+  set(args "")
+  foreach(arg ${ARGN})
+    string(APPEND args " '${arg}'")
+  endforeach()
+  execute_process(COMMAND sh -c "'${simulator}'${args} --tcp-port 0 > '${dir}/sim.txt' 2>&1 & echo $! > '${dir}/sim.pid'")
+  foreach(i RANGE 100)
+    file(READ ${dir}/sim.txt sim)
+    if(sim MATCHES "\\(uri (tcp://[^)]*)\\)")
+      set(${uri_var} ${CMAKE_MATCH_1} PARENT_SCOPE)
+      return()
+    endif()
+    execute_process(COMMAND sleep 0.1)
+  endforeach()
+  message(FATAL_ERROR "the actuator simulator did not start: ${sim}")
+endfunction()
+
+# stop_actuator_sim(DIR): ends the simulator start_actuator_sim(DIR ...) started.
+function(stop_actuator_sim dir)
+  file(READ ${dir}/sim.pid pid)
+  string(STRIP "${pid}" pid)
+  execute_process(COMMAND kill ${pid})
 endfunction()

@@ -9,12 +9,6 @@ file(REMOVE_RECURSE ${dir})
 file(MAKE_DIRECTORY ${dir})
 include(${CMAKE_CURRENT_LIST_DIR}/cli_test_run.cmake)
 
-function(expect pattern what)
-  if(NOT last_output MATCHES "${pattern}")
-    message(FATAL_ERROR "${what}: the message does not match '${pattern}'")
-  endif()
-endfunction()
-
 # --- dynblur_plan: both spellings, the schedule file it writes, units in its CSV header.
 run(0 ${BIN}/dynblur_plan --deg --from 0 --to 10 --out ${dir}/move)
 run(0 ${BIN}/dynblur_plan --deg --from=0 --to=10 --mode=robust --out=${dir}/robust)
@@ -35,20 +29,7 @@ run(2 ${BIN}/dynblur_plan --deg --to 10 --frobnicate 1)
 expect("unknown option '--frobnicate'" "an unknown option")
 
 # --- The schedule chains into the controller (the simulator) and the demo's real-frame mode.
-# execute_process cannot leave a process running: a shell starts the simulator.
-execute_process(COMMAND sh -c "'${BIN}/dynblur_actuator_sim' --tcp-port 0 --csv '' --max-seconds 20 > '${dir}/sim.txt' 2>&1 & echo $! > '${dir}/sim.pid'")
-set(bus "")
-foreach(i RANGE 100)
-  file(READ ${dir}/sim.txt sim)
-  if(sim MATCHES "\\(uri (tcp://[^)]*)\\)")
-    set(bus ${CMAKE_MATCH_1})
-    break()
-  endif()
-  execute_process(COMMAND sleep 0.1)
-endforeach()
-if(bus STREQUAL "")
-  message(FATAL_ERROR "the actuator simulator did not start: ${sim}")
-endif()
+start_actuator_sim(${dir} bus ${BIN}/dynblur_actuator_sim --csv= --max-seconds 20)
 run(0 ${BIN}/dynblur_actuator_ctl --bus ${bus} --upload ${dir}/move.yml --start --wait 2)
 expect("uploaded: [0-9]+ entries, verified" "the controller did not take the planned schedule")
 # dynblur_record drives moves over the bus while a virtual camera plays; both logs on its clock.
@@ -60,9 +41,7 @@ list(LENGTH switches count)
 if(count LESS 3)
   message(FATAL_ERROR "dynblur_record logged ${count} commands for two moves")
 endif()
-file(READ ${dir}/sim.pid pid)
-string(STRIP "${pid}" pid)
-execute_process(COMMAND kill ${pid})
+stop_actuator_sim(${dir})
 
 # --- dynblur_record: a virtual camera (the shipped video at its rate) and a script's command log,
 # read back by the restorer.

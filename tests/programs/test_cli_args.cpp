@@ -73,6 +73,14 @@ TEST(CliArgs, ValueAfterTheNameOrAfterEquals)
     EXPECT_EQ(parse({"--help"}).has("help"), true);
 }
 
+TEST(CliArgs, RepeatedOptionKeepsEveryValueInOrder)
+{
+    const CliArgs args = parse({"--name", "x", "--a=1", "--name=y"});
+    EXPECT_EQ(args.all("name"), (std::vector<std::string>{"x", "y"}));
+    EXPECT_EQ(args.str("name"), "y");
+    EXPECT_TRUE(args.all("rate").empty());  // absent: none, whatever its default
+}
+
 TEST(CliArgs, Flags)
 {
     EXPECT_TRUE(parse({"--fast"}).has("fast"));

@@ -20,6 +20,13 @@ namespace dynblur {
 Input registers (Modbus function 04) are read-only; holding registers (03 to read, 06/16 to
 write) carry the schedule and the command. Every multi-register number is big-endian by word
 (high word first); levels are two's-complement int16.
+
+A controller of several axes (protocol 1.1) keeps axis 0 at the addresses below, so that a one-axis
+host drives it unchanged, reports its number of axes in IR_AXIS_COUNT and gives each further axis k
+a block of input registers at axisInputBase(k) (laid out as IR_STATUS..IR_ENTRY_INDEX) and one of
+holding registers at axisHoldingBase(k) (laid out as HR_COMMAND..the entries; the block's first
+register takes only CMD_LOAD, for that axis). One CMD_START in HR_COMMAND starts every LOADED axis
+at one instant of the controller's clock; CMD_STOP and CMD_CLEAR_FAULT act on every axis.
 */
 namespace busmap {
 enum : int
@@ -37,7 +44,10 @@ enum : int
     IR_CLOCK_US = 12,         //!< 4 registers: controller clock now, microseconds
     IR_LOADED_CHECKSUM = 16,  //!< CRC-16 the device computed over the loaded schedule
     IR_ENTRY_INDEX = 17,      //!< index of the entry in force while running (0xFFFF before start)
-    IR_COUNT = 18,
+    IR_COUNT = 18,            //!< end of axis 0's input registers (and of the whole 1.0 map)
+    IR_AXIS_COUNT = 18,       //!< number of axes, 1..MAX_AXES (protocol 1.1; absent before: 1 axis)
+    IR_AXES = 32,             //!< input block of axis 1; axis k's at IR_AXES + (k - 1) * IR_AXIS_STRIDE
+    IR_AXIS_STRIDE = 16,      //!< registers per input block, laid out as IR_STATUS..IR_ENTRY_INDEX
 
     // ---- holding registers (read/write) ----
     HR_COMMAND = 100,         //!< write one of ActuatorCommand; reads 0 once executed
@@ -47,11 +57,31 @@ enum : int
     HR_SAFE_LEVEL = 104,      //!< level the device applies on STOP and on a fault, int16 cells
     HR_ENTRIES = 200,         //!< entry i at 200 + 3i: time offset µs (hi, lo word), level int16
     ENTRY_WORDS = 3,
+    HR_AXES = 16384,          //!< holding block of axis 1; axis k's at HR_AXES + (k - 1) * HR_AXIS_STRIDE
+    HR_AXIS_STRIDE = 8192,    //!< registers per holding block, laid out as HR_COMMAND..the entries
+    MAX_AXES = 7,             //!< most axes the map addresses (axis 6's block ends at 65535)
+    MAX_AXIS_CAPACITY = (HR_AXIS_STRIDE - (HR_ENTRIES - HR_COMMAND)) / ENTRY_WORDS,  //!< entries a block holds: 2697
 
     MAGIC = 0x4459,
     PROTOCOL_MAJOR = 1,
-    PROTOCOL_MINOR = 0
+    PROTOCOL_MINOR = 1,       //!< 1.1: several axes; a 1.0 device has one
+    PROTOCOL_MINOR_AXES = 1   //!< first minor version with IR_AXIS_COUNT
 };
+
+/** @brief Address of axis `axis`'s IR_STATUS; its other input registers follow as in axis 0's
+layout (IR_FAULT at + IR_FAULT - IR_STATUS, ...). @param axis in [0, MAX_AXES). */
+inline int axisInputBase(int axis)
+{
+    return axis == 0 ? IR_STATUS : IR_AXES + (axis - 1) * IR_AXIS_STRIDE;
+}
+
+/** @brief Address of axis `axis`'s command register; its schedule registers follow as in axis 0's
+layout (length at + HR_LENGTH - HR_COMMAND, entries at + HR_ENTRIES - HR_COMMAND).
+@param axis in [0, MAX_AXES). */
+inline int axisHoldingBase(int axis)
+{
+    return axis == 0 ? HR_COMMAND : HR_AXES + (axis - 1) * HR_AXIS_STRIDE;
+}
 }  // namespace busmap
 
 //! @brief State reported in IR_STATUS.
@@ -168,6 +198,7 @@ struct CV_EXPORTS_W_SIMPLE ActuatorInfo
     CV_PROP_RW int maxLevel = 0;       //!< cells
     CV_PROP_RW double minDwell = 0;    //!< seconds
     CV_PROP_RW int capacity = 0;       //!< entries
+    CV_PROP_RW int axes = 1;           //!< axes the controller drives (IR_AXIS_COUNT; 1 on a 1.0 device)
 };
 
 /** @brief Status of the controller. */
@@ -235,6 +266,60 @@ public:
     CV_WRAP virtual ActuatorStatus waitUntilDone(double timeout) = 0;
 
     CV_WRAP virtual ActuatorLimits getLimits() const = 0;
+    CV_WRAP virtual ActuatorInfo getInfo() const = 0;
+    CV_WRAP virtual Ptr<ActuatorBus> getBus() const = 0;
+};
+
+/** @brief Uploads one SwitchSchedule per axis to a controller of several axes (a pan-tilt head),
+verifies every one, then starts them all with one START.
+
+Axis k of the host is axis k of the controller (docs/actuator-bus.md, "Several axes"). The safety
+rules of ActuatorDriver hold per axis, with one more: **no axis starts unless every axis was
+verified**. upload() checks every schedule on the host before it sends anything; then, axis by
+axis, writes, loads and reads back, and requires each LOADED with the host's CRC. start() checks
+every axis again (LOADED, same CRC, holding its schedule's initial level) and only then writes the
+one START, which the controller applies to every axis at the same instant of its clock. An error on
+any axis applies the safe level to all (STOP) and throws a message that names the axis and why.
+*/
+class CV_EXPORTS_W MultiAxisDriver : public Algorithm
+{
+public:
+    /** @param bus the link (connected by connect() when not yet).
+    @param axes axes the host drives, in [1, busmap::MAX_AXES]; the controller must have at least as many.
+    @param limits host-side limits of every axis, as for ActuatorDriver::create. */
+    CV_WRAP static Ptr<MultiAxisDriver> create(const Ptr<ActuatorBus>& bus, int axes,
+                                               const ActuatorLimits& limits = ActuatorLimits());
+
+    /** @brief Connects, checks the magic and the protocol major version, reads the number of axes
+    (1 on a 1.0 device) and refuses a controller with fewer axes than getAxisCount(), naming both
+    counts; writes every axis's safe level. @return what the device advertises. */
+    CV_WRAP virtual ActuatorInfo connect() = 0;
+    /** @brief Throws cv::Exception naming the axis and the broken limit; sends nothing.
+    @param schedules one per axis, in axis order; their number must be getAxisCount(). */
+    CV_WRAP virtual void checkSchedules(const std::vector<SwitchSchedule>& schedules) const = 0;
+    /** @brief Checks every schedule, then writes, loads and reads back each axis's (see the class
+    description). @param schedules one per axis, in axis order (schedule times in seconds). */
+    CV_WRAP virtual void upload(const std::vector<SwitchSchedule>& schedules) = 0;
+    /** @brief Starts every verified schedule with one START.
+    @return one report per axis; their controllerStartTime are one instant of the controller's clock
+    (seconds), their hostStartTime that instant on the host's steady clock (seconds, within ±uncertainty). */
+    CV_WRAP virtual std::vector<StartReport> start() = 0;
+    /** @brief Reads the status of one axis (retried read). @param axis in [0, getAxisCount()). */
+    CV_WRAP virtual ActuatorStatus status(int axis) = 0;
+    //! @brief Reads the status of every axis, in axis order.
+    CV_WRAP virtual std::vector<ActuatorStatus> statusAll() = 0;
+    //! @brief Applies the safe level on every axis and ends any run.
+    CV_WRAP virtual void stop() = 0;
+    //! @brief Leaves the FAULT state on every axis.
+    CV_WRAP virtual void clearFault() = 0;
+    /** @brief Polls until no axis is RUNNING, or until timeout seconds have passed.
+    @param timeout seconds, in [0, 3600]. @return the last status of every axis. */
+    CV_WRAP virtual std::vector<ActuatorStatus> waitUntilDone(double timeout) = 0;
+
+    //! @brief Axes the host drives (given to create()).
+    CV_WRAP virtual int getAxisCount() const = 0;
+    CV_WRAP virtual ActuatorLimits getLimits() const = 0;
+    //! @brief What connect() read; its `axes` may exceed getAxisCount() (further axes stay idle).
     CV_WRAP virtual ActuatorInfo getInfo() const = 0;
     CV_WRAP virtual Ptr<ActuatorBus> getBus() const = 0;
 };

@@ -44,7 +44,7 @@ std::vector<SwitchSchedule> saccade(double panDeg, double tiltDeg)
     std::vector<SwitchSchedule> schedules;
     const double degrees[2] = {panDeg, tiltDeg};
     for (int i = 0; i < 2; i++)
-        schedules.push_back(degrees[i] == 0 ? SwitchSchedule()
+        schedules.push_back(degrees[i] == 0 ? SwitchSchedule(std::vector<double>{0.0}, std::vector<int>{0})
                                             : SwitchPlanner::create(nominal->getPlant(i), 16)
                                                   ->plan(0.0, degrees[i] * kDeg, 0.0));
     return schedules;
@@ -323,17 +323,19 @@ TEST(MountCalibrateTiming, RecordingCalibratesEachAxis)
         }
     const TimingCalibration t = calibrateTiming(motions, scene.camera, references, frames, shutters, REFINE_ALL, after);
     const MotionCorrection& c = t.correction;
-    std::printf("[ measured ] recording of %zu frames: dt %+.3f ms (true %+.3f, std %.3f), line delay x%.4f, pan wn "
-                "x%.4f (%.2f, std %.4f) zeta x%.3f (%.2f, std %.3f), tilt wn x%.4f (%.2f, std %.4f) zeta x%.3f "
-                "(%.2f, std %.3f), held 0x%x; %s\n",
+    std::printf("[ measured ] recording of %zu frames: dt %+.3f ms (true %+.3f, std %.2g), line delay x%.4f, pan wn "
+                "x%.4f (%.2f, std %.2g) zeta x%.3f (%.2f, std %.2g), tilt wn x%.4f (%.2f, std %.2g) zeta x%.3f "
+                "(%.2f, std %.2g), held 0x%x; %s\n",
                 frames.size(), c.timeOffset * 1e3, kClockOffset * 1e3, t.timeOffsetStd * 1e3, c.lineDelayScale,
                 c.naturalFreqScale, kPanDrift.naturalFreqScale, t.naturalFreqScaleStd, c.dampingScale,
                 kPanDrift.dampingScale, t.dampingScaleStd, c.axisNaturalFreqScales[0], kTiltDrift.naturalFreqScale,
                 t.axisNaturalFreqScaleStd[0], c.axisDampingScales[0], kTiltDrift.dampingScale, t.axisDampingScaleStd[0],
                 c.heldParameters, c.reason.c_str());
-    EXPECT_NEAR(c.timeOffset, kClockOffset, 0.2e-3);
-    EXPECT_NEAR(c.naturalFreqScale, kPanDrift.naturalFreqScale, 0.01);
-    EXPECT_NEAR(c.axisNaturalFreqScales[0], kTiltDrift.naturalFreqScale, 0.01);
-    EXPECT_NEAR(c.dampingScale, kPanDrift.dampingScale, 0.1);
-    EXPECT_NEAR(c.axisDampingScales[0], kTiltDrift.dampingScale, 0.1);
+    // Measured: δt 0.05 ms, ωn 0.11 % (pan) and 0.06 % (tilt), ζ 0.6 % and 0.4 % from the truth.
+    EXPECT_NEAR(c.timeOffset, kClockOffset, 0.1e-3);
+    EXPECT_NEAR(c.naturalFreqScale, kPanDrift.naturalFreqScale, 0.003);
+    EXPECT_NEAR(c.axisNaturalFreqScales[0], kTiltDrift.naturalFreqScale, 0.003);
+    EXPECT_NEAR(c.dampingScale, kPanDrift.dampingScale, 0.02);
+    EXPECT_NEAR(c.axisDampingScales[0], kTiltDrift.dampingScale, 0.02);
+    EXPECT_EQ(c.heldParameters, 0) << c.reason;
 }

@@ -21,7 +21,7 @@ def pan_tilt(db, pan=(1.0, 1.0), tilt=(1.0, 1.0)):
 def saccade(db, pan_deg, tilt_deg):
     nominal = pan_tilt(db)
     return [db.SwitchPlanner.create(nominal.getPlant(i), 16).plan(0.0, math.radians(d), 0.0) if d else
-            db.SwitchSchedule() for i, d in enumerate((pan_deg, tilt_deg))]
+            db.SwitchSchedule([0.0], [0]) for i, d in enumerate((pan_deg, tilt_deg))]
 
 
 @pytest.fixture(scope="module")
@@ -108,5 +108,5 @@ def test_recording_is_calibrated(db, head):
     assert t.frameUsed == [1, 1]
     assert t.correction.timeOffset == pytest.approx(1e-3, abs=0.5e-3)
     with pytest.raises(db.error, match="motions\\[0\\] is not a mount's"):
-        db.calibrateTiming([db.CameraMotion.fromPlant(db.Plant.create(14.4, 0.12, 0.01), db.SwitchSchedule())], cam,
+        db.calibrateTiming([db.CameraMotion.fromPlant(db.Plant.create(14.4, 0.12, 0.01), db.SwitchSchedule([0.0], [0]))], cam,
                            [frames[0][3]], [frames[0][2]], [frames[0][1]])

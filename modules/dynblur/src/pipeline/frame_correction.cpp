@@ -247,19 +247,13 @@ MotionCorrection FrameCorrector::correctPlantFrame(const Mat& input, const Switc
     }
     String against;
     const std::vector<int> chosen = stillsFor(window, against);
-    const LuminancePyramid framePyramid =
-        buildPyramid(linearLuminance(input), camera_, kFitCoarseWidth, false);
-    std::vector<FitFrame> frames;
-    for (int k : chosen)
+    std::vector<FitFrame> frames = pairWithStills(input, chosen, shutter);
+    for (size_t i = 0; i < chosen.size(); i++)
     {
-        FitFrame pair;
-        pair.reference = &stills_[k].pyramid;
-        pair.frame = framePyramid;
-        pair.schedule = schedule;
-        pair.shutter = shutter;
+        const int k = chosen[i];
+        frames[i].schedule = schedule;
         const double told = plant_->restingAngle(k == 0 ? schedule.initialLevel : schedule.finalLevel());
-        pair.referenceAngle = std::isnan(stills_[k].angle) ? told : stills_[k].angle;
-        frames.push_back(pair);
+        frames[i].referenceAngle = std::isnan(stills_[k].angle) ? told : stills_[k].angle;
     }
     FitSettings fit;
     fit.flags = settings.refinement & REFINE_ALL;
@@ -286,6 +280,22 @@ std::vector<int> FrameCorrector::stillsFor(int window, String& against) const
               : chosen[0] == 0     ? "the still before the move"
                                    : "the still after the move";
     return chosen;
+}
+
+std::vector<FitFrame> FrameCorrector::pairWithStills(const Mat& input, const std::vector<int>& chosen,
+                                                     const RollingShutter& shutter) const
+{
+    const LuminancePyramid framePyramid = buildPyramid(linearLuminance(input), camera_, kFitCoarseWidth, false);
+    std::vector<FitFrame> frames;
+    for (int k : chosen)
+    {
+        FitFrame pair;
+        pair.reference = &stills_[k].pyramid;
+        pair.frame = framePyramid;
+        pair.shutter = shutter;
+        frames.push_back(pair);
+    }
+    return frames;
 }
 
 /* A mount's frame as a plant's: the calibration, refined (clock, line delay, each axis's plant) against
@@ -319,18 +329,11 @@ MotionCorrection FrameCorrector::correctMountFrame(const Mat& input, const Ptr<C
     }
     String against;
     const std::vector<int> chosen = stillsFor(window, against);
-    const AxisChainMotion& mount = *asAxisChainMotion(*motion);
-    const LuminancePyramid framePyramid = buildPyramid(linearLuminance(input), camera_, kFitCoarseWidth, false);
-    std::vector<FitFrame> frames;
-    for (int k : chosen)
+    std::vector<FitFrame> frames = pairWithStills(input, chosen, shutter);
+    for (size_t i = 0; i < chosen.size(); i++)
     {
-        FitFrame pair;
-        pair.reference = &stills_[k].pyramid;
-        pair.frame = framePyramid;
-        pair.shutter = shutter;
-        pair.motion = motion;
-        pair.referenceOrientation = mount.restOrientation(k == 1);
-        frames.push_back(pair);
+        frames[i].motion = motion;
+        frames[i].referenceOrientation = asAxisChainMotion(*motion)->restOrientation(chosen[i] == 1);
     }
     FitSettings fit;
     fit.flags = settings.refinement & refinementFlagsFor(FIT_MOUNT_MOTION);

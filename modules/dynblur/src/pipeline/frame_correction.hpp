@@ -103,8 +103,11 @@ private:
     MotionCorrection correctMountFrame(const Mat& frame, const Ptr<CameraMotion>& motion,
                                        const RollingShutter& shutter) const;
     /** The stills a frame in `window` is compared with (0: before the move, 1: after it), and
-        `against`, how the reason names them; refuses a still placed by its capture time. */
+        `against`, how the reason names them. */
     std::vector<int> stillsFor(int window, String& against) const;
+    //! One pair per still in `chosen`: the frame `input`, read by `shutter`, against it.
+    std::vector<FitFrame> pairWithStills(const Mat& input, const std::vector<int>& chosen,
+                                         const RollingShutter& shutter) const;
 
     //! A measured motion's frame checked against its neighbour: `correction` refused when the tracks disagree.
     void checkAgainstNeighbour(const Mat& frame, const Ptr<CameraMotion>& motion, const RollingShutter& shutter,

@@ -44,14 +44,6 @@ std::vector<int> flaggedParameters(int flags, int motion, bool rolling, int axes
     return active;
 }
 
-int parameterBits(const std::vector<int>& parameters)
-{
-    int bits = 0;
-    for (int j : parameters)
-        bits |= 1 << j;
-    return bits;
-}
-
 int flagsOfParameters(int bits)
 {
     int flags = 0;

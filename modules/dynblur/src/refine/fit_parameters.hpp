@@ -140,6 +140,7 @@ inline const FitParameter kFitTable[] = {
 };
 
 const int kFitParameters = int(sizeof(kFitTable) / sizeof(kFitTable[0]));
+static_assert(kFitParameters < 31, "MotionCorrection::heldParameters holds one bit per parameter in an int");
 typedef Vec<double, kFitParameters> FitVector;
 typedef Matx<double, kFitParameters, kFitParameters> FitMatrix;
 
@@ -154,10 +155,9 @@ MotionCorrection fromFitUnits(const FitVector& q, const MotionCorrection& like);
 @param axes a mount's axes (parameters of further axes are left out); 1 for other motions. */
 std::vector<int> flaggedParameters(int flags, int motion, bool rolling, int axes);
 
-//! The bit of every parameter in `parameters` (bit j: kFitTable[j]), combined.
-int parameterBits(const std::vector<int>& parameters);
+/* Parameters as bits: bit j stands for kFitTable[j] (MotionCorrection::heldParameters). */
 
-//! The flags of the parameters whose bits `bits` sets (parameterBits), combined.
+//! The flags of the parameters whose bits `bits` sets, combined.
 int flagsOfParameters(int bits);
 
 //! "natural frequency, axis 1 and damping ratio, axis 1": the parameters whose bits `bits` sets, for messages.

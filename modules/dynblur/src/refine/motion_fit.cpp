@@ -123,7 +123,7 @@ std::vector<int> activeParameters(const std::vector<FitFrame>& frames, int flags
 /* The coarse stage: the offset's scan, a fit from its deepest minima, and the parameters it leaves
    uncertain, whose start explains the frames about as well: not observed by them (their moving rows
    see content the reference never saw), they keep their start rather than the noise's choice and
-   leave `state.active`; their bits (parameterBits) go to `unobserved`. */
+   leave `state.active`; their bits (bit j: kFitTable[j]) go to `unobserved`. */
 void fitCoarse(const Ptr<Plant>& plant, const std::vector<FitFrame>& frames, const FitBox& box,
                const FitSettings& settings, FitState& state, int& unobserved)
 {
@@ -166,9 +166,9 @@ void fitCoarse(const Ptr<Plant>& plant, const std::vector<FitFrame>& frames, con
     state.evaluations += coarse.evaluations();
 }
 
-/* Into `held`, the bits (parameterBits) of the `observed` parameters that a ridge mixes: a combination whose
-   information from the frames at q is below kRidgeInformation times the prior's (eigenvectors of the
-   information in prior units). `information` receives the eigenvalues, descending. Returns the
+/* Into `held`, the bits (bit j: kFitTable[j]) of the `observed` parameters that a ridge mixes: a
+   combination whose information from the frames at q is below kRidgeInformation times the prior's
+   (eigenvectors of the information in prior units). `information` receives the eigenvalues, descending. Returns the
    parameter to hold first (the last in the table that a ridge mixes: a bias component or ζ, then ωn,
    the line delay and the clock, which varies most from frame to frame), or -1 when there is no ridge. */
 int ridgeParameter(LevelFit& fit, const std::vector<int>& observed, const FitVector& q, int& held, FitVector& information)
@@ -302,7 +302,7 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
     FitResult result;
     FitState state;
     state.q = box.prior;
-    int unobserved = 0, ridge = 0;  // parameterBits
+    int unobserved = 0, ridge = 0;  // bit j: kFitTable[j]
     state.active = activeParameters(frames, settings.flags, unobserved);
     const std::vector<int> tried = state.active;
 

@@ -155,6 +155,21 @@ void TimingCalibration::save(const String& filename) const
     }
 }
 
+namespace {
+
+//! The `count` values of `key` in `file` (read from `filename`), or an error naming both and `what` they are.
+std::vector<double> fixedReals(const ParameterFile& file, const char* key, size_t count, const char* what,
+                               const String& filename)
+{
+    const std::vector<double> values = file.reals(key);
+    if (values.size() != count)
+        CV_Error(Error::StsParseError, format("TimingCalibration::load: '%s': %s has %zu values; %zu (%s) are expected",
+                                              filename.c_str(), key, values.size(), count, what));
+    return values;
+}
+
+}  // namespace
+
 TimingCalibration TimingCalibration::load(const String& filename)
 {
     const ParameterFile file = ParameterFile::load(filename, "TimingCalibration::load: timing file");
@@ -181,36 +196,18 @@ TimingCalibration TimingCalibration::load(const String& filename)
                                                       {"gyroBiasStd", &calibration.gyroBiasStd}};
     for (const auto& v : vectors)
         if (file.has(v.first))
-        {
-            const std::vector<double> values = file.reals(v.first);
-            if (values.size() != 3)
-                CV_Error(Error::StsParseError, format("TimingCalibration::load: '%s': %s has %zu values; 3 "
-                                                      "(rad/s, camera axes x, y, z) are expected",
-                                                      filename.c_str(), v.first, values.size()));
-            *v.second = Vec3d(values[0], values[1], values[2]);
-        }
+            *v.second = Vec3d(fixedReals(file, v.first, 3, "rad/s, camera axes x, y, z", filename).data());
     const std::pair<const char*, Vec2d*> pairs[] = {{"axisNaturalFreqScales", &c.axisNaturalFreqScales},
                                                     {"axisDampingScales", &c.axisDampingScales},
                                                     {"axisNaturalFreqScaleStd", &calibration.axisNaturalFreqScaleStd},
                                                     {"axisDampingScaleStd", &calibration.axisDampingScaleStd}};
     for (const auto& v : pairs)
         if (file.has(v.first))
-        {
-            const std::vector<double> values = file.reals(v.first);
-            if (values.size() != 2)
-                CV_Error(Error::StsParseError, format("TimingCalibration::load: '%s': %s has %zu values; 2 (a "
-                                                      "mount's axes 1 and 2) are expected",
-                                                      filename.c_str(), v.first, values.size()));
-            *v.second = Vec2d(values[0], values[1]);
-        }
+            *v.second = Vec2d(fixedReals(file, v.first, 2, "a mount's axes 1 and 2", filename).data());
     if (file.has("axisCorrection"))
     {
-        const std::vector<double> values = file.reals("axisCorrection");
-        if (values.size() != 9)
-            CV_Error(Error::StsParseError, format("TimingCalibration::load: '%s': axisCorrection has %zu values; 9 "
-                                                  "(a rotation matrix, row-major) are expected",
-                                                  filename.c_str(), values.size()));
-        calibration.axisCorrection = Matx33d(values.data());
+        calibration.axisCorrection =
+            Matx33d(fixedReals(file, "axisCorrection", 9, "a rotation matrix, row-major", filename).data());
         if (!(std::abs(determinant(calibration.axisCorrection) - 1) < 1e-6 &&
               norm(calibration.axisCorrection * calibration.axisCorrection.t() - Matx33d::eye()) < 1e-6))
             CV_Error(Error::StsParseError, format("TimingCalibration::load: '%s': axisCorrection is not a rotation "

@@ -197,8 +197,11 @@ capture time (the mid-exposure of its shutter in referenceShutters). Returns a T
            py::handle references, py::handle frames, const std::vector<RollingShutter>& shutters, int flags,
            const std::vector<int>& referencesAfter, double maxTimeOffset, double maxConsistency) {
             const std::vector<cv::Mat> stills = toMats(references, "references"), blurred = toMats(frames, "frames");
+            std::vector<cv::Ptr<CameraMotion>> moves;
+            for (const std::shared_ptr<CameraMotion>& motion : motions)
+                moves.push_back(required(motion, "motions"));
             py::gil_scoped_release release;
-            return calibrateTiming(motions, required(camera, "camera"), stills, blurred, shutters, flags,
+            return calibrateTiming(moves, required(camera, "camera"), stills, blurred, shutters, flags,
                                    referencesAfter, maxTimeOffset, maxConsistency);
         },
         py::arg("motions"), py::arg("camera"), py::arg("references"), py::arg("frames"), py::arg("shutters"),

@@ -321,7 +321,9 @@ class RefinementParameter:
     unit: str
     searchHalfWidth: float
     plantMotion: bool
+    mountMotion: bool
     measuredMotion: bool
+    mountAxis: int
     rollingShutterOnly: bool
     inRefineAll: bool
 
@@ -333,10 +335,13 @@ class MotionCorrection:
     lineDelayScale: float
     naturalFreqScale: float
     dampingScale: float
+    axisNaturalFreqScales: tuple[float, float]
+    axisDampingScales: tuple[float, float]
     gyroBias: tuple[float, float, float]
     rateScale: float
     consistency: float
     held: int
+    heldParameters: int
     stillGain: float
     applied: bool
     reason: str
@@ -344,6 +349,7 @@ class MotionCorrection:
                  dampingScale: float = 1.0) -> None: ...
     def correctShutter(self, shutter: RollingShutter) -> RollingShutter: ...
     def correctPlant(self, plant: Plant) -> Plant: ...
+    def correctMotion(self, motion: CameraMotion) -> CameraMotion: ...
     def validate(self) -> None: ...
 
 class TimingCalibration:
@@ -352,6 +358,8 @@ class TimingCalibration:
     lineDelayScaleStd: float
     naturalFreqScaleStd: float
     dampingScaleStd: float
+    axisNaturalFreqScaleStd: tuple[float, float]
+    axisDampingScaleStd: tuple[float, float]
     gyroBiasStd: tuple[float, float, float]
     rateScaleStd: float
     axisCorrection: NDArray[np.float64]
@@ -390,6 +398,11 @@ def calibrateTiming(plant: Plant, camera: CameraModel, references: Sequence[Arra
 def calibrateTiming(motion: CameraMotion, camera: CameraModel, references: Sequence[ArrayLike],
                     frames: Sequence[ArrayLike], shutters: Sequence[RollingShutter],
                     referenceShutters: Sequence[RollingShutter], flags: int = 3, maxTimeOffset: float = 0.02,
+                    maxConsistency: float = 3.0) -> TimingCalibration: ...
+@overload
+def calibrateTiming(motions: Sequence[CameraMotion], camera: CameraModel, references: Sequence[ArrayLike],
+                    frames: Sequence[ArrayLike], shutters: Sequence[RollingShutter], flags: int = 3,
+                    referencesAfter: Sequence[int] = ..., maxTimeOffset: float = 0.02,
                     maxConsistency: float = 3.0) -> TimingCalibration: ...
 @overload
 def calibrateTiming(log: GyroLog, camera: CameraModel, frames: Sequence[ArrayLike], shutters: Sequence[RollingShutter],

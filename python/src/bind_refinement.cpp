@@ -20,6 +20,8 @@ std::string repr(const MotionCorrection& c)
     std::ostringstream o;
     o << "MotionCorrection(timeOffset=" << c.timeOffset << ", lineDelayScale=" << c.lineDelayScale
       << ", naturalFreqScale=" << c.naturalFreqScale << ", dampingScale=" << c.dampingScale
+      << ", axisNaturalFreqScales=(" << c.axisNaturalFreqScales[0] << ", " << c.axisNaturalFreqScales[1] << ")"
+      << ", axisDampingScales=(" << c.axisDampingScales[0] << ", " << c.axisDampingScales[1] << ")"
       << ", gyroBias=(" << c.gyroBias[0] << ", " << c.gyroBias[1] << ", " << c.gyroBias[2] << ")"
       << ", rateScale=" << c.rateScale
       << ", consistency=" << c.consistency << ", held=" << c.held << ", stillGain=" << c.stillGain << ", applied=" << (c.applied ? "True" : "False") << ", reason='"
@@ -50,7 +52,10 @@ the MotionCorrection field it sets, the MotionRefinement flag that turns it on, 
                       "how far from its value as told it is searched, in unit (0 for the time offset: the "
                       "caller's maxTimeOffset)")
         .def_readonly("plantMotion", &RefinementParameter::plantMotion, "it corrects a plant's motion")
+        .def_readonly("mountMotion", &RefinementParameter::mountMotion, "it corrects a mount's motion (Mount.motion)")
         .def_readonly("measuredMotion", &RefinementParameter::measuredMotion, "it corrects a measured motion")
+        .def_readonly("mountAxis", &RefinementParameter::mountAxis,
+                      "the mount axis (0 = base) whose plant it scales; -1: it scales no plant")
         .def_readonly("rollingShutterOnly", &RefinementParameter::rollingShutterOnly,
                       "only a rolling shutter observes it")
         .def_readonly("inRefineAll", &RefinementParameter::inRefineAll, "REFINE_ALL includes its flag")
@@ -82,6 +87,10 @@ plant has naturalFreqScale times ωn and dampingScale times ζ.)doc")
         .def_readwrite("lineDelayScale", &MotionCorrection::lineDelayScale, "x the shutter's lineDelay")
         .def_readwrite("naturalFreqScale", &MotionCorrection::naturalFreqScale, "x the plant's natural frequency")
         .def_readwrite("dampingScale", &MotionCorrection::dampingScale, "x the plant's damping ratio")
+        .def_readwrite("axisNaturalFreqScales", &MotionCorrection::axisNaturalFreqScales,
+                       "x the natural frequency of a mount's axes 1 and 2 (the base takes naturalFreqScale)")
+        .def_readwrite("axisDampingScales", &MotionCorrection::axisDampingScales,
+                       "x the damping ratio of a mount's axes 1 and 2 (the base takes dampingScale)")
         .def_readwrite("gyroBias", &MotionCorrection::gyroBias,
                        "a measured motion's gyro bias, rad/s, camera axes, removed from its rates")
         .def_readwrite("rateScale", &MotionCorrection::rateScale,
@@ -93,6 +102,8 @@ plant has naturalFreqScale times ωn and dampingScale times ζ.)doc")
         .def_readwrite("held", &MotionCorrection::held,
                        "MotionRefinement flags of the parameters the frames did not determine (unobserved, or "
                        "trading against another along a ridge), kept at their prior")
+        .def_readwrite("heldParameters", &MotionCorrection::heldParameters,
+                       "the held parameters one by one: bit j set when refinementParameters()[j] was held")
         .def_readwrite("stillGain", &MotionCorrection::stillGain,
                        "the frame's brightness over its still's (automatic exposure, lighting); 1 without a still")
         .def_readwrite("applied", &MotionCorrection::applied, "False: the frame was returned unrestored (see reason)")
@@ -104,6 +115,13 @@ plant has naturalFreqScale times ωn and dampingScale times ζ.)doc")
                  return std::shared_ptr<Plant>(c.correctPlant(required(plant, "plant")));
              },
              py::arg("plant"), "The plant as corrected (itself when both scales are 1).")
+        .def("correctMotion",
+             [](const MotionCorrection& c, const std::shared_ptr<CameraMotion>& motion) {
+                 return shared(c.correctMotion(required(motion, "motion")));
+             },
+             py::arg("motion"),
+             "A mount's motion with each axis's plant scaled (a plant's motion: its plant); any other motion as "
+             "given.")
         .def("validate", &MotionCorrection::validate)
         .def("__repr__", &repr);
 
@@ -116,6 +134,8 @@ plant has naturalFreqScale times ωn and dampingScale times ζ.)doc")
         .def_readwrite("lineDelayScaleStd", &TimingCalibration::lineDelayScaleStd)
         .def_readwrite("naturalFreqScaleStd", &TimingCalibration::naturalFreqScaleStd)
         .def_readwrite("dampingScaleStd", &TimingCalibration::dampingScaleStd)
+        .def_readwrite("axisNaturalFreqScaleStd", &TimingCalibration::axisNaturalFreqScaleStd, "a mount's axes 1 and 2")
+        .def_readwrite("axisDampingScaleStd", &TimingCalibration::axisDampingScaleStd, "a mount's axes 1 and 2")
         .def_readwrite("gyroBiasStd", &TimingCalibration::gyroBiasStd, "rad/s (a measured motion's bias)")
         .def_readwrite("rateScaleStd", &TimingCalibration::rateScaleStd, "a measured motion's rate scale")
         .def_readwrite("axisCorrection", &TimingCalibration::axisCorrection,
@@ -171,6 +191,25 @@ resting angle. Returns a TimingCalibration.)doc");
         R"doc(The clock offset, line delay (and, with REFINE_GYRO_BIAS, the gyro bias) of a recording whose
 motion was measured (a gyro log's CameraMotion), from frames each paired with a still placed by its
 capture time (the mid-exposure of its shutter in referenceShutters). Returns a TimingCalibration.)doc");
+
+    m.def("calibrateTiming",
+        [](const std::vector<std::shared_ptr<CameraMotion>>& motions, const std::shared_ptr<CameraModel>& camera,
+           py::handle references, py::handle frames, const std::vector<RollingShutter>& shutters, int flags,
+           const std::vector<int>& referencesAfter, double maxTimeOffset, double maxConsistency) {
+            const std::vector<cv::Mat> stills = toMats(references, "references"), blurred = toMats(frames, "frames");
+            std::vector<cv::Ptr<CameraMotion>> moves;
+            for (const std::shared_ptr<CameraMotion>& motion : motions)
+                moves.push_back(required(motion, "motions"));
+            py::gil_scoped_release release;
+            return calibrateTiming(moves, required(camera, "camera"), stills, blurred, shutters, flags,
+                                   referencesAfter, maxTimeOffset, maxConsistency);
+        },
+        py::arg("motions"), py::arg("camera"), py::arg("references"), py::arg("frames"), py::arg("shutters"),
+        py::arg("flags") = int(REFINE_TIME_OFFSET | REFINE_LINE_DELAY), py::arg("referencesAfter") = std::vector<int>(),
+        py::arg("maxTimeOffset") = 0.02, py::arg("maxConsistency") = 3.0,
+        R"doc(The clock offset, line delay (and, with REFINE_PLANT, each axis's wn and zeta scales) of a
+recording made with a mount: one Mount.motion per frame, each frame paired with a still at rest before
+its move (or after it, where referencesAfter is non-zero). Returns a TimingCalibration.)doc");
 
     m.def("motionConsistency",
         [](const std::shared_ptr<Plant>& plant, const std::shared_ptr<CameraModel>& camera, py::handle reference,

@@ -12,7 +12,7 @@ using dynblur_test::expectErrorNaming;
 TEST(RefinementParameters, TableAgreesWithTheFlags)
 {
     const std::vector<RefinementParameter> table = refinementParameters();
-    ASSERT_EQ(table.size(), 8u);
+    ASSERT_EQ(table.size(), 12u);
     int all = 0, inAll = 0, plant = 0, measured = 0;
     for (const RefinementParameter& p : table)
     {
@@ -20,7 +20,7 @@ TEST(RefinementParameters, TableAgreesWithTheFlags)
         EXPECT_FALSE(p.name.empty());
         EXPECT_FALSE(p.key.empty());
         EXPECT_EQ(refinementFlags(p.key), p.flag);
-        EXPECT_TRUE(p.plantMotion || p.measuredMotion);
+        EXPECT_TRUE(p.plantMotion || p.mountMotion || p.measuredMotion);
         EXPECT_GE(p.searchHalfWidth, 0);
         all |= p.flag;
         inAll |= p.inRefineAll ? p.flag : 0;

@@ -3,6 +3,7 @@
 // schedule per axis.
 #include "precomp.hpp"
 
+#include "motion/axis_chain_motion.hpp"
 #include "motion/axis_rotation.hpp"
 #include "motion/camera_motion.hpp"
 
@@ -55,7 +56,7 @@ double nearestWithin(double angle, double near, const Vec2d& range)
 }
 
 //! Q(t) = Q(q(t)) for a mount whose axes follow their schedules (Mount::motion).
-class MountMotion CV_FINAL : public CameraMotion
+class MountMotion CV_FINAL : public detail::AxisChainMotion
 {
 public:
     MountMotion(const std::vector<Axis>& axes, const std::vector<SwitchSchedule>& schedules)
@@ -85,15 +86,28 @@ public:
         if (std::isinf(tRef))
             CV_Error(Error::StsBadArg, "CameraMotion::referenceOrientation: tRef must be finite (seconds) or NaN "
                                        "(the mount's final rest)");
-        if (!std::isnan(tRef))
-            return orientation(tRef);
-        std::vector<double> rest(axes_.size());
-        for (size_t i = 0; i < axes_.size(); i++)
-            rest[i] = axes_[i].plant->restingAngle(schedules_[i].finalLevel());
-        return chainOrientation(axes_, rest);
+        return std::isnan(tRef) ? restOrientation(true) : orientation(tRef);
     }
     bool isPlantMotion() const CV_OVERRIDE { return false; }
     String getDefaultName() const CV_OVERRIDE { return "dynblur.CameraMotion.Mount"; }
+
+    int axisCount() const CV_OVERRIDE { return int(axes_.size()); }
+    Ptr<Plant> axisPlant(int axis) const CV_OVERRIDE { return axes_[size_t(axis)].plant; }
+    const SwitchSchedule& axisSchedule(int axis) const CV_OVERRIDE { return schedules_[size_t(axis)]; }
+    Ptr<CameraMotion> withPlants(const std::vector<Ptr<Plant>>& plants) const CV_OVERRIDE
+    {
+        std::vector<Axis> axes = axes_;
+        for (size_t i = 0; i < axes.size(); i++)
+            axes[i].plant = plants[i];
+        return makePtr<MountMotion>(axes, schedules_);
+    }
+    Matx33d restOrientation(bool final) const CV_OVERRIDE
+    {
+        std::vector<double> rest(axes_.size());
+        for (size_t i = 0; i < axes_.size(); i++)
+            rest[i] = axes_[i].plant->restingAngle(final ? schedules_[i].finalLevel() : schedules_[i].initialLevel);
+        return chainOrientation(axes_, rest);
+    }
 
 private:
     std::vector<double> jointAngles(double t) const

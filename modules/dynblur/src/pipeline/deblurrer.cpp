@@ -6,6 +6,7 @@
 
 #include "imaging/camera_frame.hpp"
 #include "imaging/psf_generator.hpp"
+#include "motion/axis_chain_motion.hpp"
 #include "motion/camera_motion.hpp"
 #include "motion/corrected_motion.hpp"
 #include "motion/shutter_check.hpp"
@@ -67,8 +68,13 @@ public:
             return deblurPlantFrame(frame, plantMotion->schedule(), shutter, restored, kNaN, tRef, validMask);
         }
         const detail::FrameCorrection corrected = corrector_.correct(input, motion, shutter);
-        const RollingShutter correctedShutter = corrected.correction.correctShutter(shutter);
-        const detail::ViewMotion view = detail::correctedView(motion, corrected.correction, tRef, correctedShutter);
+        const MotionCorrection& c = corrected.correction;
+        const RollingShutter correctedShutter = c.correctShutter(shutter);
+        // A mount's view is its corrected chain's, at its final rest for a NaN tRef, as a plant's.
+        const detail::ViewMotion view =
+            detail::asAxisChainMotion(*motion)
+                ? detail::ViewMotion::of(c.correctMotion(motion), tRef + c.timeOffset, correctedShutter)
+                : detail::correctedView(motion, c, tRef, correctedShutter);
         restoreFrame(input, corrected, view, correctedShutter, restored, validMask);
     }
 

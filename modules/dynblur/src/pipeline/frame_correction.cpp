@@ -4,6 +4,7 @@
 #include "precomp.hpp"
 
 #include "imaging/camera_frame.hpp"
+#include "motion/axis_chain_motion.hpp"
 #include "motion/camera_motion.hpp"
 #include "motion/corrected_motion.hpp"
 #include "motion/shutter_check.hpp"
@@ -69,6 +70,13 @@ FrameCorrection FrameCorrector::correct(const Mat& frame, const Ptr<CameraMotion
                                         const RollingShutter& shutter) const
 {
     FrameCorrection result;
+    if (asAxisChainMotion(*motion))
+    {
+        result.correction = correctMountFrame(frame, motion, shutter);
+        result.window = classifyExposure(result.correction.correctMotion(motion),
+                                         result.correction.correctShutter(shutter));
+        return result;
+    }
     result.correction = correctMeasuredFrame(frame, motion, shutter);
     const RollingShutter corrected = result.correction.correctShutter(shutter);
     checkMotionCovers(motion, corrected.readoutInterval(), "DynamicDeblurrer::deblur", "motion");
@@ -237,8 +245,28 @@ MotionCorrection FrameCorrector::correctPlantFrame(const Mat& input, const Switc
         correction.reason = "still frame: nothing to refine";
         return correction;
     }
-    /* The still that observed the frame's moving rows: before the move for a frame that starts
-       at rest, after it for one that ends at rest, both for one moving throughout. */
+    String against;
+    const std::vector<int> chosen = stillsFor(window, against);
+    std::vector<FitFrame> frames = pairWithStills(input, chosen, shutter);
+    for (size_t i = 0; i < chosen.size(); i++)
+    {
+        const int k = chosen[i];
+        frames[i].schedule = schedule;
+        const double told = plant_->restingAngle(k == 0 ? schedule.initialLevel : schedule.finalLevel());
+        frames[i].referenceAngle = std::isnan(stills_[k].angle) ? told : stills_[k].angle;
+    }
+    FitSettings fit;
+    fit.flags = settings.refinement & REFINE_ALL;
+    // From a recording's calibration only the frame's jitter is left to find: the fine level's fit alone.
+    fit.coarse = !(fit.flags == REFINE_TIME_OFFSET && settings.calibrated);
+    fit.deviation = false;
+    return fitAgainst(frames, against, correction, fit);
+}
+
+/* The still that observed the frame's moving rows: before the move for a frame that starts at rest,
+   after it for one that ends at rest, both for one moving throughout. */
+std::vector<int> FrameCorrector::stillsFor(int window, String& against) const
+{
     std::vector<int> chosen;
     if (window == EXPOSURE_II && stills_[0].present() && stills_[1].present())
         chosen = {0, 1};
@@ -247,27 +275,68 @@ MotionCorrection FrameCorrector::correctPlantFrame(const Mat& input, const Switc
         const int preferred = window == EXPOSURE_I ? 0 : 1;
         chosen.push_back(stills_[preferred].present() ? preferred : 1 - preferred);
     }
-    const LuminancePyramid framePyramid =
-        buildPyramid(linearLuminance(input), camera_, kFitCoarseWidth, false);
+    against = single_               ? "the reference frame"
+              : chosen.size() == 2 ? "the stills before and after the move"
+              : chosen[0] == 0     ? "the still before the move"
+                                   : "the still after the move";
+    return chosen;
+}
+
+std::vector<FitFrame> FrameCorrector::pairWithStills(const Mat& input, const std::vector<int>& chosen,
+                                                     const RollingShutter& shutter) const
+{
+    const LuminancePyramid framePyramid = buildPyramid(linearLuminance(input), camera_, kFitCoarseWidth, false);
     std::vector<FitFrame> frames;
     for (int k : chosen)
     {
         FitFrame pair;
         pair.reference = &stills_[k].pyramid;
         pair.frame = framePyramid;
-        pair.schedule = schedule;
         pair.shutter = shutter;
-        const double told = plant_->restingAngle(k == 0 ? schedule.initialLevel : schedule.finalLevel());
-        pair.referenceAngle = std::isnan(stills_[k].angle) ? told : stills_[k].angle;
         frames.push_back(pair);
     }
-    const String against = single_               ? "the reference frame"
-                           : chosen.size() == 2 ? "the stills before and after the move"
-                           : chosen[0] == 0   ? "the still before the move"
-                                              : "the still after the move";
+    return frames;
+}
+
+/* A mount's frame as a plant's: the calibration, refined (clock, line delay, each axis's plant) against
+   the still at rest that observed its moving rows, and refused as fitAgainst decides. Its stills are
+   the chain at rest, every axis at its initial (before the move) or final (after) resting angle. */
+MotionCorrection FrameCorrector::correctMountFrame(const Mat& input, const Ptr<CameraMotion>& motion,
+                                                   const RollingShutter& shutter) const
+{
+    const char* fn = "DynamicDeblurrer::deblur";
+    MotionCorrection correction = settings.calibration;
+    correction.gyroBias = Vec3d();  // no gyro: the mount's plants make the motion
+    correction.rateScale = 1;
+    if (!stills_[0].present() && !stills_[1].present())
+    {
+        correction.reason = "a mount's motion without a reference frame: the model as told (with the calibration)";
+        return correction;
+    }
+    checkStreamType(fn, input);
+    for (const Still& still : stills_)
+        if (still.present() && !(std::isnan(still.time) && std::isnan(still.angle)))
+            CV_Error(Error::StsBadArg,
+                     format("%s: a mount's frame (Mount::motion) is compared with stills taken at rest, every axis at "
+                            "its resting angle before or after the move: set them with setReferenceFrames(before, "
+                            "after) or setReferenceFrame(still), without an angle or a capture time",
+                            fn));
+    const int window = classifyExposure(correction.correctMotion(motion), correction.correctShutter(shutter));
+    if (window == EXPOSURE_IV)
+    {
+        correction.reason = "still frame: nothing to refine";
+        return correction;
+    }
+    String against;
+    const std::vector<int> chosen = stillsFor(window, against);
+    std::vector<FitFrame> frames = pairWithStills(input, chosen, shutter);
+    for (size_t i = 0; i < chosen.size(); i++)
+    {
+        frames[i].motion = motion;
+        frames[i].referenceOrientation = asAxisChainMotion(*motion)->restOrientation(chosen[i] == 1);
+    }
     FitSettings fit;
-    fit.flags = settings.refinement & REFINE_ALL;
-    // From a recording's calibration only the frame's jitter is left to find: the fine level's fit alone.
+    fit.flags = settings.refinement & refinementFlagsFor(FIT_MOUNT_MOTION);
     fit.coarse = !(fit.flags == REFINE_TIME_OFFSET && settings.calibrated);
     fit.deviation = false;
     return fitAgainst(frames, against, correction, fit);
@@ -338,6 +407,7 @@ MotionCorrection FrameCorrector::fitAgainst(const std::vector<FitFrame>& frames,
         const FitResult result = fitMotionCorrection(plant_, frames, correction, settings);
         correction = result.correction;
         correction.held = result.held;
+        correction.heldParameters = result.heldParameters;
         correction.stillGain = result.gain;
         correction.reason = format("refined against %s (%d forward models; residual %.1f %% below the model as "
                                    "told)",
@@ -346,11 +416,11 @@ MotionCorrection FrameCorrector::fitAgainst(const std::vector<FitFrame>& frames,
             correction.reason += "; not significantly better than the model as told: kept";
         else if (result.unobserved)
             correction.reason += "; not determined by this frame, kept as told: " +
-                                 refinementFlagNames(result.unobserved) +
+                                 parameterNames(result.unobservedParameters) +
                                  " (the frame barely depends on it, or its moving rows see little the still "
                                  "saw)";
         if (!result.unchanged && result.ridge)
-            correction.reason += "; " + refinementFlagNames(result.ridge) +
+            correction.reason += "; " + parameterNames(result.ridgeParameters) +
                                  " trade against each other in this frame: kept as told along that ridge, only "
                                  "the combination the frame observes moved";
         if (result.pinned)

@@ -55,7 +55,9 @@ public:
 
     //! A plant's frame under `schedule`, read by `shutter` as reported.
     FrameCorrection correct(const Mat& frame, const SwitchSchedule& schedule, const RollingShutter& shutter) const;
-    //! A measured motion's frame, read by `shutter` as reported; checks the motion covers the corrected readout.
+    /** A measured motion's frame, read by `shutter` as reported; checks the motion covers the corrected
+        readout. A mount's motion (Mount::motion) is plant-driven: its frame is corrected as a plant's is,
+        against the stills at rest before and after its move, each axis's plant refined. */
     FrameCorrection correct(const Mat& frame, const Ptr<CameraMotion>& motion, const RollingShutter& shutter) const;
 
     /** @brief Checks and keeps the stills (an empty Mat: none on that side), naming each argument as
@@ -98,6 +100,14 @@ private:
                                        const RollingShutter& shutter) const;
     MotionCorrection correctMeasuredFrame(const Mat& frame, const Ptr<CameraMotion>& motion,
                                           const RollingShutter& shutter) const;
+    MotionCorrection correctMountFrame(const Mat& frame, const Ptr<CameraMotion>& motion,
+                                       const RollingShutter& shutter) const;
+    /** The stills a frame in `window` is compared with (0: before the move, 1: after it), and
+        `against`, how the reason names them. */
+    std::vector<int> stillsFor(int window, String& against) const;
+    //! One pair per still in `chosen`: the frame `input`, read by `shutter`, against it.
+    std::vector<FitFrame> pairWithStills(const Mat& input, const std::vector<int>& chosen,
+                                         const RollingShutter& shutter) const;
 
     //! A measured motion's frame checked against its neighbour: `correction` refused when the tracks disagree.
     void checkAgainstNeighbour(const Mat& frame, const Ptr<CameraMotion>& motion, const RollingShutter& shutter,

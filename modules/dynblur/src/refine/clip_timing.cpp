@@ -190,6 +190,10 @@ public:
         calibration.correction = fit.correction;
         calibration.correction.lineDelayScale = lineDelayScale;
         calibration.correction.held = fit.held | unobservedBias;
+        calibration.correction.heldParameters = fit.heldParameters;
+        for (int j = 0; j < detail::kFitParameters; j++)
+            if (detail::kFitTable[j].flag & unobservedBias)
+                calibration.correction.heldParameters |= 1 << j;
         for (int j = 0; j < detail::kFitParameters; j++)
             detail::kFitTable[j].deviation(calibration) = fit.deviation[j];
         calibration.lineDelayScaleStd *= lineDelayScale / fit.correction.lineDelayScale;

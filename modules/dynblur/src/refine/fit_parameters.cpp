@@ -32,17 +32,25 @@ MotionCorrection fromFitUnits(const FitVector& q, const MotionCorrection& like)
     return c;
 }
 
-std::vector<int> flaggedParameters(int flags, bool measured, bool rolling)
+std::vector<int> flaggedParameters(int flags, int motion, bool rolling, int axes)
 {
     std::vector<int> active;
     for (int j = 0; j < kFitParameters; j++)
     {
         const FitParameter& p = kFitTable[j];
-        if ((flags & p.flag) && (p.motions & (measured ? FIT_MEASURED_MOTION : FIT_PLANT_MOTION)) &&
-            (rolling || !p.rollingOnly))
+        if ((flags & p.flag) && (p.motions & motion) && (rolling || !p.rollingOnly) && p.axis < axes)
             active.push_back(j);
     }
     return active;
+}
+
+int flagsOfParameters(int bits)
+{
+    int flags = 0;
+    for (int j = 0; j < kFitParameters; j++)
+        if (bits & (1 << j))
+            flags |= kFitTable[j].flag;
+    return flags;
 }
 
 int allRefinementFlags()
@@ -93,6 +101,15 @@ String refinementFlagList(int flags)
     return joined(perFlag(flags, [](const FitParameter& p) { return format("%s (%d)", p.flagName, p.flag); }));
 }
 
+String parameterNames(int bits)
+{
+    std::vector<String> names;
+    for (int j = 0; j < kFitParameters; j++)
+        if (bits & (1 << j))
+            names.push_back(kFitTable[j].name);
+    return joined(names);
+}
+
 String pinnedNote(int j, double value, double start, double maxTimeOffset)
 {
     const FitParameter& p = kFitTable[j];
@@ -113,8 +130,8 @@ String pinnedNote(int j, double value, double start, double maxTimeOffset)
 }  // namespace detail
 
 RefinementParameter::RefinementParameter()
-    : flag(0), searchHalfWidth(0), plantMotion(false), measuredMotion(false), rollingShutterOnly(false),
-      inRefineAll(false)
+    : flag(0), searchHalfWidth(0), plantMotion(false), mountMotion(false), measuredMotion(false), mountAxis(-1),
+      rollingShutterOnly(false), inRefineAll(false)
 {
 }
 
@@ -132,7 +149,9 @@ std::vector<RefinementParameter> refinementParameters()
         r.unit = p.quantity == detail::FIT_CLOCK_OFFSET ? "s" : p.quantity == detail::FIT_SCALE ? "" : "rad/s";
         r.searchHalfWidth = p.searchHalfWidth * p.unit;
         r.plantMotion = (p.motions & detail::FIT_PLANT_MOTION) != 0;
+        r.mountMotion = (p.motions & detail::FIT_MOUNT_MOTION) != 0;
         r.measuredMotion = (p.motions & detail::FIT_MEASURED_MOTION) != 0;
+        r.mountAxis = p.axis;
         r.rollingShutterOnly = p.rollingOnly;
         r.inRefineAll = p.inRefineAll;
         parameters.push_back(r);

@@ -4,6 +4,7 @@
 #include "precomp.hpp"
 
 #include "imaging/psf_generator.hpp"
+#include "motion/axis_chain_motion.hpp"
 #include "motion/corrected_motion.hpp"
 #include "refine/level_residuals.hpp"
 #include "restore/deconv_operator.hpp"
@@ -115,12 +116,18 @@ void LevelResiduals::predict(size_t i, const MotionCorrection& c, Mat& predicted
     PsfBank bank;
     if (f.motion)
     {
-        // The still lies at its capture time on the same clock as the frame: the offset moves both.
         Ptr<PsfGenerator> generator = PsfGenerator::create(camera);
         generator->setTileGrid(Size(kFitTileColumns, 0));
-        bank = generatePsfBank(*generator, PSF_TILES, correctedView(f.motion, c, f.referenceTime,
-                                                                      shutter),
-                               shutter);
+        ViewMotion view;
+        if (asAxisChainMotion(*f.motion))
+        {
+            // A mount's still is at rest, where its plants' scales do not move it.
+            view.motion = c.correctMotion(f.motion);
+            view.reference = f.referenceOrientation;
+        }
+        else  // the still lies at its capture time on the same clock as the frame: the offset moves both
+            view = correctedView(f.motion, c, f.referenceTime, shutter);
+        bank = generatePsfBank(*generator, PSF_TILES, view, shutter);
     }
     else
     {

@@ -23,10 +23,11 @@ struct FitFrame
     SwitchSchedule schedule;
     RollingShutter shutter;  //!< as reported, full resolution
     double referenceAngle = 0;  //!< radians
-    /** a measured motion (CameraMotion not a plant's; then `schedule` and `referenceAngle` are
-        unused): every frame of a fit has one, or none does */
+    /** a measured motion or a mount's (CameraMotion not a plant's; then `schedule` and `referenceAngle`
+        are unused): every frame of a fit has one of the same kind, or none does */
     Ptr<CameraMotion> motion;
-    double referenceTime = 0;  //!< with `motion`: the still's capture time, the frames' clock, seconds
+    double referenceTime = 0;  //!< with a measured `motion`: the still's capture time, the frames' clock, seconds
+    Matx33d referenceOrientation;  //!< with a mount's `motion`: its still's orientation, the chain at rest
 };
 
 /** @brief The frames' residuals at one pyramid level: (frame − gain × predicted) / σ over each

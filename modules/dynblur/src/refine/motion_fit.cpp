@@ -3,6 +3,7 @@
 // frame; coarse to fine, then the decisions on what the frames did not determine.
 #include "precomp.hpp"
 
+#include "motion/axis_chain_motion.hpp"
 #include "refine/level_fit.hpp"
 #include "refine/motion_fit.hpp"
 
@@ -95,10 +96,34 @@ std::vector<FitVector> scanStarts(LevelResiduals& coarse, const FitBox& box, con
     return starts;
 }
 
+/* The parameters `flags` turns on for `frames` (their motion's kind, their shutters, a mount's axes),
+   less those of a mount's axes that no frame's move turns: no frame observes them, so they keep their
+   start and their bits go to `unobserved`. */
+std::vector<int> activeParameters(const std::vector<FitFrame>& frames, int flags, int& unobserved)
+{
+    bool rolling = false;
+    for (const FitFrame& f : frames)
+        rolling = rolling || f.shutter.lineDelay > 0;
+    const AxisChainMotion* mount = frames[0].motion ? asAxisChainMotion(*frames[0].motion) : nullptr;
+    const int motion = frames[0].motion.empty() ? FIT_PLANT_MOTION : mount ? FIT_MOUNT_MOTION : FIT_MEASURED_MOTION;
+    std::vector<int> active;
+    for (int j : flaggedParameters(flags, motion, rolling, mount ? mount->axisCount() : 1))
+    {
+        bool moves = !mount || kFitTable[j].axis < 0;
+        for (size_t k = 0; k < frames.size() && !moves; k++)
+            moves = asAxisChainMotion(*frames[k].motion)->axisMoves(kFitTable[j].axis);
+        if (moves)
+            active.push_back(j);
+        else
+            unobserved |= 1 << j;
+    }
+    return active;
+}
+
 /* The coarse stage: the offset's scan, a fit from its deepest minima, and the parameters it leaves
    uncertain, whose start explains the frames about as well: not observed by them (their moving rows
    see content the reference never saw), they keep their start rather than the noise's choice and
-   leave `state.active`; their flags go to `unobserved`. */
+   leave `state.active`; their bits (bit j: kFitTable[j]) go to `unobserved`. */
 void fitCoarse(const Ptr<Plant>& plant, const std::vector<FitFrame>& frames, const FitBox& box,
                const FitSettings& settings, FitState& state, int& unobserved)
 {
@@ -135,15 +160,15 @@ void fitCoarse(const Ptr<Plant>& plant, const std::vector<FitFrame>& frames, con
         if (keep)
             observed.push_back(j);
         else
-            state.q[j] = box.prior[j], unobserved |= kFitTable[j].flag;
+            state.q[j] = box.prior[j], unobserved |= 1 << j;
     }
     state.active.swap(observed);
     state.evaluations += coarse.evaluations();
 }
 
-/* Into `held`, the flags of the `observed` parameters that a ridge mixes: a combination whose
-   information from the frames at q is below kRidgeInformation times the prior's (eigenvectors of the
-   information in prior units). `information` receives the eigenvalues, descending. Returns the
+/* Into `held`, the bits (bit j: kFitTable[j]) of the `observed` parameters that a ridge mixes: a
+   combination whose information from the frames at q is below kRidgeInformation times the prior's
+   (eigenvectors of the information in prior units). `information` receives the eigenvalues, descending. Returns the
    parameter to hold first (the last in the table that a ridge mixes: a bias component or ζ, then ωn,
    the line delay and the clock, which varies most from frame to frame), or -1 when there is no ridge. */
 int ridgeParameter(LevelFit& fit, const std::vector<int>& observed, const FitVector& q, int& held, FitVector& information)
@@ -166,7 +191,7 @@ int ridgeParameter(LevelFit& fit, const std::vector<int>& observed, const FitVec
             continue;
         for (int a = 0; a < n; a++)
             if (std::abs(vectors.at<double>(i, a)) > kRidgeMixing)
-                held |= kFitTable[observed[size_t(a)]].flag, hold = std::max(hold, observed[size_t(a)]);
+                held |= 1 << observed[size_t(a)], hold = std::max(hold, observed[size_t(a)]);
     }
     return hold;
 }
@@ -177,13 +202,13 @@ int ridgeParameter(LevelFit& fit, const std::vector<int>& observed, const FitVec
    one, last in the table first (the clock, which varies most from frame to frame, is never held for
    a ridge), and the others are fitted again: only the combination the frames observe moves. */
 void holdRidge(LevelResiduals& fine, const FitBox& box, const FitSettings& settings, FitState& state,
-               FitResult& result)
+               FitResult& result, int& ridge)
 {
     bool refit = false;
     while (state.active.size() > 1)
     {
         LevelFit activeFit(fine, state.active, box);
-        const int hold = ridgeParameter(activeFit, state.active, state.q, result.ridge, result.information);
+        const int hold = ridgeParameter(activeFit, state.active, state.q, ridge, result.information);
         if (hold <= 0)
             break;
         state.active.erase(std::find(state.active.begin(), state.active.end(), hold));
@@ -229,7 +254,7 @@ LevelCost levelCost(LevelResiduals& fine, const MotionCorrection& correction)
 
 /* A parameter the fit left at a search bound was stopped there, not explained by the frames, unless
    the frames barely observe it (ζ where the frame sees no ringing): put back to its start without
-   raising the residual by more than kUnobservedCostRise, it is held there (its flag goes to
+   raising the residual by more than kUnobservedCostRise, it is held there (its bit goes to
    `unobserved`). Returns the parameters that stay at a bound. */
 std::vector<int> releasePinned(LevelResiduals& fine, const FitBox& box, FitState& state, LevelCost& atResult,
                                int& unobserved)
@@ -258,7 +283,7 @@ std::vector<int> releasePinned(LevelResiduals& fine, const FitBox& box, FitState
             LevelCost held = levelCost(fine, fromFitUnits(reset, box.start));
             if (held.cost <= atResult.cost * (1 + kUnobservedCostRise))
             {
-                state.q = reset, unobserved |= kFitTable[j].flag, state.active.swap(others);
+                state.q = reset, unobserved |= 1 << j, state.active.swap(others);
                 std::swap(atResult, held);
                 again = true;  // the others moved: look at the bounds afresh
             }
@@ -273,19 +298,17 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
                               const MotionCorrection& start, const FitSettings& settings)
 {
     CV_Assert(!frames.empty());
-    bool rolling = false;
-    for (const FitFrame& f : frames)
-        rolling = rolling || f.shutter.lineDelay > 0;
     const FitBox box(start, settings.maxTimeOffset);
     FitResult result;
     FitState state;
     state.q = box.prior;
-    state.active = flaggedParameters(settings.flags, !frames[0].motion.empty(), rolling);
+    int unobserved = 0, ridge = 0;  // bit j: kFitTable[j]
+    state.active = activeParameters(frames, settings.flags, unobserved);
     const std::vector<int> tried = state.active;
 
     // Coarse: the offset's scan and a first fit; what the frames do not observe keeps its start.
     if (settings.coarse)
-        fitCoarse(plant, frames, box, settings, state, result.unobserved);
+        fitCoarse(plant, frames, box, settings, state, unobserved);
 
     // Fine: the fit again at the fine level, then what only a ridge determines held at the start.
     LevelResiduals fine(plant, frames, settings.fineWidth);
@@ -294,7 +317,7 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
     if (fine.pixels() > 0)
         state.q = fineFit.run(state.q, settings.coarse ? 5 : 4, state.covariance, nullptr, settings.deviation);
     if (settings.coarse && fine.pixels() > 0)
-        holdRidge(fine, box, settings, state, result);
+        holdRidge(fine, box, settings, state, result, ridge);
 
     /* The decision: the start stays unless the fit explains the frames significantly better
        (significantDrop): a change within what the frames cannot tell apart would only move the
@@ -325,7 +348,7 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
     else
     {
         // A parameter stopped at a search bound: held at its start if the frames barely observe it, else reported.
-        const std::vector<int> pinned = releasePinned(fine, box, state, atResult, result.unobserved);
+        const std::vector<int> pinned = releasePinned(fine, box, state, atResult, unobserved);
         const MotionCorrection c = fromFitUnits(state.q, start);
         for (int j : pinned)
         {
@@ -334,7 +357,12 @@ FitResult fitMotionCorrection(const Ptr<Plant>& plant, const std::vector<FitFram
             result.pinnedNote += pinnedNote(j, kFitTable[j].get(c), kFitTable[j].get(start), settings.maxTimeOffset);
         }
     }
+    result.unobserved = flagsOfParameters(unobserved);
+    result.ridge = flagsOfParameters(ridge);
     result.held = result.unobserved | result.ridge;
+    result.unobservedParameters = unobserved;
+    result.ridgeParameters = ridge;
+    result.heldParameters = unobserved | ridge;
 
     // The result: the correction, its consistency over every frame and each frame's, the deviations.
     result.correction = fromFitUnits(state.q, start);

@@ -38,6 +38,9 @@ struct FitResult
     int unobserved = 0;              //!< MotionRefinement flags of parameters the frames did not determine (kept at the start)
     int ridge = 0;                   //!< MotionRefinement flags of parameters mixed in a combination held at the start (a ridge)
     int held = 0;                    //!< unobserved | ridge
+    int unobservedParameters = 0;    //!< the bits (bit j: kFitTable[j]) of the parameters `unobserved` stands for
+    int ridgeParameters = 0;         //!< the bits of the parameters `ridge` stands for
+    int heldParameters = 0;          //!< unobservedParameters | ridgeParameters
     FitVector information;           //!< eigenvalues of the frames' information in prior units, descending (0 when not analysed)
     int pinned = 0;                  //!< MotionRefinement flags of fitted parameters that ended at a search bound
     double gain = 1;                 //!< the first frame's brightness over its still's at the result

@@ -2,6 +2,7 @@
 // MotionCorrection, TimingCalibration and the calls that estimate them (refinement.hpp).
 #include "precomp.hpp"
 
+#include "motion/axis_chain_motion.hpp"
 #include "motion/camera_motion.hpp"
 #include "motion/corrected_motion.hpp"
 #include "motion/shutter_check.hpp"
@@ -15,10 +16,24 @@ namespace cv {
 namespace dynblur {
 
 MotionCorrection::MotionCorrection()
-    : timeOffset(0), lineDelayScale(1), naturalFreqScale(1), dampingScale(1), rateScale(1),
-      consistency(std::numeric_limits<double>::quiet_NaN()), held(REFINE_NONE), stillGain(1), applied(true)
+    : timeOffset(0), lineDelayScale(1), naturalFreqScale(1), dampingScale(1), axisNaturalFreqScales(1, 1),
+      axisDampingScales(1, 1), rateScale(1), consistency(std::numeric_limits<double>::quiet_NaN()), held(REFINE_NONE),
+      heldParameters(0), stillGain(1), applied(true)
 {
 }
+
+namespace {
+
+//! `plant` itself when both scales are 1, else the linear plant of the scaled ωn and ζ and the same gain.
+Ptr<Plant> scaledPlant(const Ptr<Plant>& plant, double naturalFreqScale, double dampingScale)
+{
+    if (naturalFreqScale == 1 && dampingScale == 1)
+        return plant;
+    return Plant::create(plant->getNaturalFreqHz() * naturalFreqScale, plant->getDampingRatio() * dampingScale,
+                         plant->getGain());
+}
+
+}  // namespace
 
 RollingShutter MotionCorrection::correctShutter(const RollingShutter& shutter) const
 {
@@ -31,10 +46,32 @@ RollingShutter MotionCorrection::correctShutter(const RollingShutter& shutter) c
 Ptr<Plant> MotionCorrection::correctPlant(const Ptr<Plant>& plant) const
 {
     CV_Assert(!plant.empty() && "MotionCorrection::correctPlant: 'plant' is null");
-    if (naturalFreqScale == 1 && dampingScale == 1)
-        return plant;
-    return Plant::create(plant->getNaturalFreqHz() * naturalFreqScale, plant->getDampingRatio() * dampingScale,
-                         plant->getGain());
+    return scaledPlant(plant, naturalFreqScale, dampingScale);
+}
+
+Ptr<CameraMotion> MotionCorrection::correctMotion(const Ptr<CameraMotion>& motion) const
+{
+    CV_Assert(!motion.empty() && "MotionCorrection::correctMotion: 'motion' is null");
+    if (const detail::PlantMotion* plantMotion = detail::asPlantMotion(*motion))
+    {
+        const Ptr<Plant> plant = correctPlant(plantMotion->plant());
+        return plant == plantMotion->plant() ? motion
+                                             : CameraMotion::fromPlant(plant, plantMotion->schedule(), plantMotion->axis());
+    }
+    const detail::AxisChainMotion* mount = detail::asAxisChainMotion(*motion);
+    if (!mount)
+        return motion;
+    std::vector<Ptr<Plant>> plants;
+    bool scaled = false;
+    for (int i = 0; i < mount->axisCount(); i++)
+    {
+        const Ptr<Plant> told = mount->axisPlant(i);
+        plants.push_back(i == 0   ? correctPlant(told)
+                         : i <= 2 ? scaledPlant(told, axisNaturalFreqScales[i - 1], axisDampingScales[i - 1])
+                                  : told);
+        scaled = scaled || plants.back() != told;
+    }
+    return scaled ? mount->withPlants(plants) : motion;
 }
 
 void MotionCorrection::validate() const
@@ -42,8 +79,10 @@ void MotionCorrection::validate() const
     if (!std::isfinite(timeOffset))
         CV_Error(Error::StsOutOfRange, format("MotionCorrection: timeOffset = %g s must be finite", timeOffset));
     const std::pair<const char*, double> scales[] = {
-        {"lineDelayScale", lineDelayScale}, {"naturalFreqScale", naturalFreqScale}, {"dampingScale", dampingScale},
-        {"rateScale", rateScale}};
+        {"lineDelayScale", lineDelayScale},           {"naturalFreqScale", naturalFreqScale},
+        {"dampingScale", dampingScale},               {"axisNaturalFreqScales[0]", axisNaturalFreqScales[0]},
+        {"axisNaturalFreqScales[1]", axisNaturalFreqScales[1]}, {"axisDampingScales[0]", axisDampingScales[0]},
+        {"axisDampingScales[1]", axisDampingScales[1]}, {"rateScale", rateScale}};
     for (const auto& scale : scales)
         if (!(scale.second > 0 && scale.second < 10))
             CV_Error(Error::StsOutOfRange,
@@ -56,7 +95,8 @@ void MotionCorrection::validate() const
 }
 
 TimingCalibration::TimingCalibration()
-    : timeOffsetStd(0), lineDelayScaleStd(0), naturalFreqScaleStd(0), dampingScaleStd(0), rateScaleStd(0),
+    : timeOffsetStd(0), lineDelayScaleStd(0), naturalFreqScaleStd(0), dampingScaleStd(0), axisNaturalFreqScaleStd(0, 0),
+      axisDampingScaleStd(0, 0), rateScaleStd(0),
       axisCorrection(Matx33d::eye()), explainedMotion(std::numeric_limits<double>::quiet_NaN()),
       trackResidualPx(std::numeric_limits<double>::quiet_NaN())
 {
@@ -80,6 +120,16 @@ void TimingCalibration::save(const String& filename) const
             fs << "gyroBias" << std::vector<double>{correction.gyroBias[0], correction.gyroBias[1],
                                                     correction.gyroBias[2]}
                << "gyroBiasStd" << std::vector<double>{gyroBiasStd[0], gyroBiasStd[1], gyroBiasStd[2]};
+        if (correction.axisNaturalFreqScales != Vec2d(1, 1) || correction.axisDampingScales != Vec2d(1, 1) ||
+            axisNaturalFreqScaleStd != Vec2d() || axisDampingScaleStd != Vec2d())  // a mount's axes 1 and 2
+        {
+            const std::pair<const char*, Vec2d> pairs[] = {{"axisNaturalFreqScales", correction.axisNaturalFreqScales},
+                                                           {"axisDampingScales", correction.axisDampingScales},
+                                                           {"axisNaturalFreqScaleStd", axisNaturalFreqScaleStd},
+                                                           {"axisDampingScaleStd", axisDampingScaleStd}};
+            for (const auto& pair : pairs)
+                fs << pair.first << std::vector<double>{pair.second[0], pair.second[1]};
+        }
         if (correction.rateScale != 1 || rateScaleStd != 0)  // a measured motion's
             fs << "rateScale" << correction.rateScale << "rateScaleStd" << rateScaleStd;
         if (axisCorrection != Matx33d::eye())  // a gyro log whose axes the images corrected, row-major
@@ -104,6 +154,21 @@ void TimingCalibration::save(const String& filename) const
         CV_Error(Error::StsError, "TimingCalibration::save: cannot write '" + filename + "'");
     }
 }
+
+namespace {
+
+//! The `count` values of `key` in `file` (read from `filename`), or an error naming both and `what` they are.
+std::vector<double> fixedReals(const ParameterFile& file, const char* key, size_t count, const char* what,
+                               const String& filename)
+{
+    const std::vector<double> values = file.reals(key);
+    if (values.size() != count)
+        CV_Error(Error::StsParseError, format("TimingCalibration::load: '%s': %s has %zu values; %zu (%s) are expected",
+                                              filename.c_str(), key, values.size(), count, what));
+    return values;
+}
+
+}  // namespace
 
 TimingCalibration TimingCalibration::load(const String& filename)
 {
@@ -131,22 +196,18 @@ TimingCalibration TimingCalibration::load(const String& filename)
                                                       {"gyroBiasStd", &calibration.gyroBiasStd}};
     for (const auto& v : vectors)
         if (file.has(v.first))
-        {
-            const std::vector<double> values = file.reals(v.first);
-            if (values.size() != 3)
-                CV_Error(Error::StsParseError, format("TimingCalibration::load: '%s': %s has %zu values; 3 "
-                                                      "(rad/s, camera axes x, y, z) are expected",
-                                                      filename.c_str(), v.first, values.size()));
-            *v.second = Vec3d(values[0], values[1], values[2]);
-        }
+            *v.second = Vec3d(fixedReals(file, v.first, 3, "rad/s, camera axes x, y, z", filename).data());
+    const std::pair<const char*, Vec2d*> pairs[] = {{"axisNaturalFreqScales", &c.axisNaturalFreqScales},
+                                                    {"axisDampingScales", &c.axisDampingScales},
+                                                    {"axisNaturalFreqScaleStd", &calibration.axisNaturalFreqScaleStd},
+                                                    {"axisDampingScaleStd", &calibration.axisDampingScaleStd}};
+    for (const auto& v : pairs)
+        if (file.has(v.first))
+            *v.second = Vec2d(fixedReals(file, v.first, 2, "a mount's axes 1 and 2", filename).data());
     if (file.has("axisCorrection"))
     {
-        const std::vector<double> values = file.reals("axisCorrection");
-        if (values.size() != 9)
-            CV_Error(Error::StsParseError, format("TimingCalibration::load: '%s': axisCorrection has %zu values; 9 "
-                                                  "(a rotation matrix, row-major) are expected",
-                                                  filename.c_str(), values.size()));
-        calibration.axisCorrection = Matx33d(values.data());
+        calibration.axisCorrection =
+            Matx33d(fixedReals(file, "axisCorrection", 9, "a rotation matrix, row-major", filename).data());
         if (!(std::abs(determinant(calibration.axisCorrection) - 1) < 1e-6 &&
               norm(calibration.axisCorrection * calibration.axisCorrection.t() - Matx33d::eye()) < 1e-6))
             CV_Error(Error::StsParseError, format("TimingCalibration::load: '%s': axisCorrection is not a rotation "
@@ -272,11 +333,12 @@ TimingCalibration calibrateFrames(const Ptr<Plant>& plant, const std::vector<det
     calibration.correction = result.correction;
     calibration.correction.reason = format("calibrated over %zu frames", kept.size());
     calibration.correction.held = result.held;
+    calibration.correction.heldParameters = result.heldParameters;
     if (result.held)
-        calibration.correction.reason += format("; the frames cannot separate %s: kept as told along what they "
+        calibration.correction.reason += format("; the frames do not determine %s: kept as told along what they "
                                                 "do not determine (frames at different phases of their moves "
-                                                "separate them)",
-                                                detail::refinementFlagNames(result.held).c_str());
+                                                "separate them; an axis no move turns is not observed)",
+                                                detail::parameterNames(result.heldParameters).c_str());
     if (result.pinned)
         calibration.correction.reason += "; " + result.pinnedNote;
     for (int j = 0; j < detail::kFitParameters; j++)
@@ -392,6 +454,60 @@ TimingCalibration calibrateTiming(const Ptr<CameraMotion>& motion, const Ptr<Cam
     }
     detail::FitSettings settings;
     settings.flags = flags & measurable;
+    settings.maxTimeOffset = maxTimeOffset;
+    settings.coarseWidth = kCoarseWidth;
+    settings.fineWidth = kFineWidth;
+    return calibrateFrames(Ptr<Plant>(), fit, index, n, settings, maxConsistency, fn);
+}
+
+TimingCalibration calibrateTiming(const std::vector<Ptr<CameraMotion>>& motions, const Ptr<CameraModel>& camera,
+                                  InputArrayOfArrays references, InputArrayOfArrays frames,
+                                  const std::vector<RollingShutter>& shutters, int flags,
+                                  const std::vector<int>& referencesAfter, double maxTimeOffset, double maxConsistency)
+{
+    const char* fn = "calibrateTiming";
+    if (camera.empty())
+        CV_Error(Error::StsNullPtr, format("%s: 'camera' is null", fn));
+    checkFlags(flags, detail::refinementFlagsFor(detail::FIT_MOUNT_MOTION), 0, fn);
+    checkSearch(maxTimeOffset, maxConsistency, fn);
+    std::vector<Mat> stills, blurred;
+    references.getMatVector(stills);
+    frames.getMatVector(blurred);
+    const size_t n = blurred.size();
+    if (motions.size() != n || stills.size() != n || shutters.size() != n ||
+        (!referencesAfter.empty() && referencesAfter.size() != n))
+        CV_Error(Error::StsBadSize, format("%s: frames has %zu entries but motions %zu, references %zu, shutters %zu "
+                                           "and referencesAfter %zu (empty or one per frame)",
+                                           fn, n, motions.size(), stills.size(), shutters.size(),
+                                           referencesAfter.size()));
+
+    std::vector<detail::LuminancePyramid> pyramids(n);
+    std::vector<detail::FitFrame> fit;
+    std::vector<size_t> index;
+    for (size_t i = 0; i < n; i++)
+    {
+        const detail::AxisChainMotion* mount = motions[i] ? detail::asAxisChainMotion(*motions[i]) : nullptr;
+        if (!mount)
+            CV_Error(Error::StsBadArg, format("%s: motions[%zu] is %s; each must be a mount's motion (Mount::motion): "
+                                              "calibrate a plant's frames with calibrateTiming(plant, ...), a "
+                                              "measured motion's with calibrateTiming(motion, ...)",
+                                              fn, i, motions[i] ? "not a mount's" : "null"));
+        const int axes = detail::asAxisChainMotion(*motions[0])->axisCount();
+        if (mount->axisCount() != axes)
+            CV_Error(Error::StsBadArg, format("%s: motions[%zu] has %d axes but motions[0] has %d; the frames must "
+                                              "come from one mount",
+                                              fn, i, mount->axisCount(), axes));
+        detail::FitFrame f = pairFrames(stills[i], blurred[i], camera, shutters[i], pyramids[i], fn, int(i),
+                                        kCoarseWidth);
+        if (classifyExposure(motions[i], shutters[i]) == EXPOSURE_IV)
+            continue;  // a still frame says nothing about the motion
+        f.motion = motions[i];
+        f.referenceOrientation = mount->restOrientation(!referencesAfter.empty() && referencesAfter[i] != 0);
+        fit.push_back(std::move(f));
+        index.push_back(i);
+    }
+    detail::FitSettings settings;
+    settings.flags = flags;
     settings.maxTimeOffset = maxTimeOffset;
     settings.coarseWidth = kCoarseWidth;
     settings.fineWidth = kFineWidth;

@@ -217,7 +217,7 @@ TrackFit fitTracks(const Ptr<CameraMotion>& motion, const Ptr<CameraModel>& came
     for (const ClipFrame& f : frames)
         rolling = rolling || f.lineDelay > 0;
     const FitBox box(start, maxTimeOffset);
-    std::vector<int> active = flaggedParameters(flags, true, rolling);
+    std::vector<int> active = flaggedParameters(flags, FIT_MEASURED_MOTION, rolling, 1);
     FitVector q = box.prior;
     FitMatrix covariance = FitMatrix::zeros();
     for (int round = 0; round < kRounds && !residuals.used().empty(); round++)
@@ -234,7 +234,7 @@ TrackFit fitTracks(const Ptr<CameraMotion>& motion, const Ptr<CameraModel>& came
                     std::sqrt(std::max(0.0, covariance(j, j))) <= kFitTable[j].observable)
                     observed.push_back(j);
                 else
-                    result.held |= kFitTable[j].flag, q[j] = box.prior[j];
+                    result.held |= kFitTable[j].flag, result.heldParameters |= 1 << j, q[j] = box.prior[j];
             if (observed.size() < active.size())
             {
                 active.swap(observed);

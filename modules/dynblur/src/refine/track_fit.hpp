@@ -63,6 +63,7 @@ struct TrackFit
     MotionCorrection correction;  //!< relative to the frames' timing as given: timeOffset, scales, bias
     FitVector deviation;          //!< standard deviations in the correction's units (0 when not fitted)
     int held = 0;                 //!< MotionRefinement flags of parameters the tracks did not determine
+    int heldParameters = 0;       //!< their bits (bit j: kFitTable[j])
     double rms = 0;               //!< the inlier pairs' RMS reprojection error, pixels
     std::vector<double> frameRms; //!< each frame's inlier pairs' RMS error, pixels (NaN: none)
     size_t inliers = 0, pairs = 0;

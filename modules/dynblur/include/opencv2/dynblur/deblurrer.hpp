@@ -121,7 +121,12 @@ public:
     the clock offset (within ±15 ms of the calibration), the line delay and, with REFINE_GYRO_BIAS,
     the gyro bias are refined against it (getRefinement; REFINE_PLANT is ignored), and the frame is
     refused or kept as told exactly as for a plant's (the significance test, bound-pinned fits,
-    setConsistencyLimit). The exposure window comes from its rates (classifyExposure).
+    setConsistencyLimit). The exposure window comes from its rates (classifyExposure). A mount's
+    motion (Mount::motion) is plant-driven and restored as a plant's frame is: from the calibration's
+    clock offset, line delay and each axis's plant scales (MotionCorrection::correctMotion), refined
+    against the stills at rest before and after its move (setReferenceFrames without angles: every
+    axis at its resting angle), an axis its move does not turn held (MotionCorrection::heldParameters);
+    a NaN tRef restores the view at every axis's final rest.
     @param frame as for the schedule overload.
     @param motion the camera's motion; its time span must cover the frame's readout (same clock as
            shutter.frameStart), widened by the refinement's search when a still is set.

@@ -25,7 +25,9 @@ enum MotionRefinement
     REFINE_NONE = 0,         //!< use the model as told
     REFINE_TIME_OFFSET = 1,  //!< the offset between the camera's clock and the actuator's (or the motion log's)
     REFINE_LINE_DELAY = 2,   //!< the rolling shutter's line delay (ignored for a global shutter)
-    REFINE_PLANT = 4,        //!< the plant's natural frequency and damping ratio
+    /** the plant's natural frequency and damping ratio; for a mount's motion (Mount::motion), each
+        axis's (up to three axes, base first; further axes are used as told) */
+    REFINE_PLANT = 4,
     REFINE_ALL = 7,          //!< the three above
     /** a measured motion's constant gyro bias (3 components; ignored for a plant's motion). Not in
         REFINE_ALL: a frame observes it mostly through the turn it adds between the still and the
@@ -52,7 +54,11 @@ struct CV_EXPORTS_W_SIMPLE RefinementParameter
         whose search the caller sets (maxTimeOffset) */
     CV_PROP_RW double searchHalfWidth;
     CV_PROP_RW bool plantMotion;         //!< it corrects a plant's motion
+    CV_PROP_RW bool mountMotion;         //!< it corrects a mount's motion (Mount::motion)
     CV_PROP_RW bool measuredMotion;      //!< it corrects a measured motion (a gyro log, orientations)
+    /** the mount axis (0 = base) whose plant it scales; the plant's own scales are axis 0's; -1: it
+        scales no plant */
+    CV_PROP_RW int mountAxis;
     CV_PROP_RW bool rollingShutterOnly;  //!< only a rolling shutter observes it (a global one holds it)
     CV_PROP_RW bool inRefineAll;         //!< REFINE_ALL includes its flag
 };
@@ -72,8 +78,11 @@ told and the one that moved the camera (DESIGN §2, "What is known on real hardw
 
 The corrected shutter starts `timeOffset` later and reads its rows with `lineDelayScale` times the
 line delay (for a measured motion: the frame lies `timeOffset` later on the motion's clock); a
-measured motion turns at `rateScale` times its rates minus `gyroBias`; the corrected plant is the linear second-order plant with `naturalFreqScale` times the
-natural frequency and `dampingScale` times the damping ratio, and the same gain. */
+measured motion turns at `rateScale` times its rates minus `gyroBias`; the corrected plant is the
+linear second-order plant with `naturalFreqScale` times the natural frequency and `dampingScale` times
+the damping ratio, and the same gain. A mount's motion (Mount::motion) is corrected axis by axis: its
+base (axis 0) by naturalFreqScale and dampingScale, axes 1 and 2 by axisNaturalFreqScales and
+axisDampingScales (correctMotion). */
 struct CV_EXPORTS_W_SIMPLE MotionCorrection
 {
     CV_WRAP MotionCorrection();
@@ -81,6 +90,11 @@ struct CV_EXPORTS_W_SIMPLE MotionCorrection
     CV_PROP_RW double lineDelayScale;    //!< × the shutter's lineDelay
     CV_PROP_RW double naturalFreqScale;  //!< × the plant's natural frequency ωn
     CV_PROP_RW double dampingScale;      //!< × the plant's damping ratio ζ
+    /** × the natural frequency of a mount's axes 1 and 2 (the base, axis 0, takes naturalFreqScale);
+        unused for one plant */
+    CV_PROP_RW Vec2d axisNaturalFreqScales;
+    //! × the damping ratio of a mount's axes 1 and 2 (the base takes dampingScale); unused for one plant
+    CV_PROP_RW Vec2d axisDampingScales;
     /** a measured motion's constant gyro bias, rad/s, camera axes: the rates it reports minus the
         true ones, removed from them (to first order about the reference time: the orientation becomes
         Q(t)·exp(−[gyroBias·(t − t_ref)]×)); 0 for a plant's motion */
@@ -107,6 +121,9 @@ struct CV_EXPORTS_W_SIMPLE MotionCorrection
         moved; or one the fit ran to its search bound although the frame barely depends on it (ζ in
         a frame that shows no ringing). REFINE_NONE when every refined parameter was determined. */
     CV_PROP_RW int held;
+    /** the held parameters one by one: bit j set when refinementParameters()[j] was held (`held` names
+        their flags only: a mount's tilt held while its pan was fitted shares REFINE_PLANT with it) */
+    CV_PROP_RW int heldParameters;
     /** the frame's brightness over its still's (least squares at the fit's result: a webcam's
         automatic exposure, a change of lighting); 1 without a still */
     CV_PROP_RW double stillGain;
@@ -126,6 +143,14 @@ struct CV_EXPORTS_W_SIMPLE MotionCorrection
     by the linear plant of its nominal parameters).
     @param plant the plant as told. */
     CV_WRAP Ptr<Plant> correctPlant(const Ptr<Plant>& plant) const;
+    /** @brief A plant-driven motion as corrected: a mount's motion (Mount::motion) with each axis's
+    plant scaled (axis 0 by naturalFreqScale and dampingScale, axes 1 and 2 by axisNaturalFreqScales
+    and axisDampingScales, as correctPlant does; further axes as told), a plant's motion
+    (CameraMotion::fromPlant) with correctPlant's plant; any other motion returned as given (its gyro
+    bias and rate scale apply about a reference time: DynamicDeblurrer and the refinement apply them).
+    The clock offset is not applied here: it moves the shutter (correctShutter).
+    @param motion the motion as told. */
+    CV_WRAP Ptr<CameraMotion> correctMotion(const Ptr<CameraMotion>& motion) const;
     /** @brief Throws cv::Exception naming the field when a value is not finite, a scale is not in
     (0, 10) or a gyroBias component exceeds 1 rad/s. */
     CV_WRAP void validate() const;
@@ -147,6 +172,8 @@ struct CV_EXPORTS_W_SIMPLE TimingCalibration
     CV_PROP_RW double lineDelayScaleStd;    //!< see timeOffsetStd
     CV_PROP_RW double naturalFreqScaleStd;  //!< see timeOffsetStd
     CV_PROP_RW double dampingScaleStd;      //!< see timeOffsetStd
+    CV_PROP_RW Vec2d axisNaturalFreqScaleStd;  //!< see timeOffsetStd (a mount's axes 1 and 2)
+    CV_PROP_RW Vec2d axisDampingScaleStd;      //!< see timeOffsetStd (a mount's axes 1 and 2)
     CV_PROP_RW Vec3d gyroBiasStd;           //!< rad/s, see timeOffsetStd (a measured motion's bias)
     CV_PROP_RW double rateScaleStd;         //!< see timeOffsetStd (a measured motion's rate scale)
     /** the rotation from the gyro log's camera axes (as read) to the camera's that the images
@@ -229,6 +256,34 @@ CV_EXPORTS_W TimingCalibration calibrateTiming(const Ptr<CameraMotion>& motion, 
                                                const std::vector<RollingShutter>& shutters,
                                                const std::vector<RollingShutter>& referenceShutters,
                                                int flags = REFINE_TIME_OFFSET | REFINE_LINE_DELAY,
+                                               double maxTimeOffset = 0.02, double maxConsistency = 3.0);
+
+/** @brief The clock offset, line delay and each axis's natural frequency and damping ratio of a
+recording made with a mount (Mount::motion, one motion per frame: its move), estimated jointly from
+several frames each paired with a still frame taken at rest before or after its move:
+calibrateTiming's fit with the mount's blur in place of one plant's.
+
+A frame's still is the view with every axis at its resting angle before the move (the initial levels)
+or, where `referencesAfter` says so, after it (the final levels). A frame that starts at rest is best
+compared with the still before its move, one that ends at rest with the one after it
+(DynamicDeblurrer::setReferenceFrames). With REFINE_PLANT an axis that no frame's move turns is held at
+its nominal plant (MotionCorrection::heldParameters).
+@param motions each frame's motion, made by Mount::motion (its schedules on the actuators' clock).
+@param camera the camera (its image size is the frames').
+@param references still frames, one per frame (see calibrateTiming).
+@param frames the blurred frames, the same type as their still.
+@param shutters each frame's timing as the camera reports it.
+@param flags MotionRefinement flags among REFINE_TIME_OFFSET, REFINE_LINE_DELAY and REFINE_PLANT;
+       none of them is refused.
+@param referencesAfter one per frame, non-zero: its still was taken after its move; empty: every still
+       before its move.
+@param maxTimeOffset half-width of the offset scan, seconds, in (0, 1].
+@param maxConsistency frames above it at the result are left out of the final fit, > 1. */
+CV_EXPORTS_W TimingCalibration calibrateTiming(const std::vector<Ptr<CameraMotion>>& motions,
+                                               const Ptr<CameraModel>& camera, InputArrayOfArrays references,
+                                               InputArrayOfArrays frames, const std::vector<RollingShutter>& shutters,
+                                               int flags = REFINE_TIME_OFFSET | REFINE_LINE_DELAY,
+                                               const std::vector<int>& referencesAfter = std::vector<int>(),
                                                double maxTimeOffset = 0.02, double maxConsistency = 3.0);
 
 /** @brief The consistency (MotionCorrection::consistency) of candidate corrections with one frame:

@@ -234,6 +234,33 @@ class CameraModel:
     @overload
     def viewToReference(self, points: ArrayLike, rotation: ArrayLike) -> NDArray[np.float64]: ...
 
+MOUNT_COORDINATED: int
+MOUNT_INDEPENDENT: int
+
+class MountMove:
+    schedules: list[SwitchSchedule]
+    fromAngles: list[float]
+    toAngles: list[float]
+    axisSettleTimes: list[float]
+    residualVibration: list[float]
+    settleTime: float
+    peakRate: float
+    pathDeviation: float
+    def __init__(self) -> None: ...
+
+class MountPlanner:
+    @staticmethod
+    def create(mount: Mount, mode: int = 0, minDwell: float = 0.002, coordination: int = 0) -> MountPlanner: ...
+    def plan(self, fromAngles: Sequence[float], toAngles: Sequence[float], startTime: float = 0.0) -> MountMove: ...
+    def planToDirection(self, direction: Sequence[float], fromAngles: Sequence[float],
+                        startTime: float = 0.0) -> MountMove: ...
+    def planToPixel(self, camera: CameraModel, pixel: Sequence[float], fromAngles: Sequence[float],
+                    startTime: float = 0.0) -> MountMove: ...
+    def getMount(self) -> Mount: ...
+    def getMode(self) -> int: ...
+    def getMinDwell(self) -> float: ...
+    def getCoordination(self) -> int: ...
+
 @overload
 def renderBlurred(sharp: ArrayLike, plant: Plant, schedule: SwitchSchedule, camera: CameraModel,
                   shutter: RollingShutter, thetaRef: float = ..., maxStepPx: float = 0.25,

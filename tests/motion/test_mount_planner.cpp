@@ -30,7 +30,10 @@ double slowerSingleAxisSettle(const Ptr<Mount>& mount, int mode, const std::vect
 {
     double slower = 0;
     for (int i = 0; i < 2; i++)
-        slower = std::max(slower, SwitchPlanner::create(mount->getPlant(i), 16, mode)->plan(0, to[size_t(i)]).settleTime);
+    {
+        const Ptr<SwitchPlanner> planner = SwitchPlanner::create(mount->getPlant(i), 16, mode);
+        slower = std::max(slower, planner->plan(0, to[size_t(i)]).settleTime);
+    }
     return slower;
 }
 
@@ -63,9 +66,10 @@ TEST(MountPlannerFigures, DiagonalSaccadeArrivesTogetherAlongAStraighterPath)
         double worstDetuned = 0;
         for (size_t i = 0; i < 2; i++)
             for (double scale : {0.9, 1.1})
-                worstDetuned = std::max(worstDetuned, residualVibration(together.schedules[i],
-                                                                        scale * mount->getPlant(int(i))->getNaturalFreqHz(),
-                                                                        0.12));
+            {
+                const double hz = scale * mount->getPlant(int(i))->getNaturalFreqHz();
+                worstDetuned = std::max(worstDetuned, residualVibration(together.schedules[i], hz, 0.12));
+            }
         std::printf("[ measured ] 10 deg pan + 6 deg tilt, %s: coordinated settle %.1f ms (axes %.1f, %.1f; slower "
                     "single axis %.1f), residual %.2g / %.2g, worst at +-10%% wn %.2f %%, path off its great circle "
                     "%.3f deg (independent %.3f deg), peak |w| %.0f deg/s (independent %.0f)\n",

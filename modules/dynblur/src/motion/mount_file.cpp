@@ -141,7 +141,8 @@ Ptr<Mount> Mount::load(const String& filename)
         }
         catch (const Exception& e)
         {
-            CV_Error(e.code, format("Mount::load: mount file '%s', %s: ", filename.c_str(), key(i, "").c_str()) + e.err);
+            CV_Error(e.code,
+                     format("Mount::load: mount file '%s', %s: ", filename.c_str(), key(i, "").c_str()) + e.err);
         }
     }
     return mount;

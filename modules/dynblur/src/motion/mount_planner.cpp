@@ -147,7 +147,8 @@ private:
         {
             const double reach = planners_[i]->getMaxLevel() * std::abs(planners_[i]->getPlant()->getGain());
             if (!std::isfinite(angles[i]))
-                CV_Error_(Error::StsBadArg, ("MountPlanner: %s[%zu] = %g must be finite (radians)", name, i, angles[i]));
+                CV_Error_(Error::StsBadArg,
+                          ("MountPlanner: %s[%zu] = %g must be finite (radians)", name, i, angles[i]));
             if (std::abs(angles[i]) > reach * (1 + 1e-12))
                 CV_Error_(Error::StsOutOfRange,
                           ("MountPlanner: %s[%zu] = %.6g rad (%.4g deg) is outside axis %zu's range [%.6g, %.6g] rad "

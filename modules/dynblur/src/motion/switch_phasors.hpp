@@ -51,7 +51,7 @@ struct NormalisedPole
 struct Candidate
 {
     std::vector<int> levels;    //!< level switched on at each instant; the last is the target
-    std::vector<double> tau;    //!< normalised instants, tau[0] = 0
+    std::vector<double> tau;    //!< normalised instants from the first switch (the leader's for a delayed follower)
     double settle = 0;          //!< normalised settle time
     double worstVibration = 0;  //!< worst residual vibration over the robust range, fraction of the move
 };

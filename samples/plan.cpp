@@ -68,14 +68,22 @@ static int fail(const std::string& message)
     return 2;
 }
 
-//! The planner names its arguments (fromAngle, toAngle); the user typed --from and --to.
-static std::string inOptionNames(std::string message, bool degrees)
+//! The planners name their arguments (fromAngle(s), toAngle(s)); the user typed --from and --to.
+static std::string withOptionNames(std::string message)
 {
-    for (const auto& names : {std::make_pair(std::string("fromAngle"), std::string("--from")),
+    for (const auto& names : {std::make_pair(std::string("fromAngles"), std::string("--from")),
+                              std::make_pair(std::string("toAngles"), std::string("--to")),
+                              std::make_pair(std::string("fromAngle"), std::string("--from")),
                               std::make_pair(std::string("toAngle"), std::string("--to"))})
         for (size_t at = message.find(names.first); at != std::string::npos; at = message.find(names.first, at))
             message.replace(at, names.first.size(), names.second);
-    return message + (degrees ? " (--from and --to were read in degrees)" : " (--from and --to are radians; --deg reads degrees)");
+    return message;
+}
+
+static std::string inOptionNames(const std::string& message, bool degrees)
+{
+    return withOptionNames(message) +
+           (degrees ? " (--from and --to were read in degrees)" : " (--from and --to are radians; --deg reads degrees)");
 }
 
 //! "10,-6" -> radians, one per axis; throws naming `option` when it is not `count` numbers.
@@ -126,12 +134,7 @@ static int planMount(const dynblur_samples::CliArgs& args)
     }
     catch (const cv::Exception& e)
     {
-        std::string message = e.err;
-        for (const auto& names : {std::make_pair(std::string("fromAngles"), std::string("--from")),
-                                  std::make_pair(std::string("toAngles"), std::string("--to"))})
-            for (size_t at = message.find(names.first); at != std::string::npos; at = message.find(names.first, at))
-                message.replace(at, names.first.size(), names.second);
-        return fail(message);
+        return fail(withOptionNames(e.err));
     }
     const double degree = CV_PI / 180.0;
     std::printf("mount %s: %s move, %s\n", args.str("mount").c_str(), mode.c_str(),

@@ -4,10 +4,11 @@
 //
 //     dynblur_identify_plant response.csv --out plant.yml
 //     dynblur_identify_plant response.csv --schedule move.yml --out plant.yml
+//     dynblur_identify_plant tilt.csv --mount pan_tilt.yml --axis 1
 //     dynblur_identify_plant --simulate sim.csv --hz 12 --zeta 0.1 --delay 0.0123   (a test log)
 //
-// Writes the plant file (naturalFreqHz, dampingRatio, gain, maxLevel; atomically) and a plot of the
-// measured and fitted angle and the residual (PLANT_fit.png).
+// Writes the plant file (naturalFreqHz, dampingRatio, gain, maxLevel; atomically), or axis I's plant
+// into the mount file, and a plot of the measured and fitted angle and the residual (PLANT_fit.png).
 #include "atomic_file.hpp"  // samples/support
 #include "cli_args.hpp"
 #include "plant_file.hpp"
@@ -44,6 +45,11 @@ static CliOptions identifyPlantOptions()
                              "delay between command and motion is fitted and reported)")
         .flag("unknown-start", "fit the delay (the default; accepted for clarity)")
         .option("out", "FILE.yml", "plant.yml", "plant file to write")
+        .option("mount", "FILE.yml", "",
+                "a mount file (Mount::save): the log is axis --axis's step response, and that axis's plant is "
+                "written back into the file (atomically; the other axes and every level range untouched) instead "
+                "of a plant file")
+        .option("axis", "I", "", "the axis of --mount the log belongs to, 0 = the base")
         .option("max-level", "N", "16", "largest |level| the actuator holds, written to the plant file")
         .option("plot", "FILE.png", "", "plot of measured vs fitted theta and the residual (default: OUT_fit.png)")
         .flag("no-png", "do not write the plot")
@@ -63,6 +69,35 @@ static CliOptions identifyPlantOptions()
         .positional()
         .footer("Exit status: 0 identified, 1 bad or unusable log (the message says why), 2 bad usage.");
     return options;
+}
+
+//! A mount file and the axis of it being identified.
+struct MountAxis
+{
+    Ptr<Mount> mount;
+    int index = -1;
+};
+
+static MountAxis loadMountAxis(const std::string& path, int index)
+{
+    MountAxis axis{Mount::load(path), index};
+    if (index < 0 || index >= axis.mount->getAxisCount())
+        CV_Error_(Error::StsOutOfRange, ("--axis %d must lie in [0, %d) (the axes of the mount file '%s')", index,
+                                         axis.mount->getAxisCount(), path.c_str()));
+    return axis;
+}
+
+//! The mount with axis `axis.index`'s plant replaced by `plant`; every other axis as it was.
+static Ptr<Mount> withPlant(const MountAxis& axis, const Ptr<Plant>& plant)
+{
+    Ptr<Mount> mount = Mount::create();
+    for (int i = 0; i < axis.mount->getAxisCount(); i++)
+    {
+        const Vec2i levels = axis.mount->getLevelRange(i);
+        mount->addAxis(axis.mount->getAxis(i), i == axis.index ? plant : axis.mount->getPlant(i), levels[0],
+                       levels[1]);
+    }
+    return mount;
 }
 
 static int usageError(const std::string& message)
@@ -131,8 +166,27 @@ int main(int argc, char** argv)
         if (args.positional().size() != 1)
             return usageError(args.positional().empty() ? "no log file given" : "give exactly one log file");
         const std::string logPath = args.positional()[0];
-        const std::string out = args.str("out");
-        const std::string plotPath = args.str("plot", pathStem(out) + "_fit.png");
+        if (args.has("mount") != args.has("axis"))
+            return usageError("--mount and --axis go together (the mount file and the axis the log belongs to)");
+        if (args.has("mount") && (args.has("out") || args.has("max-level")))
+            return usageError("--out and --max-level do not apply to --mount: the identified plant goes into the "
+                              "mount file, whose level ranges are kept");
+        MountAxis mountAxis;
+        if (args.has("mount"))
+        {
+            try
+            {
+                mountAxis = loadMountAxis(args.str("mount"), args.integer("axis"));
+            }
+            catch (const cv::Exception& e)
+            {
+                std::cerr << "error: " << e.err << "\n";
+                return 1;
+            }
+        }
+        const std::string out = args.has("mount") ? args.str("mount") : args.str("out");
+        const std::string plotPath = args.str(
+            "plot", pathStem(out) + (args.has("mount") ? format("_axis%d", mountAxis.index) : String()) + "_fit.png");
         const int maxLevel = args.integer("max-level");
         if (maxLevel < 1)
             return usageError("--max-level must be >= 1");
@@ -197,7 +251,10 @@ int main(int argc, char** argv)
                                     format(": residual %.3g rad RMS, delay %.2f ms", rms, delay * 1e3);
         try
         {
-            savePlantFile(out, *plant, maxLevel, comment);
+            if (mountAxis.mount.empty())
+                savePlantFile(out, *plant, maxLevel, comment);
+            else
+                withPlant(mountAxis, plant)->save(out);
         }
         catch (const cv::Exception& e)
         {

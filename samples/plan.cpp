@@ -4,6 +4,10 @@
 // read), the predicted trajectory (PREFIX.csv) and a plot of it (PREFIX.png).
 //
 //     dynblur_plan --deg --from 0 --to 10 --mode robust --plant plant.yml --out move
+//
+// With --mount, a move of every axis of a mount (MountPlanner), one schedule file per axis:
+//
+//     dynblur_plan --mount samples/data/pan_tilt.yml --from 0,0 --to 10,6
 #include "cli_args.hpp"  // samples/support
 #include "plant_file.hpp"
 #include "plot.hpp"
@@ -11,11 +15,14 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/dynblur.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -28,8 +35,10 @@ static dynblur_samples::CliOptions planOptions()
     options.synopsis("--to ANGLE [options]")
         .description("Plans a vibration-free move of the piezo-driven camera positioner. Options take --name value or "
                      "--name=value, e.g. --deg --from -5 --to 5 --mode robust.")
-        .option("from", "ANGLE", "0", "start angle, radians (degrees with --deg)")
-        .option("to", "ANGLE", "", "target angle, radians (degrees with --deg); required")
+        .option("from", "ANGLE", "0", "start angle, radians (degrees with --deg); with --mount one per axis, degrees, "
+                                      "comma-separated (default: 0 on every axis)")
+        .option("to", "ANGLE", "", "target angle, radians (degrees with --deg); with --mount one per axis, degrees, "
+                                   "comma-separated (e.g. 10,6 pans 10 and tilts 6); required")
         .flag("deg", "read --from and --to in degrees")
         .option("mode", "NAME", "fast", "fast (shortest settle) or robust (tolerates +-10% error in wn)")
         .option("plant", "FILE.yml", "", "the plant (dynblur_identify_plant writes it; its maxLevel too); otherwise:")
@@ -41,7 +50,14 @@ static dynblur_samples::CliOptions planOptions()
         .option("start", "S", "0", "time of the first switch, seconds")
         .flag("step", "a plain step (one switch to the target level at --start), the response dynblur_identify_plant "
                       "fits, instead of a vibration-free move")
-        .option("out", "PREFIX", "move", "writes PREFIX.yml (the schedule), PREFIX.csv and PREFIX.png")
+        .option("out", "PREFIX", "move", "writes PREFIX.yml (the schedule), PREFIX.csv and PREFIX.png; with --mount "
+                                         "PREFIX_axis0.yml, PREFIX_axis1.yml, ... (default PREFIX: schedule)")
+        .heading("Several axes:")
+        .option("mount", "FILE.yml", "", "a mount file (Mount::save, e.g. samples/data/pan_tilt.yml): plans every "
+                                         "axis from --from to --to (degrees, one per axis); the file gives the plants "
+                                         "and level ranges")
+        .flag("independent", "with --mount: each axis as fast as it can (by default the axes arrive together along a "
+                             "near-straight path)")
         .footer("Exit status: 0 planned, 2 bad usage or a move that cannot be planned (the message says why).");
     return options;
 }
@@ -52,14 +68,103 @@ static int fail(const std::string& message)
     return 2;
 }
 
-//! The planner names its arguments (fromAngle, toAngle); the user typed --from and --to.
-static std::string inOptionNames(std::string message, bool degrees)
+//! The planners name their arguments (fromAngle(s), toAngle(s)); the user typed --from and --to.
+static std::string withOptionNames(std::string message)
 {
-    for (const auto& names : {std::make_pair(std::string("fromAngle"), std::string("--from")),
+    for (const auto& names : {std::make_pair(std::string("fromAngles"), std::string("--from")),
+                              std::make_pair(std::string("toAngles"), std::string("--to")),
+                              std::make_pair(std::string("fromAngle"), std::string("--from")),
                               std::make_pair(std::string("toAngle"), std::string("--to"))})
         for (size_t at = message.find(names.first); at != std::string::npos; at = message.find(names.first, at))
             message.replace(at, names.first.size(), names.second);
-    return message + (degrees ? " (--from and --to were read in degrees)" : " (--from and --to are radians; --deg reads degrees)");
+    return message;
+}
+
+static std::string inOptionNames(const std::string& message, bool degrees)
+{
+    return withOptionNames(message) +
+           (degrees ? " (--from and --to were read in degrees)" : " (--from and --to are radians; --deg reads degrees)");
+}
+
+//! "10,-6" -> radians, one per axis; throws naming `option` when it is not `count` numbers.
+static std::vector<double> degreeList(const std::string& text, const char* option, size_t count)
+{
+    std::vector<double> radians;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');)
+    {
+        char* end = nullptr;
+        const double value = std::strtod(item.c_str(), &end);
+        if (item.empty() || *end != '\0' || !std::isfinite(value))
+            throw std::runtime_error(std::string(option) + " '" + text + "': '" + item + "' is not a number (degrees)");
+        radians.push_back(value * CV_PI / 180.0);
+    }
+    if (radians.size() != count)
+        throw std::runtime_error(format("%s '%s' has %zu angles for the mount's %zu axes (degrees, comma-separated, "
+                                        "base first)",
+                                        option, text.c_str(), radians.size(), count));
+    return radians;
+}
+
+//! Plans a move of every axis of --mount, prints the report and writes one schedule file per axis.
+static int planMount(const dynblur_samples::CliArgs& args)
+{
+    for (const char* option : {"plant", "hz", "zeta", "gain-deg", "max-level", "step", "deg"})
+        if (args.has(option))
+            return fail(std::string("--") + option + " does not apply to --mount (the mount file gives every axis's "
+                                                     "plant and levels; --from and --to are degrees)");
+    if (!args.has("to"))
+        return fail("--to is required (the target angles, degrees, one per axis)");
+    const std::string mode = args.str("mode"), prefix = args.str("out", "schedule");
+    if (mode != "fast" && mode != "robust")
+        return fail("--mode must be 'fast' or 'robust', not '" + mode + "'");
+    Ptr<Mount> mount;
+    MountMove move;
+    try
+    {
+        mount = Mount::load(args.str("mount"));
+        const size_t count = size_t(mount->getAxisCount());
+        const std::vector<double> from =
+            args.has("from") ? degreeList(args.str("from"), "--from", count) : std::vector<double>(count, 0.0);
+        const std::vector<double> to = degreeList(args.str("to"), "--to", count);
+        const Ptr<MountPlanner> planner =
+            MountPlanner::create(mount, mode == "robust" ? PLAN_ROBUST : PLAN_FAST, args.num("min-dwell"),
+                                 args.has("independent") ? MOUNT_INDEPENDENT : MOUNT_COORDINATED);
+        move = planner->plan(from, to, args.num("start"));
+    }
+    catch (const cv::Exception& e)
+    {
+        return fail(withOptionNames(e.err));
+    }
+    const double degree = CV_PI / 180.0;
+    std::printf("mount %s: %s move, %s\n", args.str("mount").c_str(), mode.c_str(),
+                args.has("independent") ? "axes independent" : "axes coordinated");
+    for (size_t i = 0; i < move.schedules.size(); i++)
+    {
+        const SwitchSchedule& s = move.schedules[i];
+        std::printf("axis %zu: %.3f -> %.3f deg, settles in %.2f ms, residual vibration %.3g %%; levels", i,
+                    move.fromAngles[i] / degree, move.toAngles[i] / degree, move.axisSettleTimes[i] * 1e3,
+                    move.residualVibration[i] * 100);
+        for (size_t k = 0; k < s.times.size(); k++)
+            std::printf(" %d at %.3f ms%s", s.levels[k], s.times[k] * 1e3, k + 1 < s.times.size() ? "," : "\n");
+    }
+    std::printf("settle time: %.2f ms (the last axis)\npeak angular rate: %.1f deg/s\n"
+                "path off a straight image line: %.3f deg\n",
+                move.settleTime * 1e3, move.peakRate / degree, move.pathDeviation / degree);
+    for (size_t i = 0; i < move.schedules.size(); i++)
+    {
+        const std::string name = format("%s_axis%zu.yml", prefix.c_str(), i);
+        try
+        {
+            move.schedules[i].save(name);
+        }
+        catch (const cv::Exception& e)
+        {
+            return fail("--out: " + e.err);
+        }
+        std::printf("wrote %s\n", name.c_str());
+    }
+    return 0;
 }
 
 int main(int argc, char** argv)
@@ -75,6 +180,10 @@ int main(int argc, char** argv)
         const dynblur_samples::CliArgs args = options.parse(argc, argv);
         if (options.printHelp(args))
             return 0;
+        if (args.has("mount"))
+            return planMount(args);
+        if (args.has("independent"))
+            return fail("--independent applies to --mount only");
         if (!args.has("to"))
             return fail("--to is required (the target angle)");
         if (args.has("plant") && (args.has("hz") || args.has("zeta") || args.has("gain-deg")))

@@ -5,6 +5,7 @@
 #include <opencv2/dynblur/mount.hpp>
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace dynblur_py {
@@ -26,6 +27,15 @@ head, a gimbal): Q(q) = R_a1(q1)·R_a2(q2)·…, axes in the camera frame at res
             py::arg("axis"), py::arg("plant"), py::arg("minLevel"), py::arg("maxLevel"),
             "Appends an axis carried by the previous ones: its unit vector in the camera frame at rest, its plant "
             "(joint angle in radians) and its actuator's level range.")
+        .def("save", [](const Mount& self, const std::string& filename) { self.save(filename); }, py::arg("filename"),
+             "Writes the mount as a parameter file (YAML, XML or JSON by the extension), atomically: axisCount, then "
+             "per axis i axis<i> (unit, camera frame at rest), axis<i>_naturalFreqHz, axis<i>_dampingRatio, "
+             "axis<i>_gain (rad per level), axis<i>_levels ([min, max]).")
+        .def_static("load", [](const std::string& filename) { return shared(Mount::load(filename)); },
+                    py::arg("filename"),
+                    "Reads a mount written by save; refuses a bad file naming it and the entry (an axis off unit "
+                    "norm by more than 1e-6, parallel axes, a missing plant entry, a level range upside down, an "
+                    "axisCount that does not match).")
         .def("getAxisCount", &Mount::getAxisCount, "The number of axes.")
         .def("getAxis", &Mount::getAxis, py::arg("index"), "The unit axis `index` (0 = base), camera frame at rest.")
         .def("getPlant", [](const Mount& self, int index) { return std::shared_ptr<Plant>(self.getPlant(index)); },

@@ -40,6 +40,7 @@ void bindCameraMotion(py::module_& m);
 void bindMount(py::module_& m);
 void bindGyroLog(py::module_& m);
 void bindCamera(py::module_& m);
+void bindMountPlanner(py::module_& m);
 void bindRefinement(py::module_& m);
 void bindClipTiming(py::module_& m);
 void bindRender(py::module_& m);

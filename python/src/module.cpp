@@ -69,6 +69,7 @@ PYBIND11_MODULE(_dynblur, m)
     bindMount(m);
     bindGyroLog(m);
     bindCamera(m);
+    bindMountPlanner(m);
     bindRefinement(m);
     bindClipTiming(m);
     bindRender(m);

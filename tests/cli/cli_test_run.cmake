@@ -29,12 +29,12 @@ function(expect_written dir who)
   endforeach()
 endfunction()
 
-# read_yaml_numbers(FILE): sets each "name: number" line of FILE (a plant or timing file) as a
+# read_yaml_numbers(FILE): sets each "name: number" line of FILE (a plant, mount or timing file) as a
 # variable of the caller.
 macro(read_yaml_numbers file)
   file(STRINGS ${file} _yaml_lines)
   foreach(_line ${_yaml_lines})
-    if(_line MATCHES "^([a-zA-Z]+): *([-+0-9.eE]+)$")
+    if(_line MATCHES "^([a-zA-Z][a-zA-Z0-9_]*): *([-+0-9.eE]+)$")
       set(${CMAKE_MATCH_1} ${CMAKE_MATCH_2})
     endif()
   endforeach()

@@ -195,7 +195,10 @@ TEST(MountBadInput, ArgumentsAreCheckedAndNamed)
     expectError([&] { mount->addAxis(Vec3d(1, 0, 0), Ptr<Plant>(), 0, 1); }, "plant is empty");
     expectError([&] { mount->addAxis(Vec3d(1, 0, 0), Plant::create(), 5, 1); }, "minLevel = 5 must be <= maxLevel = 1");
     mount->addAxis(Vec3d(0, 1, 0), Plant::create(), -10, 10);
+    expectError([&] { mount->addAxis(Vec3d(0, -2, 1e-7), Plant::create(), -10, 10); },
+                "axis (0, -2, 1e-07) is parallel to axis 0 (0, 1, 0) within 1e-6 rad");
     mount->addAxis(Vec3d(1, 0, 0), Plant::create(), -10, 10);
+    expectError([&] { mount->addAxis(Vec3d(0, 1, 1e-7), Plant::create(), -10, 10); }, "is parallel to axis 0");
     expectError([&] { mount->orientation({0.1}); }, "angles has 1 values for 2 axes");
     expectError([&] { mount->pointing({0.1, kNaN}); }, "angles[1] = nan must be finite");
     expectError([&] { mount->getAxis(2); }, "index = 2 must be in [0, 2)");

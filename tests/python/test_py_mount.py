@@ -45,3 +45,18 @@ def test_bad_input_is_refused(db):
         mount.anglesFor((0, -1, 0))
     with pytest.raises(ValueError, match="plant"):
         mount.addAxis((1, 0, 0), None, 0, 1)
+
+
+def test_mount_file_round_trip_and_refusal(db, tmp_path):
+    mount = pan_tilt(db)
+    path = str(tmp_path / "mount.yml")
+    mount.save(path)
+    back = db.Mount.load(path)
+    assert back.getAxisCount() == 2
+    assert back.getLevelRange(0) == (-200, 200)
+    np.testing.assert_array_equal(back.getAxis(1), (1, 0, 0))
+    assert back.getPlant(1).getNaturalFreqHz() == 11.0
+    bad = tmp_path / "bad.yml"
+    bad.write_text(open(path).read().replace("axis1_levels: [ -120, 120 ]", "axis1_levels: [ 120, -120 ]"))
+    with pytest.raises(Exception, match="axis1_levels must be"):
+        db.Mount.load(str(bad))

@@ -28,6 +28,7 @@ RollingShutter → kernels from PsfGenerator → richardsonLucyVariant → resto
 #include "opencv2/dynblur/planner.hpp"
 #include "opencv2/dynblur/shutter.hpp"
 #include "opencv2/dynblur/camera.hpp"
+#include "opencv2/dynblur/mount_planner.hpp"
 #include "opencv2/dynblur/calibration.hpp"
 #include "opencv2/dynblur/render.hpp"
 #include "opencv2/dynblur/psf.hpp"

@@ -138,8 +138,15 @@ public:
             CV_Error_(Error::StsBadArg,
                       ("Mount::addAxis: minLevel = %d must be <= maxLevel = %d (the actuator's levels)", minLevel,
                        maxLevel));
+        const Vec3d unit = axis * (1 / length);
+        for (size_t i = 0; i < axes_.size(); i++)
+            if (norm(unit.cross(axes_[i].unit)) < 1e-6)  // sin of the angle between them
+                CV_Error_(Error::StsBadArg,
+                          ("Mount::addAxis: axis (%g, %g, %g) is parallel to axis %zu (%g, %g, %g) within 1e-6 rad; "
+                           "the axes of a mount must differ in direction",
+                           axis[0], axis[1], axis[2], i, axes_[i].unit[0], axes_[i].unit[1], axes_[i].unit[2]));
         const double a = plant->restingAngle(minLevel), b = plant->restingAngle(maxLevel);
-        axes_.push_back(Axis{axis * (1 / length), plant, minLevel, maxLevel, Vec2d(std::min(a, b), std::max(a, b))});
+        axes_.push_back(Axis{unit, plant, minLevel, maxLevel, Vec2d(std::min(a, b), std::max(a, b))});
     }
     int getAxisCount() const CV_OVERRIDE { return int(axes_.size()); }
     Vec3d getAxis(int index) const CV_OVERRIDE { return axisAt(index, "getAxis").unit; }
@@ -181,14 +188,13 @@ public:
 
         std::vector<std::vector<double>> candidates;
         const Vec3d a1 = axes_[0].unit;
-        if (axes_.size() == 1 || norm(a1.cross(axes_[1].unit)) < 1e-9)
+        if (axes_.size() == 1)
         {
-            // One axis (or a second parallel to it, held): a turn about a₁ only.
+            // One axis: a turn about a₁ only (addAxis refuses a second axis parallel to it).
             std::vector<double> q = from;
-            const Vec3d carried = axes_.size() == 1 ? p : axisRotation(axes_[1].unit, from[1]) * p;
-            const double q1 = angleAbout(a1, carried, d);
+            const double q1 = angleAbout(a1, p, d);
             q[0] = std::isnan(q1) ? from[0] : q1;
-            if (norm(axisRotation(a1, q[0]) * carried - d) <= 1e-6)
+            if (norm(axisRotation(a1, q[0]) * p - d) <= 1e-6)
                 candidates.push_back(q);
         }
         else

@@ -40,12 +40,30 @@ public:
 
     /** @brief Appends an axis carried by the previous ones.
     @param axis the rotation axis in the camera frame at rest, finite and non-zero (normalised);
-           e.g. (0, 1, 0) pans, (1, 0, 0) tilts, (0, 0, 1) rolls.
+           e.g. (0, 1, 0) pans, (1, 0, 0) tilts, (0, 0, 1) rolls. It must not be parallel (or
+           antiparallel) to an axis already added, within 1e-6 rad: two such axes turn the camera
+           alike, so no angle would tell them apart.
     @param plant the axis's positioner: its response to the axis's schedule is the joint angle,
            radians (positive turns right-handed about `axis`).
     @param minLevel the lowest level the axis's actuator takes.
     @param maxLevel the highest, ≥ minLevel. */
     CV_WRAP virtual void addAxis(const Vec3d& axis, const Ptr<Plant>& plant, int minLevel, int maxLevel) = 0;
+
+    /** @brief Writes the mount as a parameter file (flat YAML, XML or JSON by the extension, as
+    cv::FileStorage writes): `axisCount`, then per axis i `axis<i>` ([x, y, z], unit, camera frame
+    at rest), `axis<i>_naturalFreqHz` (Hz), `axis<i>_dampingRatio`, `axis<i>_gain` (rad per level)
+    and `axis<i>_levels` ([min, max]). Written beside the target and renamed over it, so no reader
+    sees half a file. Every axis's plant must be the linear second-order one of Plant::create (an
+    OdePlant's dynamics have no file form).
+    @param filename the file to write. */
+    CV_WRAP void save(const String& filename) const CV_OVERRIDE;
+
+    /** @brief Reads a mount written by save(), with ParameterFile (never cv::FileStorage's reader).
+    Refuses, naming the file and the entry: a missing or malformed entry, an axis whose norm is off 1
+    by more than 1e-6, two parallel axes, a level range upside down, a plant parameter out of
+    Plant::create's range, and an `axisCount` that does not match the `axis<i>` entries.
+    @param filename the file to read. */
+    CV_WRAP static Ptr<Mount> load(const String& filename);
 
     /** @brief The number of axes. */
     CV_WRAP virtual int getAxisCount() const = 0;

@@ -25,33 +25,40 @@ logs="$build/test-logs"
 mkdir -p "$logs"
 rm -f "$logs"/*.log
 
-echo "[tests] C++ (CTest, GoogleTest); test data: $DYNBLUR_TEST_DATA (required)"
+# stage TEXT: announces a stage, after the time the previous one took (the setup's, first).
+stage_start=$SECONDS
+stage() {
+  echo "[tests] ($((SECONDS - stage_start)) s)"
+  stage_start=$SECONDS
+  echo "[tests] $1"
+}
+stage "C++ (CTest, GoogleTest); test data: $DYNBLUR_TEST_DATA (required)"
 status=0
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)" 2>&1 | tee "$logs/ctest.log" || status=$?
 
-echo "[tests] installed package: an application built against it with find_package and pkg-config"
+stage "installed package: an application built against it with find_package and pkg-config"
 "$here/scripts/install_check.sh" 2>&1 | tee "$logs/install.log" || status=$?
 
-echo "[tests] Python (pytest)"
+stage "Python (pytest)"
 python="$("$here/scripts/python_env.sh")"
 "$python" -m pytest -q -rs "$here/tests/python" 2>&1 | tee "$logs/pytest.log" || status=$?
 
-echo "[tests] C++ built with clang, under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/)"
+stage "C++ built with clang, under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/)"
 "$here/scripts/sanitize.sh" 2>&1 | tee "$logs/ctest-asan.log" || status=$?
 
-echo "[tests] libFuzzer targets: corpus and regressions, then a bounded run each (build-fuzz/)"
+stage "libFuzzer targets: corpus and regressions, then a bounded run each (build-fuzz/)"
 "$here/scripts/fuzz.sh" 2>&1 | tee "$logs/ctest-fuzz.log" || status=$?
 
-echo "[tests] kernels on aarch64 under qemu (scripts/arm_check.sh)"
+stage "kernels on aarch64 under qemu (scripts/arm_check.sh)"
 "$here/scripts/arm_check.sh" 2>&1 | tee "$logs/arm.log" || status=$?
 
-echo "[tests] speed: a few paired rounds, ratios only (scripts/benchmark.sh --ci)"
+stage "speed: a few paired rounds, ratios only (scripts/benchmark.sh --ci)"
 "$here/scripts/benchmark.sh" --ci 2>&1 | tee "$logs/benchmark-ci.log" || status=$?
 
 # CTest marks a skipped test "***Skipped" (a GoogleTest GTEST_SKIP, or a CLI test's DYNBLUR-SKIP
 # line) and one it could not start "***Not Run"; pytest -rs prints a "SKIPPED [n] file:line: reason"
 # summary line per skip.
-echo "[tests] skipped or not run in this run:"
+stage "skipped or not run in this run:"
 skipped="$( { grep -H -E '\*\*\*(Skipped|Not Run)|Disabled' "$logs"/ctest*.log \
                 | sed -E -e 's|^.*/([a-z-]+)\.log: *[0-9]+/[0-9]+ |\1: |' -e 's/ \.{3,}/ /' || true
               grep -H -E '^SKIPPED' "$logs/pytest.log" | sed -E 's|^.*/([a-z-]+)\.log:|\1: |' || true; } )"
@@ -60,6 +67,7 @@ if [ -n "$skipped" ]; then
 else
   echo "  none"
 fi
+echo "[tests] $SECONDS s in all"
 if [ "$status" -eq 0 ]; then
   echo "[tests] PASS"
 else

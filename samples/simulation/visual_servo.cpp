@@ -12,7 +12,6 @@
 #include <visp3/core/vpCameraParameters.h>
 #include <visp3/core/vpImage.h>
 #include <visp3/core/vpPixelMeterConversion.h>
-#include <visp3/detection/vpDetectorAprilTag.h>
 #include <visp3/visual_features/vpFeaturePoint.h>
 #include <visp3/vs/vpServo.h>
 
@@ -130,50 +129,6 @@ double tagMotionPx(const Ptr<Plant>& plant, const SwitchSchedule& history, const
     return farthest;
 }
 
-// ---- detection -----------------------------------------------------------------------------------
-
-// The target's tags in an 8-bit frame. Its centre is the mean of (tag centre − the tag's offset in
-// the target), so a target half out of view still gives a measurement.
-Detection detectTarget(vpDetectorAprilTag& detector, const Mat& grey8, const std::vector<double>& tagOffsets)
-{
-    vpImage<unsigned char> image(static_cast<unsigned>(grey8.rows), static_cast<unsigned>(grey8.cols));
-    for (int y = 0; y < grey8.rows; ++y)
-        std::copy(grey8.ptr<uchar>(y), grey8.ptr<uchar>(y) + grey8.cols, image[static_cast<unsigned>(y)]);
-    Detection detection;
-    if (!detector.detect(image))
-        return detection;
-    std::vector<bool> seen(tagOffsets.size(), false);
-    Point2d sum;
-    for (size_t i = 0; i < detector.getNbObjects(); ++i)
-    {
-        int id = -1;
-        if (std::sscanf(detector.getMessage(i).c_str(), "36h11 id: %d", &id) != 1 || id < 0 ||
-            id >= static_cast<int>(tagOffsets.size()) || seen[static_cast<size_t>(id)])
-            continue;
-        std::vector<Point2d> corners;
-        for (const vpImagePoint& p : detector.getPolygon(i))
-            corners.emplace_back(p.get_u(), p.get_v());
-        if (corners.size() != 4)
-            continue;
-        // The centre of a square seen in perspective is where its diagonals cross (the corners'
-        // mean is off by a fraction of a pixel once the plane is tilted).
-        const Point2d a = corners[0], b = corners[2], c = corners[1], d = corners[3];
-        const Point2d r = b - a, q = d - c;
-        const double denominator = r.x * q.y - r.y * q.x;
-        if (std::abs(denominator) < 1e-9)
-            continue;
-        const double t = ((c - a).x * q.y - (c - a).y * q.x) / denominator;
-        sum += a + t * r - Point2d(0, tagOffsets[static_cast<size_t>(id)]);
-        seen[static_cast<size_t>(id)] = true;
-        detection.corners.push_back(corners);
-    }
-    detection.tagsFound = static_cast<int>(detection.corners.size());
-    detection.found = detection.tagsFound == static_cast<int>(tagOffsets.size());
-    if (detection.tagsFound > 0)
-        detection.centre = sum / detection.tagsFound;
-    return detection;
-}
-
 // ---- the positioner: the plant directly, or the actuator controller over the bus ------------------
 
 class Positioner
@@ -288,7 +243,7 @@ ServoConfig trackingScenario(int places, int cyclesPerTarget, unsigned seed, dou
     return config;
 }
 
-ServoReport runVisualServo(const ServoConfig& config, const std::function<void(const ServoReport&)>& progress)
+void checkServoConfig(const ServoConfig& config)
 {
     CV_CheckGT(config.cycles, 0, "cycles");
     CV_CheckGT(config.framesPerCycle, 0, "frames per cycle");
@@ -303,6 +258,11 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
     // The target must fit in half the frame's height so that it stays in view while the servo works.
     CV_CheckLE((9 * (config.targetTags - 1) + 10) * config.tagCellPx, config.imageSize.height / 2,
                "target height (tags x tag cell)");
+}
+
+ServoReport runVisualServo(const ServoConfig& config, const std::function<void(const ServoReport&)>& progress)
+{
+    checkServoConfig(config);
     const std::vector<double> targetsDeg = config.targetsDeg.empty() ? std::vector<double>{config.startOffsetDeg}
                                                                       : config.targetsDeg;
     double farthestDeg = 0;
@@ -349,11 +309,7 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
     dof[3] = 1.0;  // the positioner turns the camera about its +x axis (DESIGN §2)
     task.setCameraDoF(dof);
     task.addFeature(s, sStar);
-    /* One detector, default settings, for the raw and the restored frames alike; one thread, so its
-       output does not depend on how the threads interleave (the closed loop would amplify any
-       difference into another trajectory). */
-    vpDetectorAprilTag detector(vpDetectorAprilTag::TAG_36h11);
-    detector.setAprilTagNbThreads(1);
+    TargetDetector detector;  // one for the raw and the restored frames alike
 
     const double period = 1.0 / config.fps;
     // "Moving" for this camera: more than 0.25 px off the final view, or faster than 0.2 px per
@@ -409,8 +365,8 @@ ServoReport runVisualServo(const ServoConfig& config, const std::function<void(c
             frame.restoreSec = (static_cast<double>(getTickCount()) - t0) / getTickFrequency();
         }
         const Mat raw8 = toGrey8(noisy), restored8 = toGrey8(restored);
-        frame.raw = detectTarget(detector, raw8, world.tagOffsets);
-        frame.restored = detectTarget(detector, restored8, world.tagOffsets);
+        frame.raw = detector.detect(raw8, world.tagOffsets);
+        frame.restored = detector.detect(restored8, world.tagOffsets);
         if (config.keepImages)
         {
             frame.rawImage = raw8;
@@ -672,6 +628,12 @@ void writeServoOutputs(const ServoReport& report, const std::string& outDir)
         if (!csv)
             CV_Error(Error::StsError, "cannot write " + outDir + "/cycles.csv");
     }
+    writeServoFigures(report, outDir);
+}
+
+void writeServoFigures(const ServoReport& report, const std::string& outDir)
+{
+    utils::fs::createDirectories(outDir);
     {
         std::ofstream csv(outDir + "/frames.csv");
         csv << "cycle,target,frame,frame_start_s,window,theta_deg,tag_motion_px,raw_found,raw_u,raw_v,restored_found,"

@@ -15,6 +15,8 @@
 #ifndef DYNBLUR_SAMPLES_VISUAL_SERVO_HPP
 #define DYNBLUR_SAMPLES_VISUAL_SERVO_HPP
 
+#include "target_detector.hpp"
+
 #include <opencv2/dynblur.hpp>
 
 #include <functional>
@@ -79,14 +81,6 @@ struct ServoConfig
     double busTimeout = 0.5;         //!< seconds
 };
 
-struct Detection
-{
-    bool found = false;                 //!< every tag of the target was found
-    int tagsFound = 0;
-    cv::Point2d centre;                 //!< the target's centre, pixels (from the tags found, when tagsFound > 0)
-    std::vector<std::vector<cv::Point2d>> corners;  //!< each tag found: its four corners, pixels
-};
-
 struct ServoFrame
 {
     int cycle = 0;                //!< the cycle whose saccade the frame saw (-1 or c − 1: taken before cycle c moved)
@@ -146,6 +140,10 @@ each; each cycle's latency jitters over one frame period. Other fields keep thei
 ServoConfig trackingScenario(int places, int cyclesPerTarget = 3, unsigned seed = 1u, double startOffsetDeg = 5.0,
                              double minJumpDeg = 3.0, double maxJumpDeg = 6.0, double limitDeg = 12.0);
 
+/** Throws cv::Exception naming the field of `config` that no loop can run with (counts, gains, the
+target's tags, its size against the frame, the dead band, the latency). */
+void checkServoConfig(const ServoConfig& config);
+
 /** Runs the loop. @param progress called after each cycle (may be empty). Throws cv::Exception or
 std::runtime_error on bad configuration or a bus failure. */
 ServoReport runVisualServo(const ServoConfig& config,
@@ -175,6 +173,8 @@ frames of windows I–III with detections drawn: per window up to four frames wh
 blurred, from the most to the least blurred) and detection.png (bar chart: target found raw vs
 restored per window) into outDir. */
 void writeServoOutputs(const ServoReport& report, const std::string& outDir);
+//! What writeServoOutputs writes but cycles.csv: frames.csv, error.png, strip.png and detection.png.
+void writeServoFigures(const ServoReport& report, const std::string& outDir);
 
 }  // namespace dynblur_samples
 

@@ -28,18 +28,31 @@ echo "[fuzz] corpus and regression inputs, once each (CTest)"
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)"
 
 [ "$seconds" -gt 0 ] || exit 0
-echo "[fuzz] fuzzing each target for $seconds s"
+echo "[fuzz] fuzzing each target for $seconds s, $(nproc) at a time"
+# fuzz_one TARGET: fuzzes one target for $seconds s into its log, build/fuzz_TARGET.log, and writes
+# its exit status to build/fuzz_TARGET.status.
+fuzz_one() {
+  local t="$1" work="$build/fuzz-corpus/$1" artifacts="$build/artifacts/$1"
+  mkdir -p "$work" "$artifacts"
+  local inputs=("$work" "$here/fuzz/corpus/$t")
+  [ -d "$here/fuzz/regressions/$t" ] && inputs+=("$here/fuzz/regressions/$t")
+  local rc=0
+  # -close_fd_mask=1: the target's stdout (ViSP prints every camera it finds) is not logged.
+  "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+    -close_fd_mask=1 -artifact_prefix="$artifacts/" "${inputs[@]}" >"$build/fuzz_$t.log" 2>&1 || rc=$?
+  echo "$rc" >"$build/fuzz_$t.status"
+}
+for t in "${targets[@]}"; do
+  rm -f "$build/fuzz_$t.status"
+  while [ "$(jobs -rp | wc -l)" -ge "$(nproc)" ]; do wait -n || true; done
+  fuzz_one "$t" &
+done
+wait
 status=0
 summary=()
 for t in "${targets[@]}"; do
-  work="$build/fuzz-corpus/$t" artifacts="$build/artifacts/$t"
-  mkdir -p "$work" "$artifacts"
-  inputs=("$work" "$here/fuzz/corpus/$t")
-  [ -d "$here/fuzz/regressions/$t" ] && inputs+=("$here/fuzz/regressions/$t")
-  log="$build/fuzz_$t.log"
-  # -close_fd_mask=1: the target's stdout (ViSP prints every camera it finds) is not logged.
-  if "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
-       -close_fd_mask=1 -artifact_prefix="$artifacts/" "${inputs[@]}" >"$log" 2>&1; then
+  log="$build/fuzz_$t.log" artifacts="$build/artifacts/$t"
+  if [ "$(cat "$build/fuzz_$t.status" 2>/dev/null)" = 0 ]; then
     result=ok
   else
     result=FAILED

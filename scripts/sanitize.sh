@@ -40,9 +40,9 @@ source "$here/scripts/sanitizer_env.sh"
 # scripts/figure_tests.regex, 30 s to 2 min each under ASan on this 2-core machine, about three
 # quarters of the suite's time, whose code paths the lighter tests cover (PSF generation, rendering,
 # RL and the deblurring pipeline on small frames). Every parser, bus/driver, planner, plant and
-# deconv test stays.
+# deconv test stays. Also left out: the few tests in scripts/sanitize_skip.regex, each with its reason.
 # DYNBLUR_ASAN_CTEST_EXCLUDE replaces the list ("" runs everything).
-default_exclude="$(grep -v '^#' "$here/scripts/figure_tests.regex" | paste -sd'|')"
+default_exclude="$(cat "$here/scripts/figure_tests.regex" "$here/scripts/sanitize_skip.regex" | grep -v '^#' | paste -sd'|')"
 exclude="${DYNBLUR_ASAN_CTEST_EXCLUDE-$default_exclude}"
 echo "[sanitize] C++ tests under ASan + UBSan (CTest${exclude:+, without the heavy quality tests})"
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)" ${exclude:+-E "$exclude"}

@@ -21,12 +21,12 @@ namespace dynblur_test {
    rest). */
 struct MountScene
 {
+    static constexpr int marginX = 140, marginY = 96;
     cv::Ptr<cv::dynblur::CameraModel> camera = cv::dynblur::CameraModel::create(615, 615, 319.5, 239.5, 640, 480);
     cv::Mat sceneLinear, truth;
 
     explicit MountScene(const std::string& path)
     {
-        const int marginX = 140, marginY = 96;
         const cv::Size size(640 + 2 * marginX, 480 + 2 * marginY);
         const cv::Mat image = cv::imread(path, cv::IMREAD_COLOR);
         cv::Mat scaled;
@@ -36,6 +36,12 @@ struct MountScene
             cv::Rect((scaled.cols - size.width) / 2, (scaled.rows - size.height) / 2, size.width, size.height));
         cv::dynblur::srgbToLinear(scene, sceneLinear);
         truth = scene(cv::Rect(marginX, marginY, 640, 480)).clone();
+    }
+
+    //! A synthetic scene: `linear`, CV_32FC3, of the frame's size widened by the margins.
+    explicit MountScene(const cv::Mat& linear) : sceneLinear(linear)
+    {
+        cv::dynblur::linearToSrgb(linear(cv::Rect(marginX, marginY, 640, 480)), truth, CV_8U);
     }
 
     /* The 8-bit frame `motion` blurs, read by `shutter`: physical blur, sensor noise, sRGB. `truth` is

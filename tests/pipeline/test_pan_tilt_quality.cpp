@@ -302,3 +302,11 @@ TEST_P(PanTiltQuality, DISABLED_WindowITileColumns)
                     imageName(file).c_str(), grids[k].width, grids[k].height,
                     maskedPsnr(scene.truth, restored[k], judged, 255));
 }
+
+INSTANTIATE_TEST_SUITE_P(, PanTiltQuality,
+                         testing::Combine(testing::ValuesIn(kTiltHz),
+                                          testing::Values("building.jpg", "fruits.jpg", "baboon.jpg")),
+                         [](const testing::TestParamInfo<PanTiltQuality::ParamType>& info) {
+                             return format("tilt%.0fHz_%s", std::get<0>(info.param),
+                                           imageName(std::get<1>(info.param)).c_str());
+                         });

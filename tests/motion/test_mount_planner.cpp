@@ -5,25 +5,18 @@
 
 #include <opencv2/dynblur.hpp>
 
+#include "pan_tilt.hpp"
 #include "test_common.hpp"
 
 #include <cstdio>
 
 using namespace cv;
 using namespace cv::dynblur;
+using dynblur_test::seedPanTilt;
 
 namespace {
 
 const double kDeg = CV_PI / 180;
-
-//! Pan about y and tilt about x, the seed's plant (ζ 0.12, 1°/level, ±16) at `panHz` and `tiltHz`.
-Ptr<Mount> seedPanTilt(double panHz, double tiltHz)
-{
-    Ptr<Mount> mount = Mount::create();
-    mount->addAxis(Vec3d(0, 1, 0), Plant::create(panHz, 0.12, kDeg), -16, 16);
-    mount->addAxis(Vec3d(1, 0, 0), Plant::create(tiltHz, 0.12, kDeg), -16, 16);
-    return mount;
-}
 
 //! The settle time of the slower of the two axes' own fastest moves, s.
 double slowerSingleAxisSettle(const Ptr<Mount>& mount, int mode, const std::vector<double>& to)

@@ -4,6 +4,7 @@
 #include "test_common.hpp"
 
 #include "image_metrics.hpp"
+#include "mount_scene.hpp"
 
 #include <opencv2/dynblur.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -15,6 +16,8 @@ using namespace cv;
 using namespace cv::dynblur;
 using dynblur_samples::maskedPsnr;
 using dynblur_test::expectErrorNaming;
+using dynblur_test::MountScene;
+using dynblur_test::shutterInWindow;
 
 namespace {
 
@@ -53,59 +56,6 @@ std::vector<SwitchSchedule> saccade(double panDeg, double tiltDeg)
 // The truth: pan ωn +3 %, ζ +10 %; tilt ωn −3 %, ζ −10 %; the camera's clock 1 ms late.
 const AxisDrift kPanDrift{1.03, 1.10}, kTiltDrift{0.97, 0.90};
 const double kClockOffset = 1e-3;
-
-/* A C270 at half resolution (640×480, f = 615 px) before a natural image that covers every view of a
-   10° pan and 6° tilt; the sharp view is the mount's final rest. */
-struct MountScene
-{
-    Ptr<CameraModel> camera = CameraModel::create(615, 615, 319.5, 239.5, 640, 480);
-    Mat sceneLinear, truth;
-
-    explicit MountScene(const std::string& path)
-    {
-        const int marginX = 140, marginY = 96;
-        const Size size(640 + 2 * marginX, 480 + 2 * marginY);
-        const Mat image = imread(path, IMREAD_COLOR);
-        Mat scaled;
-        const double zoom = std::max(1.0 * size.width / image.cols, 1.0 * size.height / image.rows);
-        resize(image, scaled, Size(), zoom, zoom, INTER_CUBIC);
-        const Mat scene =
-            scaled(Rect((scaled.cols - size.width) / 2, (scaled.rows - size.height) / 2, size.width, size.height));
-        srgbToLinear(scene, sceneLinear);
-        truth = scene(Rect(marginX, marginY, 640, 480)).clone();
-    }
-
-    //! The 8-bit frame `motion` blurs, read by `shutter`: physical blur, sensor noise, sRGB.
-    Mat capture(const Ptr<CameraMotion>& motion, const RollingShutter& shutter, uint64 seed) const
-    {
-        Mat blurred, noisy, frame;
-        renderBlurred(sceneLinear, motion, camera, shutter, blurred);
-        addSensorNoise(blurred, noisy, 4000.0, 8.0, 5.0, seed);
-        linearToSrgb(noisy, frame, CV_8U);
-        return frame;
-    }
-};
-
-//! The middle of the run of frame starts (0.25 ms steps) whose frame under `motion` is in `window`.
-RollingShutter shutterInWindow(const Ptr<CameraMotion>& motion, int window, double lineDelay)
-{
-    RollingShutter shutter(0.0, 0.008, lineDelay, 480);
-    double first = 0, last = 0;
-    bool found = false;
-    for (double start = -0.05; start < 0.3; start += 2.5e-4)
-    {
-        shutter.frameStart = start;
-        const bool in = classifyExposure(motion, shutter) == window;
-        if (in && !found)
-            first = start, found = true;
-        if (found && !in)
-            break;
-        last = start;
-    }
-    EXPECT_TRUE(found) << "no frame start gives window " << window;
-    shutter.frameStart = 0.5 * (first + last);
-    return shutter;
-}
 
 //! A frame of a drifted mount's move, its stills at rest before and after it, and the motions told and true.
 struct MountFrame

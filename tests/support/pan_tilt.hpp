@@ -19,6 +19,16 @@ inline cv::Ptr<cv::dynblur::Mount> panTilt()
     return mount;
 }
 
+/* The issue's pan-tilt head: pan about y (base) carries tilt about x, each the seed's positioner (ζ 0.12,
+   1° per level, levels ±16) at `panHz` and `tiltHz`. */
+inline cv::Ptr<cv::dynblur::Mount> seedPanTilt(double panHz, double tiltHz)
+{
+    cv::Ptr<cv::dynblur::Mount> mount = cv::dynblur::Mount::create();
+    mount->addAxis(cv::Vec3d(0, 1, 0), cv::dynblur::Plant::create(panHz, 0.12, CV_PI / 180), -16, 16);
+    mount->addAxis(cv::Vec3d(1, 0, 0), cv::dynblur::Plant::create(tiltHz, 0.12, CV_PI / 180), -16, 16);
+    return mount;
+}
+
 //! A move planned for each axis of `mount` from rest at `fromDeg` to `toDeg` (degrees), starting at `start` s.
 inline std::vector<cv::dynblur::SwitchSchedule> plannedMoves(const cv::Ptr<cv::dynblur::Mount>& mount,
                                                              const std::vector<double>& fromDeg,

@@ -4,8 +4,10 @@
 // With no arguments: plans a 10° saccade on the seed's positioner, renders what a C270-like
 // rolling-shutter webcam (1280×960 RGB, 30 fps readout) records in exposure windows I, II and III
 // and what a global shutter records, restores each frame with the seed's uniform PSF and with
-// the spatially variant pipeline, prints PSNR/SSIM/timings, and writes pictures to --out.
+// the spatially variant pipeline, then a hand-held frame restored from its gyro log and a pan-tilt
+// head's diagonal saccade, prints PSNR/SSIM/timings, and writes pictures to --out.
 // With --frame: restores one real frame from its schedule, camera and plant files.
+#include "demo/demo_panels.hpp"
 #include "frame_timing.hpp"
 #include "image_metrics.hpp"
 #include "cli_args.hpp"
@@ -25,6 +27,7 @@
 using namespace cv;
 using namespace cv::dynblur;
 using namespace dynblur_samples;
+using namespace dynblur_demo;
 
 namespace {
 
@@ -70,30 +73,6 @@ struct Case
 Ptr<CameraModel> defaultCamera()
 {
     return CameraModel::create(1230.0, 1230.0, 639.5, 479.5, 1280, 960);
-}
-
-// Pixels the frame never observed, hatched so nobody mistakes the fill for restored content.
-Mat shadeUnobserved(const Mat& image, const Mat& valid)
-{
-    Mat shaded = image.clone(), grey(image.size(), image.type(), Scalar::all(90));
-    for (int y = 0; y < image.rows; ++y)
-        for (int x = 0; x < image.cols; ++x)
-            if (((x + y) / 6) % 2 == 0)
-                grey.at<Vec3b>(y, x) = Vec3b(140, 140, 140);
-    addWeighted(image, 0.35, grey, 0.65, 0.0, grey);
-    grey.copyTo(shaded, valid == 0);
-    return shaded;
-}
-
-Mat labelled(const Mat& image, const std::string& text, int width)
-{
-    Mat small;
-    resize(image, small, Size(width, image.rows * width / image.cols), 0, 0, INTER_AREA);
-    if (small.channels() == 1)
-        cvtColor(small, small, COLOR_GRAY2BGR);
-    rectangle(small, Rect(0, 0, width, 24), Scalar(0, 0, 0), FILLED);
-    putText(small, text, Point(6, 17), FONT_HERSHEY_SIMPLEX, 0.5, Scalar(255, 255, 255), 1, LINE_AA);
-    return small;
 }
 
 /* The kernels of a bank as a grid laid out like the frame: at most maxRows × maxCols nodes, evenly
@@ -279,15 +258,9 @@ void runHandHeld(const Ptr<CameraModel>& camera, const Mat& scene, double lineDe
     variantTimer.start();
     variant->deblur(frame, gyro, shutter, restoredVariant, std::numeric_limits<double>::quiet_NaN(), valid);
     variantTimer.stop();
-    Mat judged = valid.clone();
-    judged(Rect(0, 0, judged.cols, 8)).setTo(0);
-    judged(Rect(0, judged.rows - 8, judged.cols, 8)).setTo(0);
-    tableRows.push_back(format("%-22s %6s | %7.2f dB %6.3f | %7.2f dB %6.3f | %7.2f dB %6.3f | %7.0f ms %7.0f ms",
-                               "hand-held, gyro log", exposureWindowName(variant->getLastExposureWindow()),
-                               maskedPsnr(truth, frame, judged, 255), maskedSsim(truth, frame, judged),
-                               maskedPsnr(truth, restoredUniform, judged, 255), maskedSsim(truth, restoredUniform, judged),
-                               maskedPsnr(truth, restoredVariant, judged, 255), maskedSsim(truth, restoredVariant, judged),
-                               uniformTimer.getTimeMilli(), variantTimer.getTimeMilli()));
+    tableRows.push_back(tableRow("hand-held, gyro log", variant->getLastExposureWindow(), truth, frame, restoredUniform,
+                                 restoredVariant, judgedPixels(valid), uniformTimer.getTimeMilli(),
+                                 variantTimer.getTimeMilli()));
     const int cellWidth = 400;
     std::vector<Mat> cells{labelled(frame, "hand-held (3-axis shake): blurred", cellWidth),
                            labelled(shadeUnobserved(restoredUniform, valid), "single PSF (seed)", cellWidth),
@@ -386,9 +359,7 @@ void runDriftedHardware(const Ptr<Plant>& plant, const Ptr<CameraModel>& camera,
     restore(plant, told, false, nominal, unused, nullptr);
     const double refineMs = restore(plant, told, true, refined, unused, &found);
     restore(truePlant, happened, false, knowing, valid, nullptr);
-    Mat judged = valid.clone();
-    judged(Rect(0, 0, judged.cols, 8)).setTo(0);
-    judged(Rect(0, judged.rows - 8, judged.cols, 8)).setTo(0);
+    const Mat judged = judgedPixels(valid);
     std::printf("%-22s | %-17s | %-17s | %-17s | %-17s\n", "drifted hardware", "blurred PSNR/SSIM",
                 "nominal PSNR/SSIM", "refined PSNR/SSIM", "truth PSNR/SSIM");
     std::printf("%-22s | %7.2f dB %6.3f | %7.2f dB %6.3f | %7.2f dB %6.3f | %7.2f dB %6.3f\n", "rolling, window III",
@@ -544,15 +515,9 @@ int runSynthetic(const CliArgs& args)
         variantTimer.stop();
 
         // All three are judged on the same pixels: those the frame observed, away from the frame edge.
-        Mat judged = valid.clone();
-        judged(Rect(0, 0, judged.cols, 8)).setTo(0);
-        judged(Rect(0, judged.rows - 8, judged.cols, 8)).setTo(0);
-        tableRows.push_back(format("%-22s %6s | %7.2f dB %6.3f | %7.2f dB %6.3f | %7.2f dB %6.3f | %7.0f ms %7.0f ms", c.name.c_str(),
-                    exposureWindowName(variant->getLastExposureWindow()), maskedPsnr(truth, frame, judged, 255),
-                    maskedSsim(truth, frame, judged), maskedPsnr(truth, restoredUniform, judged, 255),
-                    maskedSsim(truth, restoredUniform, judged), maskedPsnr(truth, restoredVariant, judged, 255),
-                    maskedSsim(truth, restoredVariant, judged), uniformTimer.getTimeMilli(),
-                    variantTimer.getTimeMilli()));
+        tableRows.push_back(tableRow(c.name, variant->getLastExposureWindow(), truth, frame, restoredUniform,
+                                     restoredVariant, judgedPixels(valid), uniformTimer.getTimeMilli(),
+                                     variantTimer.getTimeMilli()));
 
         const std::string stem = outDir + format("/frame%zu", i + 1);
         imwrite(stem + "_blurred.png", frame);
@@ -571,6 +536,7 @@ int runSynthetic(const CliArgs& args)
             imwrite(outDir + "/psf_bank.png", psfMontage(variant->getLastPsfBank(), 6, 8));
     }
     runHandHeld(camera, scene, lineDelay, params, outDir, panelRows, tableRows);
+    runPanTilt(camera, scene, exposure, lineDelay, params, panelRows, tableRows);
     if (!panelRows.empty())
     {
         Mat panel;
@@ -584,7 +550,7 @@ int runSynthetic(const CliArgs& args)
         std::printf("%s\n", row.c_str());
     writeTrajectoryPlot(outDir + "/trajectory.png", plant, schedule, cases);
     runDriftedHardware(plant, camera, schedule, sceneLinear, truth, exposure, lineDelay, params, model, outDir);
-    std::printf("\n[demo] wrote %s/panel.png (blurred | uniform | variant | truth; the last row hand-held), psf_bank.png, "
+    std::printf("\n[demo] wrote %s/panel.png (blurred | uniform | variant | truth; the last rows hand-held and pan-tilt), psf_bank.png, "
                 "trajectory.png, handheld_trajectory.png, drift_panel.png (blurred | nominal | refined | truth-told), "
                 "drift_objective.png\n",
                 outDir.c_str());

@@ -387,13 +387,14 @@ void CommandLog::appendMove(const std::vector<cv::dynblur::SwitchSchedule>& sche
     }
 }
 
-cv::dynblur::SwitchSchedule CommandLog::scheduleAround(double from, double to, int axis) const
+cv::dynblur::SwitchSchedule CommandLog::scheduleAround(double from, double to, int axis, double restSince) const
 {
     CV_Assert(!times.empty() && axis >= 0 && axis < axisCount());
     const std::vector<int>& level = levels[size_t(axis)];
+    const double horizon = std::isfinite(restSince) ? restSince : from - kSettleSeconds;
     size_t first = 0;
-    while (first + 1 < times.size() && times[first + 1] <= from - kSettleSeconds)
-        first++;  // the last switch at or before the settle horizon sets the level in force
+    while (first + 1 < times.size() && times[first + 1] <= horizon)
+        first++;  // the last switch at or before the horizon sets the level in force
     cv::dynblur::SwitchSchedule schedule;
     schedule.initialLevel = level[first];
     for (size_t i = first; i < times.size() && times[i] <= to; i++)
@@ -409,11 +410,11 @@ cv::dynblur::SwitchSchedule CommandLog::scheduleAround(double from, double to, i
     return schedule;
 }
 
-std::vector<cv::dynblur::SwitchSchedule> CommandLog::schedulesAround(double from, double to) const
+std::vector<cv::dynblur::SwitchSchedule> CommandLog::schedulesAround(double from, double to, double restSince) const
 {
     std::vector<cv::dynblur::SwitchSchedule> schedules;
     for (int a = 0; a < axisCount(); a++)
-        schedules.push_back(scheduleAround(from, to, a));
+        schedules.push_back(scheduleAround(from, to, a, restSince));
     return schedules;
 }
 

@@ -18,6 +18,7 @@
 #include <opencv2/dynblur.hpp>
 #include <opencv2/videoio.hpp>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -72,10 +73,14 @@ struct CommandLog
 
     /** The commands that move axis `axis` during [from, to] (seconds): the switches from a settle
     time before `from` (the plant has come to rest from anything earlier) to `to`, starting from the
-    level in force before them. */
-    cv::dynblur::SwitchSchedule scheduleAround(double from, double to, int axis = 0) const;
+    level in force before them. With `restSince` (seconds, finite), the axis is known at rest at that
+    instant (a still frame): the switches start from the level in force then, so the schedule's initial
+    resting angle is that still's. */
+    cv::dynblur::SwitchSchedule scheduleAround(double from, double to, int axis = 0,
+                                               double restSince = std::numeric_limits<double>::quiet_NaN()) const;
     //! scheduleAround() of every axis.
-    std::vector<cv::dynblur::SwitchSchedule> schedulesAround(double from, double to) const;
+    std::vector<cv::dynblur::SwitchSchedule>
+    schedulesAround(double from, double to, double restSince = std::numeric_limits<double>::quiet_NaN()) const;
 };
 
 /** Parses a command log (columns t and level, or t and level0, level1, ... for a mount). Throws

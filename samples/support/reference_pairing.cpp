@@ -23,7 +23,8 @@ bool ReferencePairing::isStill(const FrameRecord& record, int rows) const
 std::vector<cv::dynblur::SwitchSchedule> ReferencePairing::schedulesFor(const cv::dynblur::RollingShutter& corrected) const
 {
     const cv::Vec2d readout = corrected.readoutInterval();
-    return commands_.schedulesAround(readout[0] - maxOffset_, readout[1] + maxOffset_);
+    const double restSince = motion_.isMount() ? lastStillStart_ : std::numeric_limits<double>::quiet_NaN();
+    return commands_.schedulesAround(readout[0] - maxOffset_, readout[1] + maxOffset_, restSince);
 }
 
 bool ReferencePairing::stillUnder(const cv::dynblur::RollingShutter& corrected,
@@ -61,6 +62,7 @@ std::vector<ReferencePairing::Item> ReferencePairing::push(const FrameRecord& re
         release(ready, image, angle, readout[0]);
         lastStill_ = image;
         lastStillAngle_ = angle;
+        lastStillStart_ = readout[0];
         ready.push_back(item);
     }
     else if (item.window == EXPOSURE_I && waiting_.empty())

@@ -9,6 +9,7 @@
 
 #include <opencv2/dynblur.hpp>
 
+#include <limits>
 #include <vector>
 
 namespace dynblur_samples {
@@ -62,7 +63,8 @@ public:
 
 private:
     void release(std::vector<Item>& ready, const cv::Mat& reference, double angle, double stillStart);
-    //! The commands around a frame read out as `corrected` (the calibrated shutter), ±maxOffset.
+    /** The commands around a frame read out as `corrected` (the calibrated shutter), ±maxOffset; a mount's
+    start from the last still frame (each axis's initial rest is that still's: setReferenceFrames' `before`). */
     std::vector<cv::dynblur::SwitchSchedule> schedulesFor(const cv::dynblur::RollingShutter& corrected) const;
     //! At rest under `schedules` whether the clock is early, right or late by maxOffset.
     bool stillUnder(const cv::dynblur::RollingShutter& corrected,
@@ -77,6 +79,7 @@ private:
     std::vector<Item> waiting_;
     cv::Mat lastStill_;
     double lastStillAngle_ = 0;
+    double lastStillStart_ = std::numeric_limits<double>::quiet_NaN();  //!< its readout start, corrected clock
 };
 
 }  // namespace dynblur_samples

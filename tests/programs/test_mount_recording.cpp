@@ -100,3 +100,15 @@ TEST(MountRecording, AMountFileWithAPlantMissingIsRefusedByName)
     refuseAll({{"Mount::load", "axis 1 without its plant", [&] { Mount::load(path); },
                 {"no_plant_mount.yml", "axis1_naturalFreqHz"}}});
 }
+
+TEST(MountRecording, ScheduleFromAStillStartsAtThatStillsLevels)
+{
+    // Out to (16, 8) and back: a frame of the move back starts from the still at the far end.
+    const CommandLog log = parseCommandLog("t,level0,level1\n0,0,0\n0.5,16,8\n1.1,0,0\n", "back.csv");
+    const std::vector<SwitchSchedule> settled = log.schedulesAround(1.09, 1.15);
+    EXPECT_EQ(settled[0].initialLevel, 0);  // 3 s of settling reach back past the move out
+    const std::vector<SwitchSchedule> fromStill = log.schedulesAround(1.09, 1.15, 0.9);
+    EXPECT_EQ(fromStill[0].initialLevel, 16);
+    EXPECT_EQ(fromStill[1].initialLevel, 8);
+    EXPECT_EQ(fromStill[1].finalLevel(), 0);
+}

@@ -16,9 +16,11 @@
 #include "cli_args.hpp"
 #include "gyro_recording.hpp"
 #include "gyro_timing.hpp"
+#include "mount_recording.hpp"  // samples/simulation
 #include "objective_plot.hpp"
 #include "plant_file.hpp"
 #include "recording.hpp"
+#include "reference_pairing.hpp"
 #include "scene.hpp"
 
 #include <opencv2/dynblur.hpp>
@@ -60,13 +62,18 @@ static CliOptions calibrateTimingOptions()
         .option("simulate", "DIR", "",
                 "renders frame_%04d.png, frames.csv, commands.csv, camera.xml and plant.yml into DIR: saccades between "
                 "0 and 10 deg seen by a 640x480 webcam at 30 fps; DIR/truth/ gets the sharp scene and the truth that "
-                "moved the camera (dynblur_restore_video --truth DIR/truth compares each frame with it)")
+                "moved the camera (dynblur_restore_video --truth DIR/truth compares each frame with it); with --mount "
+                "FILE, diagonal saccades of the mount's axes (--to) and mount.yml in place of plant.yml")
         .flag("as-video", "the frames go to frames.avi (MJPG, as a C270 streams them)")
         .option("true-offset", "S", "0.0012", "the truth's clock offset, seconds")
         .option("true-line-delay-scale", "X", "0.95", "the truth's line delay over the frame log's")
         .option("true-hz-scale", "X", "1.03", "the truth's natural frequency over the plant file's")
         .option("true-zeta-scale", "X", "1.1", "the truth's damping ratio over the plant file's")
         .option("saccades", "N", "4", "saccades in the recording")
+        .option("to", "DEG,DEG", "10,6",
+                "with --mount: the far end of the diagonal saccades, degrees per axis (planned by MountPlanner)")
+        .option("true-axis1-hz-scale", "X", "0.97", "with --mount: the truth's natural frequency of axis 1 over the file's")
+        .option("true-axis1-zeta-scale", "X", "0.9", "with --mount: the truth's damping ratio of axis 1 over the file's")
         .group(gyroTimingOptions())
         .footer("Exit status: 0 calibrated (or simulated), 1 bad or unusable recording (the message says why), 2 bad "
                 "usage.");
@@ -101,6 +108,34 @@ static void writeTruth(const std::string& dir, const Mat& linearScene, double sc
        << "naturalFreqScale" << drift.naturalFreqScale << "dampingScale" << drift.dampingScale;
 }
 
+/* A mount's recording: the base's drift from --true-hz-scale and --true-zeta-scale, axis 1's from its
+   own options. */
+static int simulateMount(const CliArgs& args, const std::string& dir, const MotionCorrection& drift, int saccades)
+{
+    MountRecordingSpec spec;
+    spec.mount = Mount::load(args.str("mount"));
+    spec.drift = drift;
+    spec.drift.axisNaturalFreqScales[0] = args.num("true-axis1-hz-scale");
+    spec.drift.axisDampingScales[0] = args.num("true-axis1-zeta-scale");
+    spec.saccades = saccades;
+    spec.asVideo = args.has("as-video");
+    for (double deg : args.numbers("to"))
+        spec.targetAngles.push_back(deg * kDeg);
+    if (int(spec.targetAngles.size()) != spec.mount->getAxisCount())
+        return usageError(format("--to gives %zu angles but the mount '%s' (--mount) has %d axes: one per axis, degrees",
+                                 spec.targetAngles.size(), args.str("mount").c_str(), spec.mount->getAxisCount()));
+    if (!(spec.drift.axisNaturalFreqScales[0] > 0.5 && spec.drift.axisNaturalFreqScales[0] < 1.5) ||
+        !(spec.drift.axisDampingScales[0] > 0.2 && spec.drift.axisDampingScales[0] < 3))
+        return usageError("--true-axis1-hz-scale within (0.5, 1.5), --true-axis1-zeta-scale within (0.2, 3)");
+    const int count = renderMountRecording(dir, spec);
+    std::printf("wrote %d frames, frames.csv, commands.csv (%d axes), camera.xml and mount.yml to %s\n"
+                "truth: clock offset %+.4f ms, line delay x%.4f, axis 0 wn x%.4f zeta x%.4f, axis 1 wn x%.4f zeta x%.4f\n",
+                count, spec.mount->getAxisCount(), dir.c_str(), drift.timeOffset * 1e3, drift.lineDelayScale,
+                drift.naturalFreqScale, drift.dampingScale, spec.drift.axisNaturalFreqScales[0],
+                spec.drift.axisDampingScales[0]);
+    return 0;
+}
+
 static int simulate(const CliArgs& args, const std::string& dir)
 {
     // The truth that moved the camera, as the correction from the nominal model to it.
@@ -115,6 +150,8 @@ static int simulate(const CliArgs& args, const std::string& dir)
         !(drift.dampingScale > 0.2 && drift.dampingScale < 3) || saccades < 1 || saccades > 20)
         return usageError("--true-offset within +-0.1 s, the scales within (0.5, 1.5) ((0.2, 3) for zeta), "
                           "--saccades in [1, 20]");
+    if (args.has("mount"))
+        return simulateMount(args, dir, drift, saccades);
     ::mkdir(dir.c_str(), 0755);
     const Ptr<Plant> nominal = Plant::create(14.4, 0.12, kDeg);
     const Ptr<Plant> truth = drift.correctPlant(nominal);
@@ -124,7 +161,7 @@ static int simulate(const CliArgs& args, const std::string& dir)
     // Saccades between 0 and 10 degrees, about 0.6 s apart, planned on the nominal plant.
     CommandLog commands;
     commands.times.push_back(0.0);
-    commands.levels.push_back(0);
+    commands.levels = {{0}};
     Ptr<SwitchPlanner> planner = SwitchPlanner::create(nominal, 16);
     for (int k = 0; k < saccades; k++)
     {
@@ -132,9 +169,9 @@ static int simulate(const CliArgs& args, const std::string& dir)
         // Each move starts 7 ms later in the frame period than the one before: the frames see every phase.
         const SwitchSchedule move = planner->plan(from, to, 0.5 + 0.6 * k + 0.007 * k);
         for (size_t i = 0; i < move.times.size(); i++)
-            commands.times.push_back(move.times[i]), commands.levels.push_back(move.levels[i]);
+            commands.times.push_back(move.times[i]), commands.levels[0].push_back(move.levels[i]);
     }
-    const SwitchSchedule all(commands.times, commands.levels, 0);
+    const SwitchSchedule all(commands.times, commands.levels[0], 0);
 
     // The scene is the view at 5 degrees, wide enough for both ends of the moves.
     const double thetaRef = 5 * kDeg;
@@ -194,6 +231,71 @@ static int simulate(const CliArgs& args, const std::string& dir)
 // ---------------------------------------------------------------------------------------------
 // Calibration
 
+//! One plant's recording: each frame against its still, at the still's angle.
+static TimingCalibration calibratePlantRecording(const std::vector<ReferencePairing::Item>& paired,
+                                                 const Ptr<Plant>& plant, const Ptr<CameraModel>& camera, int flags,
+                                                 double maxOffset)
+{
+    std::vector<Mat> references, frames;
+    std::vector<SwitchSchedule> schedules;
+    std::vector<RollingShutter> shutters;
+    std::vector<double> angles;
+    for (const ReferencePairing::Item& m : paired)
+    {
+        references.push_back(m.reference);
+        frames.push_back(m.image);
+        schedules.push_back(m.schedules[0]);
+        shutters.push_back(m.shutter);
+        angles.push_back(m.referenceAngle);
+    }
+    return calibrateTiming(plant, camera, references, frames, schedules, shutters, flags, angles, maxOffset);
+}
+
+//! A mount's recording: each frame's motion (every axis's schedule) against the still at rest before or after it.
+static TimingCalibration calibrateMountRecording(const std::vector<ReferencePairing::Item>& paired,
+                                                 const CommandedMotion& motion, const Ptr<CameraModel>& camera,
+                                                 int flags, double maxOffset)
+{
+    std::vector<Mat> references, frames;
+    std::vector<Ptr<CameraMotion>> motions;
+    std::vector<RollingShutter> shutters;
+    std::vector<int> after;
+    for (const ReferencePairing::Item& m : paired)
+    {
+        references.push_back(m.reference);
+        frames.push_back(m.image);
+        motions.push_back(motion.motion(m.schedules));
+        shutters.push_back(m.shutter);
+        after.push_back(!m.after.empty() && m.reference.data == m.after.data);
+    }
+    return calibrateTiming(motions, camera, references, frames, shutters, flags, after, maxOffset);
+}
+
+/* The correction and its deviations; an axis's plant scales per axis (up to three), "held" where the
+   frames did not determine them (an axis no move turned). */
+static void printCalibration(const TimingCalibration& t, int axes)
+{
+    const MotionCorrection& c = t.correction;
+    std::printf("clock offset      %+.4f ms (sd %.4f)\nline delay        x%.4f (sd %.4f)\n", c.timeOffset * 1e3,
+                t.timeOffsetStd * 1e3, c.lineDelayScale, t.lineDelayScaleStd);
+    const std::vector<RefinementParameter> table = refinementParameters();
+    for (int axis = 0; axis < std::min(axes, 3); axis++)
+    {
+        const double wn = axis ? c.axisNaturalFreqScales[axis - 1] : c.naturalFreqScale;
+        const double zeta = axis ? c.axisDampingScales[axis - 1] : c.dampingScale;
+        const double wnSd = axis ? t.axisNaturalFreqScaleStd[axis - 1] : t.naturalFreqScaleStd;
+        const double zetaSd = axis ? t.axisDampingScaleStd[axis - 1] : t.dampingScaleStd;
+        bool held = false;
+        for (size_t j = 0; j < table.size(); j++)
+            held = held || ((c.heldParameters >> j & 1) && table[j].mountAxis == axis && (axes > 1 || table[j].plantMotion));
+        const std::string name = axes > 1 ? format("axis %d ", axis) : std::string();
+        std::printf("%snatural frequency x%.4f (sd %.4f)%s\n%sdamping ratio     x%.4f (sd %.4f)%s\n", name.c_str(), wn,
+                    wnSd, held ? " held: no frame's move turns it" : "", name.c_str(), zeta, zetaSd,
+                    held ? " held" : "");
+    }
+    std::printf("consistency       %.2f (noise units; about 1 when the model explains the frames)\n", c.consistency);
+}
+
 int main(int argc, char** argv)
 {
     try
@@ -228,7 +330,7 @@ int main(int argc, char** argv)
         const Ptr<Plant>& plant = recording.plant;
 
         // Stream the recording, pairing each moving frame with the still frame that saw its content.
-        ReferencePairing pairing(plant, camera, recording.commands, MotionCorrection(), maxOffset);
+        ReferencePairing pairing(recording.commanded(), camera, recording.commands, MotionCorrection(), maxOffset);
         std::vector<ReferencePairing::Item> paired;
         const auto take = [&](const std::vector<ReferencePairing::Item>& ready) {
             for (const ReferencePairing::Item& item : ready)
@@ -253,30 +355,13 @@ int main(int argc, char** argv)
                             "calibration needs at least two",
                             paired.size()));
 
-        std::vector<Mat> references, frames;
-        std::vector<SwitchSchedule> schedules;
-        std::vector<RollingShutter> shutters;
-        std::vector<double> angles;
-        for (const ReferencePairing::Item& m : paired)
-        {
-            references.push_back(m.reference);
-            frames.push_back(m.image);
-            schedules.push_back(m.schedule);
-            shutters.push_back(m.shutter);
-            angles.push_back(m.referenceAngle);
-        }
         std::printf("calibrating over %zu frames ...\n", paired.size());
-        const TimingCalibration t =
-            calibrateTiming(plant, camera, references, frames, schedules, shutters, flags, angles, maxOffset);
+        const TimingCalibration t = recording.mount.empty()
+                                        ? calibratePlantRecording(paired, plant, camera, flags, maxOffset)
+                                        : calibrateMountRecording(paired, recording.commanded(), camera, flags, maxOffset);
         t.save(out);
-        const MotionCorrection& c = t.correction;
-        std::printf("clock offset      %+.4f ms (sd %.4f)\nline delay        x%.4f (sd %.4f)\n"
-                    "natural frequency x%.4f (sd %.4f)\ndamping ratio     x%.4f (sd %.4f)\n"
-                    "consistency       %.2f (noise units; about 1 when the model explains the frames)\n"
-                    "wrote %s\n",
-                    c.timeOffset * 1e3, t.timeOffsetStd * 1e3, c.lineDelayScale, t.lineDelayScaleStd,
-                    c.naturalFreqScale, t.naturalFreqScaleStd, c.dampingScale, t.dampingScaleStd, c.consistency,
-                    out.c_str());
+        printCalibration(t, recording.mount.empty() ? 1 : recording.mount->getAxisCount());
+        std::printf("wrote %s\n", out.c_str());
         if (!args.has("no-png"))
             writeObjectivePlot(t, "Timing calibration: objective around the result", "objective over the clock offset",
                                plotPath);

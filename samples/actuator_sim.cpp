@@ -62,15 +62,43 @@ static std::vector<double> numberList(const std::string& option, const std::stri
     return values;
 }
 
-/* Each axis's true plant: its plant file (one per axis, or one for all, else the seed's), scaled by
-   --true-hz-scale and --true-zeta-scale and by the axis's --drift-wn: hardware that drifted from the
-   model its host plans with. maxLevel becomes the smallest of the files'. */
-static std::vector<cv::Ptr<cv::dynblur::Plant>> axisPlants(const CliArgs& args, int axes, int& maxLevel)
+/* Each axis's model: the mount file's axes (--mount), or its plant file (one per axis, or one for all,
+   else the seed's). maxLevel becomes the smallest of the files'. */
+static std::vector<cv::Ptr<cv::dynblur::Plant>> modelPlants(const CliArgs& args, int axes, int& maxLevel)
 {
+    std::vector<cv::Ptr<cv::dynblur::Plant>> plants;
+    if (args.has("mount"))
+    {
+        const cv::Ptr<cv::dynblur::Mount> mount = cv::dynblur::Mount::load(args.str("mount"));
+        for (int k = 0; k < axes; ++k)
+        {
+            plants.push_back(mount->getPlant(k));
+            maxLevel = k == 0 ? mount->getLevelRange(k)[1] : std::min(maxLevel, mount->getLevelRange(k)[1]);
+        }
+        return plants;
+    }
     const std::vector<std::string> files = args.all("plant");
     if (files.size() > 1 && (int)files.size() != axes)
         throw std::runtime_error(cv::format("%d --plant files for --axes %d: give one per axis, or one for all",
                                             (int)files.size(), axes));
+    for (int k = 0; k < axes; ++k)
+    {
+        cv::Ptr<cv::dynblur::Plant> plant = cv::dynblur::Plant::create(14.4, 0.12, CV_PI / 180);
+        if (!files.empty())
+        {
+            const PlantFile pf = loadPlantFile(files[files.size() == 1 ? 0 : k]);
+            plant = pf.plant;
+            maxLevel = k == 0 ? pf.maxLevel : std::min(maxLevel, pf.maxLevel);
+        }
+        plants.push_back(plant);
+    }
+    return plants;
+}
+
+/* Each axis's true plant: its model (modelPlants) scaled by --true-hz-scale and --true-zeta-scale and
+   by the axis's --drift-wn: hardware that drifted from the model its host plans with. */
+static std::vector<cv::Ptr<cv::dynblur::Plant>> axisPlants(const CliArgs& args, int axes, int& maxLevel)
+{
     std::vector<double> drift(axes, 0.0);
     if (args.has("drift-wn"))
     {
@@ -82,22 +110,16 @@ static std::vector<cv::Ptr<cv::dynblur::Plant>> axisPlants(const CliArgs& args, 
     const double hzScale = args.num("true-hz-scale"), zetaScale = args.num("true-zeta-scale");
     if (!(hzScale > 0.5 && hzScale < 2) || !(zetaScale > 0.1 && zetaScale < 5))
         throw std::runtime_error("--true-hz-scale must be in (0.5, 2) and --true-zeta-scale in (0.1, 5)");
+    const std::vector<cv::Ptr<cv::dynblur::Plant>> models = modelPlants(args, axes, maxLevel);
     std::vector<cv::Ptr<cv::dynblur::Plant>> plants;
     for (int k = 0; k < axes; ++k)
     {
-        cv::Ptr<cv::dynblur::Plant> plant = cv::dynblur::Plant::create(14.4, 0.12, CV_PI / 180);
-        if (!files.empty())
-        {
-            const PlantFile pf = loadPlantFile(files[files.size() == 1 ? 0 : k]);
-            plant = pf.plant;
-            maxLevel = k == 0 ? pf.maxLevel : std::min(maxLevel, pf.maxLevel);
-        }
         if (!(drift[k] > -0.5 && drift[k] < 1))
             throw std::runtime_error(cv::format("--drift-wn value %d = %g must be in (-0.5, 1)", k, drift[k]));
         cv::dynblur::MotionCorrection truth;
         truth.naturalFreqScale = hzScale * (1 + drift[k]);
         truth.dampingScale = zetaScale;
-        plants.push_back(truth.correctPlant(plant));
+        plants.push_back(truth.correctPlant(models[k]));
     }
     return plants;
 }
@@ -117,6 +139,9 @@ static CliOptions actuatorSimOptions()
         .option("plant", "FILE", "",
                 "plant file (naturalFreqHz, dampingRatio, gain, maxLevel); repeat it once per axis, in axis order, or "
                 "give one for every axis; default: seed 14.4 Hz, zeta 0.12, 1 deg/level, max level 16")
+        .option("mount", "FILE.yml", "",
+                "a mount file (Mount::save, e.g. samples/data/pan_tilt.yml) in place of --axes and --plant: one axis per "
+                "mount axis, each with its plant and level range")
         .option("drift-wn", "LIST", "",
                 "comma-separated relative errors of each axis's natural frequency, one per axis (0.03 = the hardware "
                 "is 3 % stiffer than its plant file)")
@@ -164,7 +189,12 @@ int main(int argc, char** argv)
         if (options.printHelp(args))
             return 0;
         SimConfig cfg;
-        cfg.axes = args.integer("axes");
+        if (args.has("mount") && args.has("plant"))
+            throw std::runtime_error("--mount gives every axis's plant: give it without --plant");
+        cfg.axes = args.has("mount") ? cv::dynblur::Mount::load(args.str("mount"))->getAxisCount() : args.integer("axes");
+        if (args.has("mount") && args.has("axes") && args.integer("axes") != cfg.axes)
+            throw std::runtime_error(cv::format("--axes %d but the mount '%s' (--mount) has %d axes", args.integer("axes"),
+                                                args.str("mount").c_str(), cfg.axes));
         if (cfg.axes < 1 || cfg.axes > cv::dynblur::busmap::MAX_AXES)
             throw std::runtime_error(cv::format("--axes = %d must be in [1, %d]", cfg.axes, (int)cv::dynblur::busmap::MAX_AXES));
         cfg.axisPlants = axisPlants(args, cfg.axes, cfg.maxLevel);

@@ -39,7 +39,7 @@ static CliOptions recordOptions()
     CliOptions options("dynblur_record");
     options.synopsis("--source SRC --exposure S --line-delay S --out DIR [options]")
         .description("Records a camera's frames with their timestamps and the actuator's commands, on one clock, as a "
-                     "recording folder (frame_%04d.png, frames.csv, commands.csv, camera.xml, plant.yml) that "
+                     "recording folder (frame_%04d.png, frames.csv, commands.csv, camera.xml, plant.yml or mount.yml) that "
                      "dynblur_calibrate_timing and dynblur_restore_video read (docs/recording-format.md).")
         .option("source", "SRC", "",
                 "a device index (0), a GStreamer pipeline (with '!'), or a video file or image sequence "
@@ -53,6 +53,9 @@ static CliOptions recordOptions()
         .option("frames", "N", "", "stop after N frames (default: when the moves are done, or the source ends)")
         .option("camera", "FILE.xml", "", "the camera (dynblur_calibrate_camera), copied into the folder")
         .option("plant", "FILE.yml", "", "the plant (dynblur_identify_plant), copied into the folder; plans the moves")
+        .option("mount", "FILE.yml", "",
+                "a mount (Mount::save, dynblur_identify_plant --mount) in place of --plant: --commands logs every "
+                "axis's levels (t,level0,level1,...); copied into the folder as mount.yml")
         .option("out", "DIR", "", "the recording folder to write")
         .heading("Actuator (one of):")
         .option("bus", "URI", "",
@@ -73,21 +76,6 @@ static CliOptions recordOptions()
 static double steadyNow()
 {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-static std::vector<double> parseList(const std::string& text, const char* option)
-{
-    std::vector<double> values;
-    std::stringstream in(text);
-    for (std::string item; std::getline(in, item, ',');)
-    {
-        char* end = nullptr;
-        const double v = std::strtod(item.c_str(), &end);
-        if (item.empty() || *end != '\0' || !std::isfinite(v))
-            throw std::runtime_error(std::string("--") + option + " expects numbers separated by commas, got '" + text + "'");
-        values.push_back(v);
-    }
-    return values;
 }
 
 //! The source as cv::VideoCapture opens it; `isVirtual` for a file or an image sequence.
@@ -138,6 +126,9 @@ int main(int argc, char** argv)
                 throw std::runtime_error(std::string("--") + required + " is required");
         if (args.has("bus") != args.has("moves"))
             throw std::runtime_error("--bus and --moves go together (the moves are driven over the bus)");
+        if (args.has("mount") && (args.has("plant") || args.has("bus")))
+            throw std::runtime_error("--mount records the axes of a command log a script wrote (--commands): give it "
+                                     "without --plant and --bus");
         if (args.has("commands") && args.has("bus"))
             throw std::runtime_error("give --commands (a script drove the actuator) or --bus with --moves, not both");
         const double exposure = args.num("exposure"), lineDelay = args.num("line-delay");
@@ -149,7 +140,7 @@ int main(int argc, char** argv)
             throw std::runtime_error(format("--line-delay %g must be in [0, 0.001) seconds (34.7 us is 34.7e-6)", lineDelay));
         if (!(still >= 0))
             throw std::runtime_error("--still must be >= 0 seconds");
-        const std::vector<double> moves = args.has("moves") ? parseList(args.str("moves"), "moves") : std::vector<double>();
+        const std::vector<double> moves = args.has("moves") ? args.numbers("moves") : std::vector<double>();
         if (!args.has("bus") && !args.has("commands") && maxFrames <= 0)
             std::printf("note: no actuator (--bus with --moves, or --commands): recording until the source ends\n");
         const std::string out = args.str("out");
@@ -161,9 +152,18 @@ int main(int argc, char** argv)
             plant = loadPlantFile(args.str("plant"));
         else if (!moves.empty())
             std::printf("note: no --plant: planning the moves for the seed's plant (14.4 Hz, zeta 0.12, 1 deg per level)\n");
+        const Ptr<Mount> mount = args.has("mount") ? Mount::load(args.str("mount")) : Ptr<Mount>();
         CommandLog commands;
         if (args.has("commands"))
             commands = readCommandLog(args.str("commands"));
+        const int axes = mount ? mount->getAxisCount() : 1;
+        if (args.has("commands") && commands.axisCount() != axes)
+            CV_Error(Error::StsBadArg,
+                     format("--commands: '%s' logs %d axis(es) but %s: a mount's log has one level column per axis "
+                            "(t,level0,level1,...), one axis's t,level (docs/recording-format.md)",
+                            args.str("commands").c_str(), commands.axisCount(),
+                            mount ? format("the mount '%s' (--mount) has %d", args.str("mount").c_str(), axes).c_str()
+                                  : "no --mount was given (one axis)"));
 
         // The actuator first: a bus that does not answer must not leave a half-made recording.
         Ptr<ActuatorDriver> driver;
@@ -182,7 +182,7 @@ int main(int argc, char** argv)
             for (double target : moves)
                 planner->plan(startAngle, target * CV_PI / 180, 0.0);
             commands.times = {0.0};
-            commands.levels = {restLevel};
+            commands.levels = {{restLevel}};
             std::printf("actuators at level %d (%.3g deg)\n", restLevel, startAngle * 180 / CV_PI);
         }
 
@@ -259,7 +259,7 @@ int main(int argc, char** argv)
                     for (size_t i = 0; i < move.times.size(); i++)
                     {
                         commands.times.push_back(started.hostStartTime + (move.times[i] - started.scheduleOrigin) - origin);
-                        commands.levels.push_back(move.levels[i]);
+                        commands.levels[0].push_back(move.levels[i]);
                     }
                     std::printf("move %zu to %.3g deg started at %.3f s (%zu switches, settles in %.0f ms)\n", moveIndex,
                                 target * 180 / CV_PI, commands.times[commands.times.size() - move.times.size()],
@@ -279,12 +279,14 @@ int main(int argc, char** argv)
         if (commands.times.empty())
         {
             commands.times = {0.0};
-            commands.levels = {0};
+            commands.levels.assign(size_t(axes), std::vector<int>{0});
             std::printf("note: no actuator: commands.csv holds the rest level 0 only\n");
         }
         writeCommandLog(out + "/commands.csv", commands);
         if (args.has("camera"))
             CameraModel::load(args.str("camera"))->save(out + "/camera.xml");
+        if (mount)
+            mount->save(out + "/mount.yml");
         if (args.has("plant"))
             savePlantFile(out + "/plant.yml", *plant.plant, plant.maxLevel, "copied by dynblur_record from " + args.str("plant"));
         std::printf("recorded %zu frames (%.2f s, %dx%d) and %zu commands into %s\n", log.size(),

@@ -9,6 +9,7 @@
 #include "frame_timing.hpp"  // samples/simulation
 #include "frame_restorer.hpp"
 #include "recording.hpp"
+#include "reference_pairing.hpp"
 #include "restored_video.hpp"
 #include "truth.hpp"
 
@@ -131,7 +132,7 @@ int restoreCommandedRecording(const CliArgs& args, const RestorationSettings& se
         calibrated ? TimingCalibration::load(recording.timingPath).correction : MotionCorrection();
     std::unique_ptr<TruthComparison> truth;
     if (args.has("truth"))
-        truth.reset(new TruthComparison(args.str("truth"), recording.plant, recording.camera));
+        truth.reset(new TruthComparison(args.str("truth"), recording.commanded(), recording.camera));
     const Ptr<DynamicDeblurrer> deblurrer =
         createDeblurrer(recording, settings, stream, refinement, calibrated ? &calibration : nullptr);
 
@@ -139,11 +140,11 @@ int restoreCommandedRecording(const CliArgs& args, const RestorationSettings& se
     const double fps =
         log.size() > 1 ? (log.size() - 1) / (log.back().frameStart - log.front().frameStart) : 30.0;
     RestoredVideo video(videoOut, csvOut, fps, size, std::string(kFrameCsvHeader) + "\n");
-    ReferencePairing pairing(recording.plant, recording.camera, recording.commands, calibration, 0.005);
+    ReferencePairing pairing(recording.commanded(), recording.camera, recording.commands, calibration, 0.005);
     ProgressLine progress(pairing, log.size(), int(std::count_if(log.begin(), log.end(), [&](const FrameRecord& f) {
                                                    return !pairing.isStill(f, size.height);
                                                })));
-    FrameRestorer restorer(deblurrer, recording.plant, recording.camera, calibration, stream.unrefinedUnchanged);
+    FrameRestorer restorer(deblurrer, recording.commanded(), recording.camera, calibration, stream.unrefinedUnchanged);
     ContactSheet sheet(kSheetRows);  // the most blurred moving frames, blurred beside restored, for a look
     RecordingSummary summary;
     const auto restoreAndWrite = [&](const std::vector<ReferencePairing::Item>& ready) {
@@ -154,7 +155,7 @@ int restoreCommandedRecording(const CliArgs& args, const RestorationSettings& se
             if (!item.still)
                 summary.add(r, item.record.frame);
             if (!item.still && truth)
-                truth->measure(item, r.image, r.thetaRef, truthColumns, gainText);
+                truth->measure(item, r, truthColumns, gainText);
             if (!item.still && r.window != EXPOSURE_IV)
                 sheet.offer(item.image, r.image, item.record.frame, windowLabel(r.window, item.window), r.blurPx,
                             r.correction, gainText);

@@ -10,31 +10,6 @@ namespace dynblur_samples {
 using namespace cv;
 using namespace cv::dynblur;
 
-namespace {
-
-/* The largest image motion during one row's exposure, pixels (the angle's sweep over the row's
-   interval times the larger focal length: a bound for a pan or a tilt), over nine rows: what ranks
-   frames by blur. */
-double blurPixels(const Ptr<Plant>& plant, const SwitchSchedule& schedule, const RollingShutter& shutter,
-                  double focalPx)
-{
-    double largest = 0;
-    for (int k = 0; k <= 8; k++)
-    {
-        const Vec2d interval = shutter.rowInterval((shutter.rows - 1) * k / 8);
-        Mat t(1, 33, CV_64F), theta;
-        for (int i = 0; i < t.cols; i++)
-            t.at<double>(i) = interval[0] + (interval[1] - interval[0]) * i / (t.cols - 1);
-        plant->response(schedule, t, theta);
-        double low, high;
-        minMaxLoc(theta, &low, &high);
-        largest = std::max(largest, (high - low) * focalPx);
-    }
-    return largest;
-}
-
-}  // namespace
-
 void ProgressLine::show(const char* doing) const
 {
     const double perMoving = movingDone_ ? clock_.getTimeSec() / movingDone_ : NAN;
@@ -59,10 +34,10 @@ void ProgressLine::restored()
     movingLeft_ = std::max(0, movingLeft_ - 1);
 }
 
-FrameRestorer::FrameRestorer(const Ptr<DynamicDeblurrer>& deblurrer, const Ptr<Plant>& plant,
+FrameRestorer::FrameRestorer(const Ptr<DynamicDeblurrer>& deblurrer, const CommandedMotion& motion,
                              const Ptr<CameraModel>& camera, const MotionCorrection& calibration,
                              bool unrefinedUnchanged)
-    : deblurrer_(deblurrer), correctedPlant_(calibration.correctPlant(plant)),
+    : deblurrer_(deblurrer), motion_(motion.corrected(calibration)), correctedPlant_(calibration.correctPlant(motion.plant())),
       focalPx_(std::max(camera->getFx(), camera->getFy())), calibration_(calibration),
       unrefinedUnchanged_(unrefinedUnchanged)
 {
@@ -81,10 +56,13 @@ RestoredFrame FrameRestorer::restore(const ReferencePairing::Item& item, Progres
     /* Each frame is restored to the view the camera had at its middle row's mid-exposure (the video
        does not jump to where a move will end, and the frame saw most of that view), on the calibrated
        clock and plant. */
-    const Vec2d middle = calibration_.correctShutter(item.shutter).rowInterval(item.shutter.rows / 2);
-    Mat t(1, 1, CV_64F, Scalar((middle[0] + middle[1]) / 2)), theta;
-    correctedPlant_->response(item.schedule, t, theta);
-    r.thetaRef = theta.at<double>(0);
+    if (!motion_.isMount())
+    {
+        const Vec2d middle = calibration_.correctShutter(item.shutter).rowInterval(item.shutter.rows / 2);
+        Mat t(1, 1, CV_64F, Scalar((middle[0] + middle[1]) / 2)), theta;
+        correctedPlant_->response(item.schedules[0], t, theta);
+        r.thetaRef = theta.at<double>(0);
+    }
     // A frame that ends its move at rest is refined against the still after it.
     r.noStillAfter = item.after.empty() && item.window == EXPOSURE_III;
     if (r.noStillAfter && unrefinedUnchanged_)
@@ -97,7 +75,10 @@ RestoredFrame FrameRestorer::restore(const ReferencePairing::Item& item, Progres
         useReferences(item, r.noStillAfter);
         useNoise();
         progress.restoring();
-        deblurrer_->deblur(item.image, item.schedule, item.shutter, restored_, r.thetaRef);
+        if (motion_.isMount())
+            deblurMount(item, r);
+        else
+            deblurrer_->deblur(item.image, item.schedules[0], item.shutter, restored_, r.thetaRef);
         progress.restored();
         r.correction = deblurrer_->getLastCorrection();
         r.window = deblurrer_->getLastExposureWindow();
@@ -105,8 +86,19 @@ RestoredFrame FrameRestorer::restore(const ReferencePairing::Item& item, Progres
             r.correction.reason = "no still after the move: not refined; restored as told (--no-still-after as-told)";
         r.image = restored_;
     }
-    r.blurPx = blurPixels(correctedPlant_, item.schedule, calibration_.correctShutter(item.shutter), focalPx_);
+    r.blurPx = motion_.largestRowTurn(item.schedules, calibration_.correctShutter(item.shutter)) * focalPx_;
     return r;
+}
+
+void FrameRestorer::deblurMount(const ReferencePairing::Item& item, RestoredFrame& r)
+{
+    // tRef is a camera time: the calibration's and the refinement's clock offsets move it with the frame.
+    const Vec2d middle = item.shutter.rowInterval(item.shutter.rows / 2);
+    const double tRef = (middle[0] + middle[1]) / 2;
+    const Ptr<CameraMotion> told = motion_.motion(item.schedules);
+    deblurrer_->deblur(item.image, told, item.shutter, restored_, tRef);
+    const MotionCorrection used = deblurrer_->getLastCorrection().applied ? deblurrer_->getLastCorrection() : calibration_;
+    r.orientation = used.correctMotion(told)->orientation(tRef + used.timeOffset);
 }
 
 void FrameRestorer::useReferences(const ReferencePairing::Item& item, bool noStillAfter)
@@ -114,7 +106,8 @@ void FrameRestorer::useReferences(const ReferencePairing::Item& item, bool noSti
     if (noStillAfter || (item.before.empty() && item.after.empty()))
         deblurrer_->clearReferenceFrame(), lastBefore_ = lastAfter_ = Mat();
     else if (item.before.data != lastBefore_.data || item.after.data != lastAfter_.data)
-        deblurrer_->setReferenceFrames(item.before, item.after, item.angleBefore, item.angleAfter);
+        motion_.isMount() ? deblurrer_->setReferenceFrames(item.before, item.after)  // every axis at rest
+                          : deblurrer_->setReferenceFrames(item.before, item.after, item.angleBefore, item.angleAfter);
     if (!noStillAfter)
         lastBefore_ = item.before, lastAfter_ = item.after;
 }
@@ -139,15 +132,17 @@ void FrameRestorer::observeStill(const ReferencePairing::Item& item)
 {
     /* The last two consecutive still frames at one resting level: the noise refinement weighs its
        residuals by is measured from their difference (setNoiseFrames), compression included. */
-    const int level = item.schedule.levelAt(item.shutter.frameStart);
-    if (item.record.frame == lastStillFrame_ + 1 && level == lastStillLevel_)
+    std::vector<int> levels;
+    for (const SwitchSchedule& axis : item.schedules)
+        levels.push_back(axis.levelAt(item.shutter.frameStart));
+    if (item.record.frame == lastStillFrame_ + 1 && levels == lastStillLevels_)
     {
         noiseA_ = noiseB_, noiseB_ = item.image;
         noisePending_ = !noiseA_.empty();
     }
     else
         noiseA_ = Mat(), noiseB_ = item.image;
-    lastStillFrame_ = item.record.frame, lastStillLevel_ = level;
+    lastStillFrame_ = item.record.frame, lastStillLevels_ = levels;
 }
 
 }  // namespace dynblur_samples

@@ -5,7 +5,7 @@
 #ifndef DYNBLUR_SAMPLES_FRAME_RESTORER_HPP
 #define DYNBLUR_SAMPLES_FRAME_RESTORER_HPP
 
-#include "recording.hpp"
+#include "reference_pairing.hpp"
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/dynblur.hpp>
@@ -42,7 +42,8 @@ struct RestoredFrame
     cv::Mat image;                             //!< restored, or as recorded
     cv::dynblur::MotionCorrection correction;  //!< of a moving frame; default for a still one
     int window = 0;                            //!< under the motion it was restored with
-    double thetaRef = 0;                       //!< the angle restored to, radians (moving frames)
+    double thetaRef = 0;                       //!< the angle restored to, radians (moving frames of one axis)
+    cv::Matx33d orientation = cv::Matx33d::eye();  //!< the orientation restored to (moving frames of a mount)
     double blurPx = 0;                         //!< largest image motion during one row's exposure (moving frames)
     bool noStillAfter = false;                 //!< ends its move at rest with no still after it: not refined
 };
@@ -52,13 +53,15 @@ class FrameRestorer
 public:
     /** @param calibration the recording's (--timing; MotionCorrection() without). @param unrefinedUnchanged
     --no-still-after unchanged: a frame that could not be refined is written as recorded. */
-    FrameRestorer(const cv::Ptr<cv::dynblur::DynamicDeblurrer>& deblurrer, const cv::Ptr<cv::dynblur::Plant>& plant,
+    FrameRestorer(const cv::Ptr<cv::dynblur::DynamicDeblurrer>& deblurrer, const CommandedMotion& motion,
                   const cv::Ptr<cv::dynblur::CameraModel>& camera, const cv::dynblur::MotionCorrection& calibration,
                   bool unrefinedUnchanged);
 
     RestoredFrame restore(const ReferencePairing::Item& item, ProgressLine& progress);
 
 private:
+    //! A mount's frame restored to the view at its middle row's mid-exposure (r.orientation set).
+    void deblurMount(const ReferencePairing::Item& item, RestoredFrame& r);
     //! The stills the deblurrer refines against, set only when they change.
     void useReferences(const ReferencePairing::Item& item, bool noStillAfter);
     //! The noise of the last two consecutive stills at one level, once both are known.
@@ -66,13 +69,15 @@ private:
     void observeStill(const ReferencePairing::Item& item);
 
     cv::Ptr<cv::dynblur::DynamicDeblurrer> deblurrer_;
+    CommandedMotion motion_;  //!< as calibrated
     cv::Ptr<cv::dynblur::Plant> correctedPlant_;
     double focalPx_;
     cv::dynblur::MotionCorrection calibration_;
     bool unrefinedUnchanged_;
     cv::Mat lastBefore_, lastAfter_, restored_;
     cv::Mat noiseA_, noiseB_;
-    int lastStillFrame_ = -2, lastStillLevel_ = 0;
+    int lastStillFrame_ = -2;
+    std::vector<int> lastStillLevels_;
     bool noisePending_ = false;
 };
 

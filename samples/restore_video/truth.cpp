@@ -3,6 +3,7 @@
 
 #include "frame_timing.hpp"  // samples/simulation
 #include "image_metrics.hpp"
+#include "mount_recording.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -21,9 +22,12 @@ RecordingTruth RecordingTruth::load(const std::string& dir)
     if (truth.scene.empty())
         CV_Error(Error::StsError, "--truth: cannot read '" + dir + "/scene.png'");
     FileStorage fs(dir + "/truth.yml", FileStorage::READ);
-    if (!fs.isOpened() || fs["sceneAngle"].empty())
-        CV_Error(Error::StsError, "--truth: cannot read sceneAngle from '" + dir + "/truth.yml'");
+    if (!fs.isOpened() || (fs["sceneAngle"].empty() && fs["sceneAngles"].empty()))
+        CV_Error(Error::StsError, "--truth: cannot read sceneAngle (or a mount's sceneAngles) from '" + dir + "/truth.yml'");
     fs["sceneAngle"] >> truth.sceneAngle;
+    fs["sceneAngles"] >> truth.sceneAngles;
+    fs["axisNaturalFreqScales"] >> truth.motion.axisNaturalFreqScales;
+    fs["axisDampingScales"] >> truth.motion.axisDampingScales;
     fs["timeOffset"] >> truth.motion.timeOffset;
     fs["lineDelayScale"] >> truth.motion.lineDelayScale;
     fs["naturalFreqScale"] >> truth.motion.naturalFreqScale;
@@ -40,20 +44,27 @@ Mat RecordingTruth::viewAt(double angle, const Ptr<Plant>& plant, const Ptr<Came
     return view;
 }
 
-TruthComparison::TruthComparison(const std::string& dir, const Ptr<Plant>& plant, const Ptr<CameraModel>& camera)
-    : truth_(RecordingTruth::load(dir)), plant_(plant), truePlant_(truth_.motion.correctPlant(plant)), camera_(camera)
+TruthComparison::TruthComparison(const std::string& dir, const CommandedMotion& motion, const Ptr<CameraModel>& camera)
+    : truth_(RecordingTruth::load(dir)), motion_(motion), plant_(motion.plant()), camera_(camera)
 {
+    if (truth_.sceneAngles.empty() == motion.isMount() ||
+        (motion.isMount() && int(truth_.sceneAngles.size()) != motion.axisCount()))
+        CV_Error(Error::StsBadArg, format("--truth: '%s/truth.yml' is the truth of %s but the recording is %s (--mount)",
+                                          dir.c_str(), truth_.sceneAngles.empty() ? "one axis" : "a mount's recording",
+                                          motion.isMount() ? "a mount's" : "of one axis"));
 }
 
-void TruthComparison::measure(const ReferencePairing::Item& item, const Mat& restored, double thetaRef,
-                              std::string& columns, std::string& gainText)
+void TruthComparison::measure(const ReferencePairing::Item& item, const RestoredFrame& r, std::string& columns,
+                              std::string& gainText)
 {
-    // The truth of a restoration is the sharp view at the angle it restores to.
-    const Mat view = truth_.viewAt(thetaRef, plant_, camera_);
+    // The truth of a restoration is the sharp view at the angle (or orientation) it restores to.
+    const Mat view = motion_.isMount()
+                         ? viewOfScene(truth_.scene, motion_.mountOrientation(truth_.sceneAngles), r.orientation, camera_)
+                         : truth_.viewAt(r.thetaRef, plant_, camera_);
     const double before = maskedPsnr(view, item.image, Mat(), 255.0);
-    const double after = maskedPsnr(view, restored, Mat(), 255.0);
+    const double after = maskedPsnr(view, r.image, Mat(), 255.0);
     measured_.push_back({item.record.frame, after - before});
-    const int trueWindow = classifyExposure(truePlant_, item.schedule, truth_.motion.correctShutter(item.shutter));
+    const int trueWindow = motion_.corrected(truth_.motion).classify(item.schedules, truth_.motion.correctShutter(item.shutter));
     columns = format("%s,%.3f,%.3f,%+.3f", exposureWindowName(trueWindow), before, after, after - before);
     gainText = format(", %+.2f dB", after - before);
 }

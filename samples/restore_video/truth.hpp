@@ -4,7 +4,8 @@
 #ifndef DYNBLUR_SAMPLES_RESTORE_TRUTH_HPP
 #define DYNBLUR_SAMPLES_RESTORE_TRUTH_HPP
 
-#include "recording.hpp"
+#include "frame_restorer.hpp"
+#include "reference_pairing.hpp"
 
 #include <opencv2/dynblur.hpp>
 
@@ -13,15 +14,17 @@
 
 namespace dynblur_samples {
 
-/* The sharp scene (the view at sceneAngle) and the correction from the nominal model to the motion
-   that rendered the frames. */
+/* The sharp scene (the view at sceneAngle, or at a mount's sceneAngles) and the correction from the
+   nominal model to the motion that rendered the frames. */
 struct RecordingTruth
 {
     cv::Mat scene;  //!< 8-bit sRGB, wider than a frame by the same margin on each side
     double sceneAngle = 0;  //!< radians
+    std::vector<double> sceneAngles;  //!< a mount's recording: radians per axis (empty: one axis)
     cv::dynblur::MotionCorrection motion;
 
-    //! Reads DIR/scene.png and DIR/truth.yml; throws cv::Exception naming --truth and the file.
+    /** Reads DIR/scene.png and DIR/truth.yml (sceneAngle, or sceneAngles and each axis's scales for a
+    mount); throws cv::Exception naming --truth and the file. */
     static RecordingTruth load(const std::string& dir);
     //! The sharp view at `angle` (radians): the scene turned by angle - sceneAngle, as the renderer turns it.
     cv::Mat viewAt(double angle, const cv::Ptr<cv::dynblur::Plant>& plant,
@@ -32,12 +35,14 @@ struct RecordingTruth
 class TruthComparison
 {
 public:
-    TruthComparison(const std::string& dir, const cv::Ptr<cv::dynblur::Plant>& plant,
+    /** Throws cv::Exception naming --truth and --mount when the truth is a mount's and the recording
+    not, or the other way round. */
+    TruthComparison(const std::string& dir, const CommandedMotion& motion,
                     const cv::Ptr<cv::dynblur::CameraModel>& camera);
 
-    /** A moving frame restored to the view at `thetaRef` (radians): its CSV columns window_true,
-    psnr_recorded_db, psnr_restored_db, gain_db, and the gain as the contact sheet labels it. */
-    void measure(const ReferencePairing::Item& item, const cv::Mat& restored, double thetaRef, std::string& columns,
+    /** A moving frame restored (to the view at r.thetaRef or r.orientation): its CSV columns
+    window_true, psnr_recorded_db, psnr_restored_db, gain_db, and the gain as the contact sheet labels it. */
+    void measure(const ReferencePairing::Item& item, const RestoredFrame& r, std::string& columns,
                  std::string& gainText);
     //! "truth: gain over the recording, ..." once a frame was measured.
     void printSummary(int mostBlurred, int refused) const;
@@ -49,7 +54,8 @@ private:
         double gain;  //!< dB
     };
     RecordingTruth truth_;
-    cv::Ptr<cv::dynblur::Plant> plant_, truePlant_;
+    CommandedMotion motion_;
+    cv::Ptr<cv::dynblur::Plant> plant_;
     cv::Ptr<cv::dynblur::CameraModel> camera_;
     std::vector<Measured> measured_;
 };

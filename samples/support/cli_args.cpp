@@ -324,6 +324,22 @@ double CliArgs::num(const std::string& name, double fallback) const
     return has(name) ? parseNumber(name, values_.at(name)) : fallback;
 }
 
+std::vector<double> CliArgs::numbers(const std::string& name) const
+{
+    const std::string text = numberSource(name);
+    std::vector<double> values;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');)
+    {
+        char* end = nullptr;
+        const double v = std::strtod(item.c_str(), &end);
+        if (item.empty() || *end != '\0' || !std::isfinite(v))
+            throw std::runtime_error("--" + name + " expects numbers separated by commas, got '" + text + "'");
+        values.push_back(v);
+    }
+    return values;
+}
+
 int CliArgs::integer(const std::string& name) const
 {
     return parseInteger(name, numberSource(name));

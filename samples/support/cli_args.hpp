@@ -106,6 +106,8 @@ public:
     //! Throws std::runtime_error naming the option when the value is not an integer.
     int integer(const std::string& name) const;
     int integer(const std::string& name, int fallback) const;
+    //! A comma-separated list of numbers (the value given or the default); throws std::runtime_error naming the option.
+    std::vector<double> numbers(const std::string& name) const;
     //! Every value given to a repeatable option, in command-line order (--plant A --plant B); none when absent.
     std::vector<std::string> all(const std::string& name) const;
     //! Arguments that are not options, in order (only with CliOptions::positional).

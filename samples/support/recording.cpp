@@ -119,22 +119,31 @@ void checkFramePeriod(const std::vector<FrameRecord>& frames, const std::string&
 /* The frames of the log that see the plant move under `commands` (exposure windows I–III), read out
    by `rows` rows. */
 static int movingFrames(const std::vector<FrameRecord>& frames, const CommandLog& commands,
-                        const cv::Ptr<cv::dynblur::Plant>& plant, int rows)
+                        const CommandedMotion& motion, int rows)
 {
     int moving = 0;
     for (const FrameRecord& f : frames)
     {
         const cv::dynblur::RollingShutter shutter(f.frameStart, f.exposure, f.lineDelay, rows);
         const cv::Vec2d readout = shutter.readoutInterval();
-        moving += cv::dynblur::classifyExposure(plant, commands.scheduleAround(readout[0], readout[1]), shutter) !=
-                  cv::dynblur::EXPOSURE_IV;
+        moving += motion.classify(commands.schedulesAround(readout[0], readout[1]), shutter) != cv::dynblur::EXPOSURE_IV;
     }
     return moving;
 }
 
 void checkFramesMeetCommands(const std::vector<FrameRecord>& frames, const CommandLog& commands,
-                             const cv::Ptr<cv::dynblur::Plant>& plant, int rows)
+                             const CommandedMotion& motion, int rows, const std::string& commandsPath,
+                             const std::string& mountPath)
 {
+    if (commands.axisCount() != motion.axisCount())
+        CV_Error(cv::Error::StsBadArg,
+                 motion.isMount()
+                     ? cv::format("%s: the command log has %d level column(s) but the mount '%s' (--mount) has %d axes: "
+                                  "a mount's log has one column per axis, level0, level1, ... (docs/recording-format.md)",
+                                  commandsPath.c_str(), commands.axisCount(), mountPath.c_str(), motion.axisCount())
+                     : cv::format("%s: the command log has %d axes (level0, level1, ...) but no mount was given: give "
+                                  "the mount file with --mount (or mount.yml in the recording)",
+                                  commandsPath.c_str(), commands.axisCount()));
     const FrameRecord& last = frames.back();
     const double period = frames.size() > 1 ? (last.frameStart - frames.front().frameStart) /
                                                   std::max(1, last.frame - frames.front().frame)
@@ -145,9 +154,9 @@ void checkFramesMeetCommands(const std::vector<FrameRecord>& frames, const Comma
                       ("--frames: frame %d: 'line_delay' = %g s reads the %d rows out in %g s, longer than the frame "
                        "period %g s: seconds expected (is it in us? 62.5 us is 62.5e-6)",
                        f.frame, f.lineDelay, rows, (rows - 1) * f.lineDelay, period));
-    if (std::all_of(commands.levels.begin(), commands.levels.end(), [&](int l) { return l == commands.levels[0]; }))
+    if (!commands.moves())
         return;  // no move to see
-    if (movingFrames(frames, commands, plant, rows) > 0)
+    if (movingFrames(frames, commands, motion, rows) > 0)
         return;
     CV_Error_(cv::Error::StsBadArg,
               ("no frame overlaps a move: the frames span %.6g to %.6g s (camera clock) and the commands %.6g to %.6g s "
@@ -171,6 +180,7 @@ RecordingFolder findRecording(const std::string& folder)
     r.commands = present("commands.csv");
     r.camera = present("camera.xml");
     r.plant = present("plant.yml");
+    r.mount = present("mount.yml");
     r.timing = present("timing.yml");
     std::string missing;
     for (const auto& part : {std::make_pair(&r.video, "frames.avi or frame_0000.png... (the frames)"),
@@ -198,6 +208,9 @@ CliOptionGroup recordingOptions()
              {"plant", "FILE.yml", "",
               "nominal plant file; default: the recording's plant.yml, else the seed's (14.4 Hz, zeta 0.12, 1 deg per "
               "level)"},
+             {"mount", "FILE.yml", "",
+              "a mount's file (Mount::save): the command log carries one level column per axis; default: the "
+              "recording's mount.yml, else one axis"},
              {"exposure", "S", "", "exposure of one row, seconds, when the frame log has no exposure column"},
              {"line-delay", "S", "", "line delay, seconds, when the frame log has no line_delay column"},
              {"readout", "S", "", "the readout of a whole frame, seconds, in place of --line-delay (line delay = S / rows)"}}};
@@ -236,9 +249,12 @@ void OpenedRecording::open(const CliArgs& args, const std::string& defaultCamera
     r.camera = cv::dynblur::CameraModel::load(r.cameraPath);
     r.log = readFrameLog(args.str("frames", folder.frames), args.num("exposure", NAN),
                          toldLineDelay(args, r.camera->getImageSize().height));
-    r.commands = readCommandLog(args.str("commands", folder.commands));
+    const std::string commandsPath = args.str("commands", folder.commands);
+    r.commands = readCommandLog(commandsPath);
+    const std::string mountPath = args.str("mount", folder.mount);
+    r.mount = mountPath.empty() ? cv::Ptr<cv::dynblur::Mount>() : cv::dynblur::Mount::load(mountPath);
     const std::string plant = args.str("plant", folder.plant);
-    if (plant.empty())
+    if (plant.empty() && r.mount.empty())
         std::fprintf(stderr, "note: no --plant%s: using the seed's plant (14.4 Hz, zeta 0.12, 1 deg per level)\n",
                      args.has("recording") ? " and no plant.yml in the recording" : "");
     r.plant = plant.empty() ? cv::dynblur::Plant::create(14.4, 0.12, CV_PI / 180) : loadPlantFile(plant).plant;
@@ -254,7 +270,7 @@ void OpenedRecording::open(const CliArgs& args, const std::string& defaultCamera
                  cv::format("%s: frames are %dx%d but the camera '%s' is %dx%d (give the camera that took the "
                             "video: --camera)",
                             r.videoOption.c_str(), width, height, r.cameraPath.c_str(), size.width, size.height));
-    checkFramesMeetCommands(r.log, r.commands, r.plant, size.height);
+    checkFramesMeetCommands(r.log, r.commands, r.commanded(), size.height, commandsPath, mountPath);
 }
 
 cv::Mat OpenedRecording::read(const FrameRecord& record)
@@ -347,40 +363,98 @@ void writeFrameLog(const std::string& path, const std::vector<FrameRecord>& fram
     writeTextFile(path, out.str());
 }
 
-cv::dynblur::SwitchSchedule CommandLog::scheduleAround(double from, double to) const
+bool CommandLog::moves() const
 {
-    CV_Assert(!times.empty());
+    for (const std::vector<int>& axis : levels)
+        if (std::any_of(axis.begin(), axis.end(), [&](int l) { return l != axis[0]; }))
+            return true;
+    return false;
+}
+
+void CommandLog::appendMove(const std::vector<cv::dynblur::SwitchSchedule>& schedules, double offset)
+{
+    CV_Assert(int(schedules.size()) == axisCount() && !times.empty());
+    std::vector<double> instants;
+    for (const cv::dynblur::SwitchSchedule& s : schedules)
+        instants.insert(instants.end(), s.times.begin(), s.times.end());
+    std::sort(instants.begin(), instants.end());
+    instants.erase(std::unique(instants.begin(), instants.end()), instants.end());
+    for (double t : instants)
+    {
+        times.push_back(t + offset);
+        for (size_t a = 0; a < schedules.size(); a++)
+            levels[a].push_back(schedules[a].times.empty() ? levels[a].back() : schedules[a].levelAt(t));
+    }
+}
+
+cv::dynblur::SwitchSchedule CommandLog::scheduleAround(double from, double to, int axis, double restSince) const
+{
+    CV_Assert(!times.empty() && axis >= 0 && axis < axisCount());
+    const std::vector<int>& level = levels[size_t(axis)];
+    const double horizon = std::isfinite(restSince) ? restSince : from - kSettleSeconds;
     size_t first = 0;
-    while (first + 1 < times.size() && times[first + 1] <= from - kSettleSeconds)
-        first++;  // the last switch at or before the settle horizon sets the level in force
+    while (first + 1 < times.size() && times[first + 1] <= horizon)
+        first++;  // the last switch at or before the horizon sets the level in force
     cv::dynblur::SwitchSchedule schedule;
-    schedule.initialLevel = levels[first];
+    schedule.initialLevel = level[first];
     for (size_t i = first; i < times.size() && times[i] <= to; i++)
     {
         schedule.times.push_back(times[i]);
-        schedule.levels.push_back(levels[i]);
+        schedule.levels.push_back(level[i]);
     }
     if (schedule.times.empty())  // everything starts after the interval: the plant rests at the first level
     {
         schedule.times.push_back(times[0]);
-        schedule.levels.push_back(levels[0]);
+        schedule.levels.push_back(level[0]);
     }
     return schedule;
 }
+
+std::vector<cv::dynblur::SwitchSchedule> CommandLog::schedulesAround(double from, double to, double restSince) const
+{
+    std::vector<cv::dynblur::SwitchSchedule> schedules;
+    for (int a = 0; a < axisCount(); a++)
+        schedules.push_back(scheduleAround(from, to, a, restSince));
+    return schedules;
+}
+
+namespace {
+
+//! The level columns of a command log: {"level"} for one axis, {"level0", "level1", ...} for a mount.
+std::vector<std::string> levelColumns(const Table& t, const std::string& source)
+{
+    if (t.column.count("level") && t.column.count("level0"))
+        CV_Error(cv::Error::StsParseError, source + ": the header names both 'level' (one axis) and 'level0' (a "
+                                                    "mount's axes): give one");
+    if (t.column.count("level"))
+        return {"level"};
+    std::vector<std::string> columns;
+    while (t.column.count("level" + std::to_string(columns.size())))
+        columns.push_back("level" + std::to_string(columns.size()));
+    if (columns.empty())
+        CV_Error(cv::Error::StsParseError, source + ": the header has no column 'level' (one axis: level switched "
+                                                    "on, integer cells) nor 'level0', 'level1', ... (a mount: one per "
+                                                    "axis, base first)");
+    return columns;
+}
+
+}  // namespace
 
 CommandLog parseCommandLog(const std::string& text, const std::string& source)
 {
     const Table t = parseTable(text, source);
     requireColumn(t, "t", source, "switching instant, seconds, actuator clock");
-    requireColumn(t, "level", source, "level switched on, integer cells");
+    const std::vector<std::string> columns = levelColumns(t, source);
     CommandLog log;
+    log.levels.resize(columns.size());
     for (size_t r = 0; r < t.rows.size(); r++)
     {
         const double time = number(t, r, "t", source);
         if (!log.times.empty() && time <= log.times.back())
             parseError(source, t.lines[r], "'t' must increase from line to line");
         log.times.push_back(time);
-        log.levels.push_back(integer(t, r, "level", source));
+        for (size_t a = 0; a < columns.size(); a++)
+            log.levels[a].push_back(integer(t, r, columns[a], source));
     }
     if (log.times.empty())
         CV_Error(cv::Error::StsParseError, source + ": no commands");
@@ -395,117 +469,23 @@ CommandLog readCommandLog(const std::string& path)
 void writeCommandLog(const std::string& path, const CommandLog& log)
 {
     std::ostringstream out;
-    out << "# dynblur command log: from t (s, actuator clock) on, the level (cells); before the first line the\n"
-           "# plant rests at the first line's level\nt,level\n";
-    char line[96];
+    const bool oneAxis = log.axisCount() == 1;
+    out << "# dynblur command log: from t (s, actuator clock) on, the level (cells)"
+        << (oneAxis ? "" : " of each axis, base first") << "; before the first line\n# "
+        << (oneAxis ? "the plant rests at the first line's level\nt,level" : "each axis rests at its first line's level\nt");
+    for (int a = 0; !oneAxis && a < log.axisCount(); a++)
+        out << ",level" << a;
+    out << "\n";
+    char field[32];
     for (size_t i = 0; i < log.times.size(); i++)
     {
-        std::snprintf(line, sizeof line, "%.9f,%d\n", log.times[i], log.levels[i]);
-        out << line;
+        std::snprintf(field, sizeof field, "%.9f", log.times[i]);
+        out << field;
+        for (const std::vector<int>& axis : log.levels)
+            out << ',' << axis[i];
+        out << '\n';
     }
     writeTextFile(path, out.str());
-}
-
-ReferencePairing::ReferencePairing(const cv::Ptr<cv::dynblur::Plant>& plant,
-                                   const cv::Ptr<cv::dynblur::CameraModel>& camera, const CommandLog& commands,
-                                   const cv::dynblur::MotionCorrection& correction, double maxOffset, size_t maxPending)
-    : plant_(plant), correctedPlant_(correction.correctPlant(plant)), camera_(camera), commands_(commands),
-      correction_(correction), maxOffset_(maxOffset), maxPending_(maxPending)
-{
-}
-
-bool ReferencePairing::isStill(const FrameRecord& record, int rows) const
-{
-    const cv::dynblur::RollingShutter corrected =
-        correction_.correctShutter(cv::dynblur::RollingShutter(record.frameStart, record.exposure, record.lineDelay, rows));
-    return stillUnder(corrected, scheduleFor(corrected));
-}
-
-cv::dynblur::SwitchSchedule ReferencePairing::scheduleFor(const cv::dynblur::RollingShutter& corrected) const
-{
-    const cv::Vec2d readout = corrected.readoutInterval();
-    return commands_.scheduleAround(readout[0] - maxOffset_, readout[1] + maxOffset_);
-}
-
-bool ReferencePairing::stillUnder(const cv::dynblur::RollingShutter& corrected,
-                                  const cv::dynblur::SwitchSchedule& schedule) const
-{
-    using namespace cv::dynblur;
-    const double pixelAngle = 0.25 / camera_->getFx();
-    for (double shift : {-maxOffset_, 0.0, maxOffset_})
-    {
-        RollingShutter shifted = corrected;
-        shifted.frameStart += shift;
-        if (classifyExposure(correctedPlant_, schedule, shifted, pixelAngle, pixelAngle / corrected.exposure) !=
-            EXPOSURE_IV)
-            return false;
-    }
-    return true;
-}
-
-std::vector<ReferencePairing::Item> ReferencePairing::push(const FrameRecord& record, const cv::Mat& image)
-{
-    using namespace cv::dynblur;
-    Item item;
-    item.record = record;
-    item.image = image;
-    item.shutter = RollingShutter(record.frameStart, record.exposure, record.lineDelay, image.rows);
-    const RollingShutter corrected = correction_.correctShutter(item.shutter);
-    const cv::Vec2d readout = corrected.readoutInterval();
-    item.schedule = scheduleFor(corrected);
-    item.window = classifyExposure(correctedPlant_, item.schedule, corrected);
-    item.still = stillUnder(corrected, item.schedule);
-
-    std::vector<Item> ready;
-    if (item.still)
-    {
-        const double angle = plant_->restingAngle(item.schedule.levelAt(readout[0]));
-        release(ready, image, angle, readout[0]);
-        lastStill_ = image;
-        lastStillAngle_ = angle;
-        ready.push_back(item);
-    }
-    else if (item.window == EXPOSURE_I && waiting_.empty())
-    {
-        item.reference = item.before = lastStill_;
-        item.referenceAngle = item.angleBefore = lastStillAngle_;
-        ready.push_back(item);
-    }
-    else
-    {
-        waiting_.push_back(item);
-        if (waiting_.size() > maxPending_)
-            release(ready, cv::Mat(), 0, 0);
-    }
-    return ready;
-}
-
-std::vector<ReferencePairing::Item> ReferencePairing::finish()
-{
-    std::vector<Item> ready;
-    release(ready, cv::Mat(), 0, 0);
-    return ready;
-}
-
-/* Hands out every waiting frame: a frame that starts at rest with the still frame before it, one that
-   ends at rest with `reference` (the still frame starting at `stillStart`) when no switch comes
-   between, else with the still frame before it. */
-void ReferencePairing::release(std::vector<Item>& ready, const cv::Mat& reference, double angle, double stillStart)
-{
-    for (Item& w : waiting_)
-    {
-        const double end = correction_.correctShutter(w.shutter).readoutInterval()[1];
-        const auto next = std::upper_bound(commands_.times.begin(), commands_.times.end(), end + maxOffset_);
-        const bool after = !reference.empty() && w.window != cv::dynblur::EXPOSURE_I &&
-                           (next == commands_.times.end() || *next >= stillStart - maxOffset_);
-        w.reference = after ? reference : lastStill_;
-        w.referenceAngle = after ? angle : lastStillAngle_;
-        w.before = lastStill_, w.angleBefore = lastStillAngle_;
-        if (!reference.empty() && (next == commands_.times.end() || *next >= stillStart - maxOffset_))
-            w.after = reference, w.angleAfter = angle;
-        ready.push_back(w);
-    }
-    waiting_.clear();
 }
 
 }  // namespace dynblur_samples

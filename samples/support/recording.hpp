@@ -13,22 +13,24 @@
 #define DYNBLUR_SAMPLES_RECORDING_HPP
 
 #include "cli_args.hpp"
+#include "commanded_motion.hpp"
 
 #include <opencv2/dynblur.hpp>
 #include <opencv2/videoio.hpp>
 
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace dynblur_samples {
 
 /** @brief The files of a recording kept in one folder, as `dynblur_calibrate_timing --simulate`
-writes them: frames.avi (or frame_%04d.png), frames.csv, commands.csv, camera.xml, plant.yml, and
-timing.yml once calibrated. A name is empty when its file is absent (frames.csv and commands.csv
+writes them: frames.avi (or frame_%04d.png), frames.csv, commands.csv, camera.xml, plant.yml (one
+axis) or mount.yml (a mount's), and timing.yml once calibrated. A name is empty when its file is absent (frames.csv and commands.csv
 must be there: a folder without them throws, naming it). */
 struct RecordingFolder
 {
-    std::string video, frames, commands, camera, plant, timing;
+    std::string video, frames, commands, camera, plant, mount, timing;
 };
 RecordingFolder findRecording(const std::string& folder);
 
@@ -52,33 +54,53 @@ std::vector<FrameRecord> readFrameLog(const std::string& path, double exposure, 
 //! Writes a frame log with all four columns, atomically.
 void writeFrameLog(const std::string& path, const std::vector<FrameRecord>& frames);
 
-//! The actuator's switches: levels[i] from times[i] on; before times[0] the plant rests at levels[0].
+/** @brief The actuators' switches: from times[i] on, axis a is at levels[a][i]; before times[0] each
+axis rests at its first level. One axis (column `level`) or a mount's axes (columns `level0`,
+`level1`, ..., base first). */
 struct CommandLog
 {
-    std::vector<double> times;  //!< seconds, actuator clock, strictly increasing
-    std::vector<int> levels;    //!< cells
+    std::vector<double> times;             //!< seconds, actuator clock, strictly increasing
+    std::vector<std::vector<int>> levels;  //!< levels[axis][i], cells; one row per axis, each as long as times
 
-    /** The commands that move the plant during [from, to] (seconds): the switches from a settle
+    //! The number of axes the log commands.
+    int axisCount() const { return int(levels.size()); }
+    //! Whether any axis's level changes.
+    bool moves() const;
+    /** Appends a move: the union of the schedules' switch times, offset by `offset` seconds, each with
+    every axis's level in force (an axis whose schedule is empty holds its last level).
+    @param schedules one per axis. @param offset seconds added to the schedules' times. */
+    void appendMove(const std::vector<cv::dynblur::SwitchSchedule>& schedules, double offset);
+
+    /** The commands that move axis `axis` during [from, to] (seconds): the switches from a settle
     time before `from` (the plant has come to rest from anything earlier) to `to`, starting from the
-    level in force before them. */
-    cv::dynblur::SwitchSchedule scheduleAround(double from, double to) const;
+    level in force before them. With `restSince` (seconds, finite), the axis is known at rest at that
+    instant (a still frame): the switches start from the level in force then, so the schedule's initial
+    resting angle is that still's. */
+    cv::dynblur::SwitchSchedule scheduleAround(double from, double to, int axis = 0,
+                                               double restSince = std::numeric_limits<double>::quiet_NaN()) const;
+    //! scheduleAround() of every axis.
+    std::vector<cv::dynblur::SwitchSchedule>
+    schedulesAround(double from, double to, double restSince = std::numeric_limits<double>::quiet_NaN()) const;
 };
 
-/** Parses a command log (columns t and level). Throws cv::Exception naming the line for a missing
-column, a non-number, a non-integer level or a time that does not increase, and for an empty log. */
+/** Parses a command log (columns t and level, or t and level0, level1, ... for a mount). Throws
+cv::Exception naming the line for a missing column, a non-number, a non-integer level or a time that
+does not increase, and for an empty log. */
 CommandLog parseCommandLog(const std::string& text, const std::string& source);
 CommandLog readCommandLog(const std::string& path);
-//! Writes a command log atomically.
+//! Writes a command log atomically: column level for one axis, level0, level1, ... for several.
 void writeCommandLog(const std::string& path, const CommandLog& log);
 
-/** Throws cv::Exception for a recording whose logs cannot belong together: a frame read out (`rows`
-rows) in longer than the frame period, or a command log that moves the plant while no frame sees
-a move (both logs' time spans in the message: one in ms, or on another epoch). */
+/** Throws cv::Exception for a recording whose logs cannot belong together: a command log whose axes
+are not `motion`'s (`commandsPath` and `mountPath` named), a frame read out (`rows` rows) in longer
+than the frame period, or a command log that moves the plant while no frame sees a move (both logs'
+time spans in the message: one in ms, or on another epoch). */
 void checkFramesMeetCommands(const std::vector<FrameRecord>& frames, const CommandLog& commands,
-                             const cv::Ptr<cv::dynblur::Plant>& plant, int rows);
+                             const CommandedMotion& motion, int rows, const std::string& commandsPath = "--commands",
+                             const std::string& mountPath = "");
 
 /** @brief The options that name a recording: --recording, --video, --frames, --commands, --camera,
---plant, --exposure, --line-delay, --readout. */
+--plant, --mount, --exposure, --line-delay, --readout. */
 CliOptionGroup recordingOptions();
 
 /** @brief The line delay the command line tells, seconds: --line-delay, or --readout over `rows`;
@@ -98,12 +120,15 @@ struct OpenedRecording
     std::string cameraPath;                    //!< the file it was read from
     std::string videoOption;                   //!< "--video" or "--recording", for messages
     cv::Ptr<cv::dynblur::Plant> plant;         //!< default: the seed's 14.4 Hz, ζ 0.12, 1°/level
+    cv::Ptr<cv::dynblur::Mount> mount;         //!< a mount's recording (--mount or mount.yml); empty: one axis
     std::string timingPath;                    //!< "" when none was given or found
     cv::VideoCapture video;
     int position = 0;                          //!< frames read from the video so far
 
     /** @param defaultCameraPath the camera file used when none is given. */
     static void open(const CliArgs& args, const std::string& defaultCameraPath, OpenedRecording& recording);
+    //! The motion the command log drives: the mount's, or the plant's.
+    CommandedMotion commanded() const { return CommandedMotion(plant, mount); }
     //! Whether the options name a recording (--recording, or all of --video, --frames and --commands).
     static bool named(const CliArgs& args);
     /** The image of `record`, read after those of the previous records; throws naming a frame the
@@ -115,70 +140,6 @@ struct OpenedRecording
 names (cv::dynblur::refinementFlags: offset, line-delay, plant, bias, all, none); false when it names
 an unknown parameter or one whose flag is not among `allowed`. */
 bool parseRefinementList(const std::string& list, int allowed, int& flags);
-
-/** @brief Streams a recording's frames and pairs each frame taken during a move with the still frame
-that saw what its moving rows see: the last still frame before it when the frame starts at rest
-(window I), the first still frame after it otherwise, unless another switch comes between (then,
-and when more than `maxPending` frames wait, the last still frame before it). Frames come back in
-their order, as soon as their reference is known: memory holds at most `maxPending` frames. Each
-moving frame also carries the stills on both sides of its move (`before`, `after`) for
-DynamicDeblurrer::setReferenceFrames, which chooses per frame: a frame that waits for the still after
-its move comes back when that still arrives (the latency of a stream: the rest of the move and one
-frame), or at finish() without one.
-
-"Still" is what a restoration cannot tell from still: the image moves by less than a quarter pixel
-(and by less than that during the exposure), with the clock off by as much as `maxOffset` either
-way, so a plant's slow residual vibration is not a move. */
-class ReferencePairing
-{
-public:
-    struct Item
-    {
-        FrameRecord record;
-        cv::Mat image;
-        cv::dynblur::SwitchSchedule schedule;  //!< the commands around the frame
-        cv::dynblur::RollingShutter shutter;   //!< as the frame log reports it
-        int window = 0;                        //!< exposure window under the model as given
-        bool still = false;
-        cv::Mat reference;                     //!< the moving frame's still frame (empty: none known)
-        double referenceAngle = 0;             //!< its angle, radians
-        cv::Mat before, after;                 //!< the stills before and after its move (empty: none)
-        double angleBefore = 0, angleAfter = 0;  //!< their angles, radians
-    };
-
-    /** @param plant the nominal plant. @param camera the camera. @param commands the command log.
-    @param correction the model's correction (a calibration; MotionCorrection() for none).
-    @param maxOffset how far off the clock may be, seconds. @param maxPending frames held at most. */
-    ReferencePairing(const cv::Ptr<cv::dynblur::Plant>& plant, const cv::Ptr<cv::dynblur::CameraModel>& camera,
-                     const CommandLog& commands, const cv::dynblur::MotionCorrection& correction, double maxOffset,
-                     size_t maxPending = 32);
-
-    //! Takes the next frame; returns the frames whose reference is now known, in order.
-    std::vector<Item> push(const FrameRecord& record, const cv::Mat& image);
-    //! At the end of the recording: the frames still waiting (with the last still frame before them).
-    std::vector<Item> finish();
-    //! Whether push() calls the frame still, read out by `rows` rows (what a progress count needs ahead).
-    bool isStill(const FrameRecord& record, int rows) const;
-    //! Frames held until the still after their move arrives.
-    size_t pending() const { return waiting_.size(); }
-
-private:
-    void release(std::vector<Item>& ready, const cv::Mat& reference, double angle, double stillStart);
-    //! The commands around a frame read out as `corrected` (the calibrated shutter), ±maxOffset.
-    cv::dynblur::SwitchSchedule scheduleFor(const cv::dynblur::RollingShutter& corrected) const;
-    //! At rest under `schedule` whether the clock is early, right or late by maxOffset.
-    bool stillUnder(const cv::dynblur::RollingShutter& corrected, const cv::dynblur::SwitchSchedule& schedule) const;
-
-    cv::Ptr<cv::dynblur::Plant> plant_, correctedPlant_;
-    cv::Ptr<cv::dynblur::CameraModel> camera_;
-    const CommandLog& commands_;
-    cv::dynblur::MotionCorrection correction_;
-    double maxOffset_;
-    size_t maxPending_;
-    std::vector<Item> waiting_;
-    cv::Mat lastStill_;
-    double lastStillAngle_ = 0;
-};
 
 }  // namespace dynblur_samples
 

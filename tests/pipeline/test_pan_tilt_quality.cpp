@@ -32,15 +32,14 @@ const double kDeg = CV_PI / 180, kNaN = std::numeric_limits<double>::quiet_NaN()
    the exact model, dB. */
 const double kOverUniform = 3.0, kBelowExact = 1.0;
 
-/* Window I misses the second: PSF_AUTO's tile columns (at most 16) are too few for a pan, whose shift
-   changes along a row (DISABLED_WindowITileColumns, docs/quality.md). Its shortfall, measured up to
-   1.93 dB, and its geometry error, up to 1.72 px, are held where they are (10 % above). */
-const double kWindowIBelowExact = 2.1, kWindowIGeometryPx = 1.9;
+/* The geometry error back into either resting view, px: the issue's bar is 1 px; measured up to 0.24 px
+   (docs/quality.md), held 10 % above. */
+const double kGeometryPx = 0.27;
 
 /* RL with the exact model: tiles every 20 px (32 × 24 nodes, each kernel the exact path of its pixel),
-   where the default takes 8 to 16 columns and the cheapest model within 0.25 px. On window I's frame of
-   building, tiles every 10 px gain 0.38 dB more (DISABLED_WindowITileColumns, docs/quality.md): there
-   the exact model's bound is that much higher still. */
+   where the default takes 8 to 48 columns and the cheapest model within 0.25 px. In window I it is not
+   converged: there the default's 48 columns over finer row bands beat it by 0.6-0.9 dB
+   (DISABLED_WindowITileColumns, docs/quality.md). */
 const Size kExactGrid(32, 24);
 
 //! The head's tilt: the seed's 14.4 Hz, or a stiffer one.
@@ -96,28 +95,28 @@ std::string imageName(const std::string& file) { return file.substr(0, file.find
 const std::map<std::string, double>& documentedGains()
 {
     static const std::map<std::string, double> gains = {
-        {"14.4 Hz tilt, I rolling, building", 11.92},
-        {"14.4 Hz tilt, II rolling, building", 5.32},
-        {"14.4 Hz tilt, III rolling, building", 9.51},
+        {"14.4 Hz tilt, I rolling, building", 13.97},
+        {"14.4 Hz tilt, II rolling, building", 5.35},
+        {"14.4 Hz tilt, III rolling, building", 9.52},
         {"14.4 Hz tilt, III global, building", 3.04},
-        {"14.4 Hz tilt, I rolling, fruits", 9.81},
-        {"14.4 Hz tilt, II rolling, fruits", 4.82},
-        {"14.4 Hz tilt, III rolling, fruits", 3.03},
+        {"14.4 Hz tilt, I rolling, fruits", 11.29},
+        {"14.4 Hz tilt, II rolling, fruits", 5.13},
+        {"14.4 Hz tilt, III rolling, fruits", 3.04},
         {"14.4 Hz tilt, III global, fruits", 0.47},
-        {"14.4 Hz tilt, I rolling, baboon", 8.82},
-        {"14.4 Hz tilt, II rolling, baboon", 3.61},
-        {"14.4 Hz tilt, III rolling, baboon", 7.20},
+        {"14.4 Hz tilt, I rolling, baboon", 11.27},
+        {"14.4 Hz tilt, II rolling, baboon", 3.60},
+        {"14.4 Hz tilt, III rolling, baboon", 7.22},
         {"14.4 Hz tilt, III global, baboon", 1.21},
-        {"20.0 Hz tilt, I rolling, building", 12.51},
-        {"20.0 Hz tilt, II rolling, building", 5.60},
-        {"20.0 Hz tilt, III rolling, building", 8.81},
+        {"20.0 Hz tilt, I rolling, building", 15.00},
+        {"20.0 Hz tilt, II rolling, building", 5.69},
+        {"20.0 Hz tilt, III rolling, building", 8.86},
         {"20.0 Hz tilt, III global, building", 3.39},
-        {"20.0 Hz tilt, I rolling, fruits", 9.89},
-        {"20.0 Hz tilt, II rolling, fruits", 5.05},
+        {"20.0 Hz tilt, I rolling, fruits", 11.42},
+        {"20.0 Hz tilt, II rolling, fruits", 5.13},
         {"20.0 Hz tilt, III rolling, fruits", 2.96},
         {"20.0 Hz tilt, III global, fruits", 0.48},
-        {"20.0 Hz tilt, I rolling, baboon", 9.21},
-        {"20.0 Hz tilt, II rolling, baboon", 3.81},
+        {"20.0 Hz tilt, I rolling, baboon", 12.02},
+        {"20.0 Hz tilt, II rolling, baboon", 3.78},
         {"20.0 Hz tilt, III rolling, baboon", 6.97},
         {"20.0 Hz tilt, III global, baboon", 1.69},
     };
@@ -144,7 +143,7 @@ Mat judgedPixels(const std::vector<Mat>& valid)
    exact model, PSNR over the pixels all three observed. The default beats the single PSF by the issue's
    3 dB wherever RL with the exact model can (a global frame's blur is nearly the same everywhere: there
    even the exact model gains less, and the bound is printed), and stays within 1 dB of the exact
-   model's RL (window I: see kWindowIBelowExact). */
+   model's RL. */
 TEST_P(PanTiltQuality, EveryWindowBeyondTheSeedsSinglePsfNearTheExactModel)
 {
     const double tiltHz = std::get<0>(GetParam());
@@ -179,7 +178,7 @@ TEST_P(PanTiltQuality, EveryWindowBeyondTheSeedsSinglePsfNearTheExactModel)
         {
             EXPECT_GE(dflt - uniform, kOverUniform) << key;
         }
-        EXPECT_GE(dflt - exact, w.window == EXPOSURE_I ? -kWindowIBelowExact : -kBelowExact) << key;
+        EXPECT_GE(dflt - exact, -kBelowExact) << key;
         const auto documented = documentedGains().find(key);
         if (documented == documentedGains().end())
             ADD_FAILURE() << "no documented figure for '" << key << "' (measured " << dflt - uniform << " dB)";
@@ -244,8 +243,8 @@ double geometryError(const Mat& restored, const Mat& valid, int& observed, std::
 }  // namespace
 
 /* Windows I and II restored into the view at rest before the move (a time before it) and after it (NaN,
-   the default): a scene of 9 spots, each put back where that view has it within 1 px (window I: see
-   kWindowIGeometryPx; with tiles every 20 px it is 0.35 px). */
+   the default): a scene of 9 spots, each put back where that view has it within the issue's 1 px (see
+   kGeometryPx). */
 TEST(PanTiltGeometry, WindowsIAndIIBackIntoEitherRestingView)
 {
     const MountScene scene(spotScene());
@@ -266,16 +265,15 @@ TEST(PanTiltGeometry, WindowsIAndIIBackIntoEitherRestingView)
             std::printf("[ measured ] pan-tilt 10+6 deg, %s: geometry error %.2f px at worst over %d spots;%s\n",
                         key.c_str(), worst, observed, where.c_str());
             EXPECT_GE(observed, 7) << key;
-            EXPECT_LE(worst, w.window == EXPOSURE_I ? kWindowIGeometryPx : 1.0) << key;
+            EXPECT_LE(worst, kGeometryPx) << key;
         }
 }
 
-/* Why the default falls short of the exact model's RL in window I (docs/quality.md): a pan moves the
-   image along x by an amount that changes across x (f·tan(atan(x/f) + θ)), so a kernel's integer shift
-   changes by ~0.14 px per pixel along a row, and PSF_AUTO's tile columns (at most 16, tuned on tilts,
-   whose keystone changes little along x) sit 40 px apart. Prints the window I frame restored with the
-   default's columns, with 32 and 64 of them (the exact model at two spacings: its convergence), per
-   image. */
+/* How many tile columns window I needs (docs/quality.md): a pan moves the image along x by an amount that
+   changes across x (f·tan(atan(x/f) + θ)), up to ~0.27 px per pixel here, so adjacent kernels' shifts
+   part fast along a row. Prints the window I frame restored as PSF_TILES with the automatic grid, with
+   16 to 64 columns over the automatic row bands, and with the exact model at two spacings (its
+   convergence), with each restoration's time (printed, not asserted), per image. */
 TEST_P(PanTiltQuality, DISABLED_WindowITileColumns)
 {
     const double tiltHz = std::get<0>(GetParam());
@@ -285,22 +283,26 @@ TEST_P(PanTiltQuality, DISABLED_WindowITileColumns)
     const PanTiltSaccade saccade(tiltHz);
     const RollingShutter shutter = shutterInWindow(saccade.motion, EXPOSURE_I, kWindows[0].lineDelay);
     const Mat frame = scene.capture(saccade.motion, shutter, 7);
-    const Size grids[] = {Size(0, 0), Size(32, 0), kExactGrid, Size(64, 48)};
-    std::vector<Mat> restored(4), valid(4);
-    for (size_t k = 0; k < 4; k++)
+    const std::vector<Size> grids = {Size(0, 0),  Size(16, 0), Size(32, 0), Size(48, 0),
+                                     Size(64, 0), kExactGrid,  Size(64, 48)};
+    std::vector<Mat> restored(grids.size()), valid(grids.size());
+    std::vector<double> ms(grids.size());
+    std::vector<Size> nodes(grids.size());
+    for (size_t k = 0; k < grids.size(); k++)
     {
         Ptr<DynamicDeblurrer> d = deblurrer(scene, "exact");
         d->getPsfGenerator()->setTileGrid(grids[k]);
+        const int64 start = getTickCount();
         d->deblur(frame, saccade.motion, shutter, restored[k], kNaN, valid[k]);
-        if (k == 0)
-            std::printf("[ measured ] %s, window I: automatic grid %zu x %zu nodes\n", imageName(file).c_str(),
-                        d->getLastPsfBank().nodeCols.size(), d->getLastPsfBank().nodeRows.size());
+        ms[k] = double(getTickCount() - start) * 1e3 / getTickFrequency();
+        nodes[k] = Size(int(d->getLastPsfBank().nodeCols.size()), int(d->getLastPsfBank().nodeRows.size()));
     }
     const Mat judged = judgedPixels(valid);
-    for (size_t k = 0; k < 4; k++)
-        std::printf("[ measured ] %.1f Hz tilt, %s, window I, tiles %d x %d (0: automatic): %.2f dB\n", tiltHz,
-                    imageName(file).c_str(), grids[k].width, grids[k].height,
-                    maskedPsnr(scene.truth, restored[k], judged, 255));
+    for (size_t k = 0; k < grids.size(); k++)
+        std::printf("[ measured ] %.1f Hz tilt, %s, window I, tiles %d x %d (0: automatic; %d x %d nodes): %.2f dB, "
+                    "%.0f ms\n",
+                    tiltHz, imageName(file).c_str(), grids[k].width, grids[k].height, nodes[k].width,
+                    nodes[k].height, maskedPsnr(scene.truth, restored[k], judged, 255), ms[k]);
 }
 
 INSTANTIATE_TEST_SUITE_P(, PanTiltQuality,

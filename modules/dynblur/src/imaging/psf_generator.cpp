@@ -113,11 +113,14 @@ void exposureRotations(const Trajectory& tr, const RollingShutter& shutter, doub
    the per-row one, PointSourceMatchesRendererRollingShutter) with three quarters of the kernels
    of 0.25 px; at 0.5 px that spot's error grows by 16 %. */
 const double kBandTolerancePx = 0.4;
-//! Range of node columns of an automatic tile grid.
-const int kMinAutoTileCols = 8;
-// 16 columns restore as well as 64 (within 0.1 dB in window I, where the keystone is largest) at a
-// quarter of the cost; see the DeblurQuality tests.
-const int kMaxAutoTileCols = 16;
+/* Node columns of an automatic tile grid: kBandTolerancePx between neighbouring columns' paths, at
+   least 8 and at most 16 columns. At most 8 loses 0.7-1.2 dB in a tilt's window I, and there 16
+   restore as well as 64 (within 0.1 dB) with neighbours up to 2 px apart (DeblurQuality). A pan's
+   shift changes along a row up to ~10x faster: 16 columns there lose 1-2 dB and double the spots
+   (PanTiltQuality.DISABLED_WindowITileColumns), so beyond 16 columns are added until neighbours
+   differ by kColumnStepPx, up to kMaxAutoTileCols, which bounds the bank (columns x row bands). */
+const int kMinAutoTileCols = 8, kFineAutoTileCols = 16, kMaxAutoTileCols = 48;
+const double kColumnStepPx = 2.5;
 
 int PsfGeneratorImpl::autoColumns(const Trajectory& tr, const Pinhole& pr, const RollingShutter& shutter) const
 {
@@ -146,8 +149,9 @@ int PsfGeneratorImpl::autoColumns(const Trajectory& tr, const Pinhole& pr, const
             }
         }
     }
-    const double needed = std::ceil(W * slope / kBandTolerancePx);
-    return (int)std::min((double)kMaxAutoTileCols, std::max((double)kMinAutoTileCols, needed));
+    const double fine = std::min((double)kFineAutoTileCols, std::max((double)kMinAutoTileCols,
+                                                                      std::ceil(W * slope / kBandTolerancePx)));
+    return (int)std::max(fine, std::min((double)kMaxAutoTileCols, std::ceil(W * slope / kColumnStepPx)));
 }
 
 std::vector<double> PsfGeneratorImpl::autoBands(const Trajectory& tr, const Pinhole& pr,

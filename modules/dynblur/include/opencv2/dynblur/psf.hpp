@@ -159,7 +159,7 @@ public:
     kernel changes (down to one row). */
     CV_WRAP virtual int getBandRows() const = 0;
     CV_WRAP virtual void setBandRows(int rows) = 0;
-    /** @brief Tile grid for PSF_TILES (columns × rows of nodes); (0,0) (default) chooses it: 8 to 16
+    /** @brief Tile grid for PSF_TILES (columns × rows of nodes); (0,0) (default) chooses it: 8 to 48
     columns from how fast the path changes across x, and the row bands of PSF_ROWS. */
     CV_WRAP virtual Size getTileGrid() const = 0;
     CV_WRAP virtual void setTileGrid(const Size& grid) = 0;

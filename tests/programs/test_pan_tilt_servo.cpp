@@ -129,6 +129,55 @@ TEST(PanTiltServoCircle, FollowsATargetAlongACircleAndRestorationFindsItMoreOfte
     EXPECT_GE(blurred.restoredRate(), 0.77);
 }
 
+/* Over the bus: the pan and the tilt are two axes of the actuator simulator on a loopback port
+   (as dynblur_actuator_sim --axes 2 serves them); each move is uploaded to both, verified and started
+   by one START, and the loop still centres the target. */
+TEST(PanTiltServoBus, DrivesBothAxesOfTheActuatorSimulatorOverModbusTcp)
+{
+    PanTiltConfig config = diagonalJumps(1);  // one place 4°, 4° off
+    config.loop.cycles = 3;
+    config.loop.keepImages = false;
+    SimConfig sim;
+    sim.plant = Plant::create(config.loop.naturalFreqHz, config.loop.dampingRatio,
+                              config.loop.gainDegPerLevel * CV_PI / 180.0);
+    sim.axes = 2;
+    sim.maxLevel = config.loop.maxLevel;
+    sim.tcpPort = 0;  // a free loopback port
+    ActuatorSim simulator(sim);
+    simulator.start();
+    config.loop.busUri = "tcp://127.0.0.1:" + std::to_string(simulator.tcpPort());
+
+    const PanTiltReport report = runPanTiltServo(config);
+    ASSERT_EQ(report.moves.size(), 3u);
+    int moves = 0;
+    for (size_t c = 0; c < report.moves.size(); ++c)
+    {
+        const PanTiltMove& m = report.moves[c];
+        if (m.fromLevels == m.toLevels)
+        {
+            EXPECT_TRUE(m.starts.empty()) << "cycle " << c << ": nothing to move, nothing started";
+            continue;
+        }
+        ++moves;
+        // One START ran both axes: one controller instant, one host instant.
+        ASSERT_EQ(m.starts.size(), 2u) << "cycle " << c;
+        EXPECT_EQ(m.starts[1].controllerStartTime, m.starts[0].controllerStartTime) << "cycle " << c;
+        EXPECT_EQ(m.starts[1].hostStartTime, m.starts[0].hostStartTime) << "cycle " << c;
+        EXPECT_GE(report.loop.cycles[c].startLatencyMs, 0.0) << "cycle " << c;
+    }
+    EXPECT_GE(moves, 1);
+    EXPECT_EQ(simulator.startCount(), moves);
+    const std::vector<SimStartRecord> started = simulator.takeStarts();
+    ASSERT_EQ(started.size(), size_t(2 * moves));  // every START started both axes
+    EXPECT_EQ(simulator.lastStartHostTime(1), simulator.lastStartHostTime(0));
+    // The controller holds the levels the servo commanded last, and the target is centred.
+    EXPECT_EQ(simulator.currentLevel(0), report.moves.back().toLevels[0]);
+    EXPECT_EQ(simulator.currentLevel(1), report.moves.back().toLevels[1]);
+    EXPECT_LE(report.loop.cycles.back().trueErrorPx, 1.0);
+    EXPECT_EQ(report.loop.cyclesToWithin(1.0, 0), 1);
+    simulator.stop();
+}
+
 TEST(PanTiltServoConfigCheck, RefusesAMountOfOneAxisAPlaceOutOfReachAndAxesThatCannotPoint)
 {
     PanTiltConfig config = diagonalJumps(1);

@@ -13,6 +13,12 @@ AprilTags 36h11 (ids 0-2), that starts --start-deg off the image centre. Each cy
      renderBlurred + addSensorNoise, classified (windows I-IV), restored with DynamicDeblurrer
      (PSF_ROWS) and searched for the target raw and restored.
 
+With --mount pan-tilt the camera sits on a pan (0, 1, 0) carrying a tilt (1, 0, 0), each axis that
+positioner, and the target starts --start-deg off along the diagonal (as dynblur_visual_servo --mount
+pan-tilt --scenario step): the pan and tilt that centre it come from Mount.anglesFor, MountPlanner
+moves both axes together and every frame is rendered, classified and restored from the mount's
+CameraMotion.
+
 The camera, plant and target are the C++ sample's defaults (320x240, fx = 300 px, 30 fps, 33 ms
 exposure; 14.4 Hz, zeta = 0.12, 0.05 deg/level, 400 levels; 0.75 px dead band). Writes
 <out>/cycles.csv, frames.csv, error.png (error per cycle) and strip.png (raw | restored frames
@@ -46,6 +52,8 @@ def parse_args(argv=None):
                    help="hold still while the measured error is at most this, pixels, in [0, 5] (default: %(default)s)")
     p.add_argument("--iterations", type=int, default=20,
                    help="Richardson-Lucy iterations, in [1, 200] (default: %(default)s)")
+    p.add_argument("--mount", choices=("tilt", "pan-tilt"), default="tilt",
+                   help="the tilt positioner, or a pan carrying a tilt (default: %(default)s)")
     p.add_argument("--seed", type=int, default=7, help="sensor noise seed, >= 0 (default: %(default)s)")
     p.add_argument("--out", default="servo_out_py", help="output folder (default: %(default)s)")
     args = p.parse_args(argv)
@@ -72,8 +80,14 @@ class Camera:
                                            self.width, self.height)
         self.centre = np.array([(self.width - 1) / 2.0, (self.height - 1) / 2.0])
 
-    def view_to_reference(self, points, angle):
-        return self.model.viewToReference(np.asarray(points, np.float64).reshape(-1, 2), float(angle))
+    def view_to_reference(self, points, view):
+        """Where the view `view` (a tilt in radians, or a 3x3 rotation) sees `points` of the reference view."""
+        view = np.asarray(view, np.float64) if np.ndim(view) == 2 else float(view)
+        return self.model.viewToReference(np.asarray(points, np.float64).reshape(-1, 2), view)
+
+    def ray(self, pixel):
+        """The direction (camera frame) that `pixel` sees."""
+        return np.array([(pixel[0] - self.centre[0]) / self.focal, (pixel[1] - self.centre[1]) / self.focal, 1.0])
 
 
 def tag_image(cv2, tag_id, cell_px):
@@ -96,16 +110,17 @@ def textured_plane(height, width, seed=20261122):
 
 
 class World:
-    """The plane as the camera sees it at theta = 0, with margins, and the target placed so that the
-    image centre sees it at tilt `target_rad`."""
+    """The plane as the camera sees it at rest, with margins (max_shift_px down and up, pan_shift_px
+    left and right, plus 40 px), and the target placed so that the image centre sees it in the view
+    `target` (a tilt in radians, or the mount's orientation, 3x3)."""
 
-    def __init__(self, cv2, camera, target_rad, cell_px=4, max_shift_px=100):
-        self.margin = np.array([40, max_shift_px + 40])
+    def __init__(self, cv2, camera, target, cell_px=4, max_shift_px=100, pan_shift_px=0):
+        self.margin = np.array([pan_shift_px + 40, max_shift_px + 40])
         plane = textured_plane(camera.height + 2 * self.margin[1], camera.width + 2 * self.margin[0])
         self.tags_at_zero, self.offsets = [], []
         for k in range(TAG_IDS):
             offset = (k - (TAG_IDS - 1) / 2.0) * 9 * cell_px  # 9 cells apart: quiet zones shared
-            centre = camera.view_to_reference([camera.centre + (0.0, offset)], target_rad)[0]
+            centre = camera.view_to_reference([camera.centre + (0.0, offset)], target)[0]
             tag = tag_image(cv2, k, cell_px)
             top_left = np.rint(centre + self.margin - (tag.shape[0] - 1) / 2.0).astype(int)
             plane[top_left[1]:top_left[1] + tag.shape[0], top_left[0]:top_left[0] + tag.shape[1]] = tag
@@ -113,9 +128,10 @@ class World:
             self.offsets.append(offset)
         self.sharp = plane
 
-    def target_in_view(self, camera, theta):
-        """The target's centre (its tags' mean) in the view at tilt theta."""
-        return camera.view_to_reference(self.tags_at_zero, -theta).mean(axis=0)
+    def target_in_view(self, camera, view):
+        """The target's centre (its tags' mean) in the view `view` (a tilt in radians, or an orientation, 3x3)."""
+        inverse = np.asarray(view).T if np.ndim(view) == 2 else -view
+        return camera.view_to_reference(self.tags_at_zero, inverse).mean(axis=0)
 
 
 def detect_target(cv2, detector, grey8, offsets):
@@ -149,7 +165,58 @@ def centring_tilt(camera, pixel, theta):
     return goal
 
 
+def configured(db, deblurrer, iterations):
+    """The deblurrer with the C++ sample's restoration: row-wise PSFs, `iterations` RL iterations."""
+    deblurrer.setPsfModel(db.PSF_ROWS)
+    params = deblurrer.getRLParams()
+    params.iterations = iterations
+    deblurrer.setRLParams(params)
+    return deblurrer
+
+
+class Observer:
+    """The camera's side of a cycle: adds the sensor noise to a rendered frame, restores it when it was
+    taken while moving, searches both for the target and keeps the frame."""
+
+    def __init__(self, cv2, db, world, seed):
+        self.cv2, self.db, self.world, self.seed = cv2, db, world, seed
+        self.detector = cv2.aruco.ArucoDetector(cv2.aruco.getPredefinedDictionary(cv2.aruco.DICT_APRILTAG_36h11),
+                                                cv2.aruco.DetectorParameters())
+        self.frames = []
+
+    def take(self, cycle, shutter, blurred, window, restore):
+        """restore(noisy) -> restored frame, or None when nothing moved; frames in window IV stay as taken."""
+        db, index = self.db, len(self.frames)
+        noisy = db.addSensorNoise(blurred, seed=self.seed * 100003 + index)
+        started = time.perf_counter()
+        moving = restore is not None and window != db.EXPOSURE_IV
+        restored = restore(noisy) if moving else noisy
+        restore_ms = 1e3 * (time.perf_counter() - started) if moving else 0.0
+        raw8, restored8 = db.linearToSrgb(noisy), db.linearToSrgb(restored)
+        frame = dict(cycle=cycle, index=index, window=window, readout_end=shutter.readoutInterval()[1],
+                     raw=detect_target(self.cv2, self.detector, raw8, self.world.offsets),
+                     restored=detect_target(self.cv2, self.detector, restored8, self.world.offsets),
+                     raw8=raw8, restored8=restored8, restore_ms=restore_ms)
+        self.frames.append(frame)
+        return frame
+
+
+def latest_sighting(frames, move_start):
+    """The target as the latest frame read out after the move began (move_start, None: no move) shows
+    it whole; failing that, the one that shows the most tags."""
+    seen = (False, 0, None, [])
+    for frame in frames:
+        # A frame read out wholly before the move began still shows the old view.
+        before_move = move_start is not None and frame["readout_end"] <= move_start
+        restored = frame["restored"]
+        if not before_move and (restored[0] or (not seen[0] and restored[1] >= seen[1])):
+            seen = restored
+    return seen
+
+
 def run(args, progress=print):
+    if args.mount == "pan-tilt":
+        return run_pan_tilt(args, progress)
     import cv2
     import dynblur as db
 
@@ -158,42 +225,26 @@ def run(args, progress=print):
     max_level = 400
     plant = db.Plant.create(naturalFreqHz=14.4, dampingRatio=0.12, gain=gain_rad)
     planner = db.SwitchPlanner.create(plant, maxLevel=max_level, mode=db.PLAN_ROBUST)
-    deblurrer = db.DynamicDeblurrer.create(plant, camera.model)
-    deblurrer.setPsfModel(db.PSF_ROWS)
-    params = deblurrer.getRLParams()
-    params.iterations = args.iterations
-    deblurrer.setRLParams(params)
-    detector = cv2.aruco.ArucoDetector(cv2.aruco.getPredefinedDictionary(cv2.aruco.DICT_APRILTAG_36h11),
-                                       cv2.aruco.DetectorParameters())
+    deblurrer = configured(db, db.DynamicDeblurrer.create(plant, camera.model), args.iterations)
     max_shift = int(math.ceil(camera.focal * math.tan(math.radians(abs(args.start_deg) * 1.3 + 2))))
     world = World(cv2, camera, math.radians(args.start_deg), max_shift_px=max_shift)
+    observer = Observer(cv2, db, world, args.seed)
     # "Moving" for this camera: 0.25 px off the final view, or 0.2 px per exposure (as the C++ sample).
     angle_tol, velocity_tol = 0.25 / camera.focal, 0.2 / camera.focal / camera.exposure
     period = 1.0 / camera.fps
 
     history_times, history_levels = [], []
     saccade = db.SwitchSchedule(times=[], levels=[], initialLevel=0)
-    level, frames, cycles = 0, [], []
+    level, frames, cycles = 0, observer.frames, []
 
     def take_frame(cycle):
-        index = len(frames)
-        shutter = db.RollingShutter(frameStart=index * period, exposure=camera.exposure,
+        shutter = db.RollingShutter(frameStart=len(frames) * period, exposure=camera.exposure,
                                     lineDelay=camera.line_delay, rows=camera.height)
         history = db.SwitchSchedule(times=history_times, levels=history_levels, initialLevel=0)
         blurred = db.renderBlurred(world.sharp, plant, history, camera.model, shutter, thetaRef=0.0)
-        noisy = db.addSensorNoise(blurred, seed=args.seed * 100003 + index)
         window = db.classifyExposure(plant, saccade, shutter, angle_tol, velocity_tol)
-        started = time.perf_counter()
-        moving = len(saccade.times) > 0 and window != db.EXPOSURE_IV
-        restored = deblurrer.deblur(noisy, saccade, shutter) if moving else noisy
-        restore_ms = 1e3 * (time.perf_counter() - started) if moving else 0.0
-        raw8, restored8 = db.linearToSrgb(noisy), db.linearToSrgb(restored)
-        frame = dict(cycle=cycle, index=index, window=window, readout_end=shutter.readoutInterval()[1],
-                     raw=detect_target(cv2, detector, raw8, world.offsets),
-                     restored=detect_target(cv2, detector, restored8, world.offsets),
-                     raw8=raw8, restored8=restored8, restore_ms=restore_ms)
-        frames.append(frame)
-        return frame
+        restore = (lambda noisy: deblurrer.deblur(noisy, saccade, shutter)) if len(saccade.times) > 0 else None
+        return observer.take(cycle, shutter, blurred, window, restore)
 
     latest = take_frame(-1)["restored"]
     for c in range(args.cycles):
@@ -209,24 +260,100 @@ def run(args, progress=print):
         history_times += list(saccade.times)
         history_levels += list(saccade.levels)
         level_before, level = level, goal
-        seen = (False, 0, None, [])
-        for _ in range(args.frames_per_cycle):
-            frame = take_frame(c)
-            # A frame read out wholly before the saccade began still shows the old view.
-            before_move = len(saccade.times) > 0 and frame["readout_end"] <= saccade.times[0]
-            restored = frame["restored"]
-            if not before_move and (restored[0] or (not seen[0] and restored[1] >= seen[1])):
-                seen = restored
-        latest = seen
+        latest = latest_sighting([take_frame(c) for _ in range(args.frames_per_cycle)],
+                                 saccade.times[0] if len(saccade.times) > 0 else None)
         cycles.append(dict(cycle=c, measured_px=measured, true_px=true_error, from_level=level_before,
                            to_level=level, switches=len(saccade.times)))
-        windows = " ".join(f"{WINDOW_NAMES.get(f['window'], '?')}[raw {'found' if f['raw'][0] else '-'}, "
-                           f"restored {'found' if f['restored'][0] else '-'}]" for f in frames if f["cycle"] == c)
-        progress(f"[servo.py] cycle {c + 1:2d}/{args.cycles}: error {measured:6.2f} px (true {true_error:6.2f}), "
-                 f"level {level_before:4d} -> {level:4d}, frames: {windows}")
+        progress(cycle_line(args, cycles[-1], f"level {level_before:4d} -> {level:4d}", frames))
     # The error after the last cycle's saccade.
     theta = plant.restingAngle(level)
     final = dict(true_px=float(np.linalg.norm(world.target_in_view(camera, theta) - camera.centre)),
+                 measured_px=float(np.linalg.norm(latest[2] - camera.centre)) if latest[1] > 0 else -1.0)
+    return dict(cycles=cycles, frames=frames, final=final)
+
+
+def cycle_line(args, cycle, move, frames):
+    """One progress line: the cycle's error, its move and its frames' windows and detections."""
+    windows = " ".join(f"{WINDOW_NAMES.get(f['window'], '?')}[raw {'found' if f['raw'][0] else '-'}, "
+                       f"restored {'found' if f['restored'][0] else '-'}]" for f in frames if f["cycle"] == cycle["cycle"])
+    return (f"[servo.py] cycle {cycle['cycle'] + 1:2d}/{args.cycles}: error {cycle['measured_px']:6.2f} px "
+            f"(true {cycle['true_px']:6.2f}), {move}, frames: {windows}")
+
+
+def pan_tilt_mount(db, gain_rad, max_level):
+    """A pan (0, 1, 0) carrying a tilt (1, 0, 0), each the tilt positioner (14.4 Hz, zeta 0.12)."""
+    mount = db.Mount.create()
+    for axis in ((0.0, 1.0, 0.0), (1.0, 0.0, 0.0)):
+        mount.addAxis(axis, db.Plant.create(naturalFreqHz=14.4, dampingRatio=0.12, gain=gain_rad), -max_level, max_level)
+    return mount
+
+
+def run_pan_tilt(args, progress=print):
+    """The loop on a pan-tilt head: the same camera, target, dead band and restoration, two axes."""
+    import cv2
+    import dynblur as db
+
+    camera = Camera(db)
+    gain_rad, max_level, history_start = math.radians(0.05), 400, -1.0
+    mount = pan_tilt_mount(db, gain_rad, max_level)
+    planner = db.MountPlanner.create(mount, mode=db.PLAN_ROBUST)
+    deblurrer = configured(db, db.DynamicDeblurrer.create(camera.model), args.iterations)
+    place = math.radians(args.start_deg) / math.sqrt(2.0)  # along the diagonal, as the C++ step scenario
+    shift = int(math.ceil(camera.focal * math.tan(math.radians(abs(args.start_deg) * 1.3 + 2))))
+    world = World(cv2, camera, mount.orientation([place, place]), max_shift_px=shift, pan_shift_px=shift)
+    observer = Observer(cv2, db, world, args.seed)
+    angle_tol, velocity_tol = 0.25 / camera.focal, 0.2 / camera.focal / camera.exposure
+    period = 1.0 / camera.fps
+
+    def hold(level, at):
+        return db.SwitchSchedule(times=[at], levels=[level], initialLevel=level)
+
+    def angles(levels):
+        return [mount.getPlant(i).restingAngle(levels[i]) for i in range(2)]
+
+    history = [hold(0, history_start), hold(0, history_start)]  # every switch so far, per axis
+    command, levels, frames, cycles = None, [0, 0], observer.frames, []
+
+    def take_frame(cycle):
+        shutter = db.RollingShutter(frameStart=len(frames) * period, exposure=camera.exposure,
+                                    lineDelay=camera.line_delay, rows=camera.height)
+        truth = mount.motion(history)
+        blurred = db.renderBlurred(world.sharp, truth, camera.model, shutter, tRef=history_start)
+        window = db.classifyExposure(command, shutter, angle_tol, velocity_tol) if command else db.EXPOSURE_IV
+        restore = (lambda noisy: deblurrer.deblur(noisy, command, shutter)) if command else None
+        return observer.take(cycle, shutter, blurred, window, restore)
+
+    latest = take_frame(-1)["restored"]
+    for c in range(args.cycles):
+        q = angles(levels)
+        true_error = float(np.linalg.norm(world.target_in_view(camera, mount.orientation(q)) - camera.centre))
+        measured = float(np.linalg.norm(latest[2] - camera.centre)) if latest[1] > 0 else -1.0
+        goal = list(levels)
+        if latest[1] > 0 and measured > args.deadband_px:
+            # The joint angles whose optical axis points where the measured centre's ray does (exact for a rotation).
+            centring = mount.anglesFor(np.asarray(mount.orientation(q)) @ camera.ray(latest[2]), q)
+            goal = [int(max(-max_level, min(max_level, round((q[i] + args.gain * (centring[i] - q[i])) / gain_rad))))
+                    for i in range(2)]
+        command, move_start, switches = None, None, 0
+        if goal != levels:
+            start = frames[-1]["readout_end"] + camera.latency
+            schedules = [s if len(s.times) > 0 else hold(levels[i], start)
+                         for i, s in enumerate(planner.plan(q, angles(goal), startTime=start).schedules)]
+            for i, s in enumerate(schedules):
+                history[i] = db.SwitchSchedule(times=list(history[i].times) + list(s.times),
+                                               levels=list(history[i].levels) + list(s.levels), initialLevel=0)
+            command = mount.motion(schedules)
+            move_start = min(s.times[0] for s in schedules)
+            switches = sum(len(s.times) for s in schedules)
+        levels_before, levels = levels, goal
+        latest = latest_sighting([take_frame(c) for _ in range(args.frames_per_cycle)], move_start)
+        cycles.append(dict(cycle=c, measured_px=measured, true_px=true_error,
+                           from_level="/".join(map(str, levels_before)), to_level="/".join(map(str, levels)),
+                           switches=switches))
+        progress(cycle_line(args, cycles[-1], f"pan/tilt levels {cycles[-1]['from_level']} -> {cycles[-1]['to_level']}",
+                            frames))
+    final = dict(true_px=float(np.linalg.norm(world.target_in_view(camera, mount.orientation(angles(levels)))
+                                              - camera.centre)),
                  measured_px=float(np.linalg.norm(latest[2] - camera.centre)) if latest[1] > 0 else -1.0)
     return dict(cycles=cycles, frames=frames, final=final)
 
@@ -307,7 +434,7 @@ def write_outputs(report, out):
 def main(argv=None):
     args = parse_args(argv)
     try:
-        print(f"[servo.py] step: target {args.start_deg:.1f} deg off; {args.cycles} cycles, {args.frames_per_cycle} "
+        print(f"[servo.py] step on the {args.mount} mount: target {args.start_deg:.1f} deg off; {args.cycles} cycles, {args.frames_per_cycle} "
               f"frames each; restoring with PSF_ROWS, {args.iterations} RL iterations", flush=True)
         report = run(args, progress=lambda line: print(line, flush=True))
         out = pathlib.Path(args.out)

@@ -207,11 +207,14 @@ public:
     }
 
     /** Runs a move planned to start at `plannedStart` (simulation clock); returns the schedules as the
-    axes execute them. The controller starts every axis's entry 0 at one START, so each axis's
-    schedule first holds its level from the move's first switch (a delayed follower keeps its delay). */
-    std::vector<SwitchSchedule> run(const std::vector<SwitchSchedule>& planned, double plannedStart, double& latencyMs)
+    axes execute them, the start's lateness (ms) and, over the bus, each axis's start report. The
+    controller starts every axis's entry 0 at one START, so each axis's schedule first holds its level
+    from the move's first switch (a delayed follower keeps its delay). */
+    std::vector<SwitchSchedule> run(const std::vector<SwitchSchedule>& planned, double plannedStart, double& latencyMs,
+                                    std::vector<StartReport>& starts)
     {
         latencyMs = 0;
+        starts.clear();
         if (!driver_)
             return planned;
         double origin = planned[0].times.front();
@@ -227,8 +230,8 @@ public:
         driver_->waitUntilDone(2.0);  // the previous move (real time) must be over
         driver_->upload(sent);
         const double asked = hostNow();
-        const std::vector<StartReport> reports = driver_->start();
-        const double simStart = plannedStart + std::max(0.0, reports[0].hostStartTime - asked);
+        starts = driver_->start();
+        const double simStart = plannedStart + std::max(0.0, starts[0].hostStartTime - asked);
         latencyMs = 1e3 * (simStart - plannedStart);
         for (SwitchSchedule& s : sent)  // the device holds µs offsets from entry 0, started at simStart
         {
@@ -495,7 +498,7 @@ PanTiltReport runPanTiltServo(const PanTiltConfig& config, const std::function<v
             move.peakRateDegS = planned.peakRate / kDeg;
             move.pathDeviationDeg = planned.pathDeviation / kDeg;
             // 4. Apply: on the plants, or uploaded to the controller and started.
-            schedules = positioner.run(schedules, plannedStart, cycle.startLatencyMs);
+            schedules = positioner.run(schedules, plannedStart, cycle.startLatencyMs, move.starts);
             for (size_t i = 0; i < axes; ++i)
             {
                 moveStart = std::min(moveStart, schedules[i].times.front());

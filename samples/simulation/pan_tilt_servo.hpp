@@ -40,6 +40,8 @@ struct PanTiltMove
     cv::Vec2d deltaDeg;              //!< joint increments vpServo's ωx, ωy turned into, degrees
     double peakRateDegS = 0;         //!< MountMove::peakRate, degrees per second
     double pathDeviationDeg = 0;     //!< MountMove::pathDeviation, degrees
+    //! Over the bus: each axis's report of the one START that ran the move (empty otherwise).
+    std::vector<cv::dynblur::StartReport> starts;
 };
 
 struct PanTiltReport

@@ -54,15 +54,17 @@ void SwitchSchedule::validate(int maxLevel) const
                      format("SwitchSchedule: 'times' must be strictly increasing, but times[%zu] = %.9g s "
                             "<= times[%zu] = %.9g s", i, times[i], i - 1, times[i - 1]));
     }
-    auto checkLevel = [maxLevel](int level, const String& name) {
+    // The entry's name is only written when it is refused: plants validate on every response.
+    auto checkLevel = [maxLevel](int level, const char* name, size_t index) {
         if (level < -maxLevel || level > maxLevel)
             CV_Error(Error::StsOutOfRange,
                      format("SwitchSchedule: %s = %d is outside the allowed range [-%d, %d]",
-                            name.c_str(), level, maxLevel, maxLevel));
+                            index == size_t(-1) ? name : format("%s[%zu]", name, index).c_str(), level, maxLevel,
+                            maxLevel));
     };
-    checkLevel(initialLevel, "initialLevel");
+    checkLevel(initialLevel, "initialLevel", size_t(-1));
     for (size_t i = 0; i < levels.size(); ++i)
-        checkLevel(levels[i], format("levels[%zu]", i));
+        checkLevel(levels[i], "levels", i);
 }
 
 void SwitchSchedule::save(const String& filename) const

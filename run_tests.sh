@@ -26,7 +26,7 @@ mkdir -p "$logs"
 rm -f "$logs"/*.log
 
 # stage TEXT: announces a stage, after the time the previous one took (the setup's, first).
-stage_start=$SECONDS
+stage_start=0
 stage() {
   echo "[tests] ($((SECONDS - stage_start)) s)"
   stage_start=$SECONDS

@@ -246,25 +246,13 @@ void runHandHeld(const Ptr<CameraModel>& camera, const Mat& scene, double lineDe
     addSensorNoise(blurred, noisy, 4000.0, 8.0, 5.0, 77);
     linearToSrgb(noisy, frame, CV_8U);
 
-    Ptr<DynamicDeblurrer> variant = DynamicDeblurrer::create(camera), uniform = DynamicDeblurrer::create(camera);
-    variant->setRLParams(params);
-    uniform->setRLParams(params);
-    uniform->setPsfModel(PSF_UNIFORM);
-    Mat restoredUniform, restoredVariant, valid;
-    TickMeter uniformTimer, variantTimer;
-    uniformTimer.start();
-    uniform->deblur(frame, gyro, shutter, restoredUniform);
-    uniformTimer.stop();
-    variantTimer.start();
-    variant->deblur(frame, gyro, shutter, restoredVariant, std::numeric_limits<double>::quiet_NaN(), valid);
-    variantTimer.stop();
-    tableRows.push_back(tableRow("hand-held, gyro log", variant->getLastExposureWindow(), truth, frame, restoredUniform,
-                                 restoredVariant, judgedPixels(valid), uniformTimer.getTimeMilli(),
-                                 variantTimer.getTimeMilli()));
+    const BothRestorations r = restoreBothWays(frame, gyro, camera, shutter, params);
+    tableRows.push_back(tableRow("hand-held, gyro log", r.window, truth, frame, r.uniform, r.variant,
+                                 judgedPixels(r.valid), r.uniformMs, r.variantMs));
     const int cellWidth = 400;
     std::vector<Mat> cells{labelled(frame, "hand-held (3-axis shake): blurred", cellWidth),
-                           labelled(shadeUnobserved(restoredUniform, valid), "single PSF (seed)", cellWidth),
-                           labelled(shadeUnobserved(restoredVariant, valid), "restored from the gyro log", cellWidth),
+                           labelled(shadeUnobserved(r.uniform, r.valid), "single PSF (seed)", cellWidth),
+                           labelled(shadeUnobserved(r.variant, r.valid), "restored from the gyro log", cellWidth),
                            labelled(truth, "truth (view at mid-exposure)", cellWidth)};
     Mat row;
     hconcat(cells, row);

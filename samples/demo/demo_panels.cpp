@@ -6,6 +6,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <limits>
+
 using namespace cv;
 
 namespace dynblur_demo {
@@ -51,6 +53,29 @@ std::string tableRow(const std::string& name, int window, const Mat& truth, cons
                   maskedSsim(truth, blurred, judged), maskedPsnr(truth, uniform, judged, 255),
                   maskedSsim(truth, uniform, judged), maskedPsnr(truth, variant, judged, 255),
                   maskedSsim(truth, variant, judged), uniformMs, variantMs);
+}
+
+BothRestorations restoreBothWays(const Mat& frame, const Ptr<cv::dynblur::CameraMotion>& motion,
+                                 const Ptr<cv::dynblur::CameraModel>& camera, const cv::dynblur::RollingShutter& shutter,
+                                 const cv::dynblur::RLParams& params)
+{
+    using namespace cv::dynblur;
+    Ptr<DynamicDeblurrer> variant = DynamicDeblurrer::create(camera), uniform = DynamicDeblurrer::create(camera);
+    variant->setRLParams(params);
+    uniform->setRLParams(params);
+    uniform->setPsfModel(PSF_UNIFORM);
+    BothRestorations r;
+    TickMeter uniformTimer, variantTimer;
+    uniformTimer.start();
+    uniform->deblur(frame, motion, shutter, r.uniform);
+    uniformTimer.stop();
+    variantTimer.start();
+    variant->deblur(frame, motion, shutter, r.variant, std::numeric_limits<double>::quiet_NaN(), r.valid);
+    variantTimer.stop();
+    r.uniformMs = uniformTimer.getTimeMilli();
+    r.variantMs = variantTimer.getTimeMilli();
+    r.window = variant->getLastExposureWindow();
+    return r;
 }
 
 }  // namespace dynblur_demo

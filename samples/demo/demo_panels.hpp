@@ -27,6 +27,19 @@ std::string tableRow(const std::string& name, int window, const cv::Mat& truth, 
                      const cv::Mat& uniform, const cv::Mat& variant, const cv::Mat& judged, double uniformMs,
                      double variantMs);
 
+//! A frame restored twice from its motion, with the seed's single PSF and the spatially variant default.
+struct BothRestorations
+{
+    cv::Mat uniform, variant, valid;  //!< valid: the variant's observed pixels
+    double uniformMs = 0, variantMs = 0;
+    int window = 0;                   //!< the frame's exposure window
+};
+
+//! `frame` restored from `motion` both ways, with `params` (the RL settings) and the reference view at tRef NaN.
+BothRestorations restoreBothWays(const cv::Mat& frame, const cv::Ptr<cv::dynblur::CameraMotion>& motion,
+                                 const cv::Ptr<cv::dynblur::CameraModel>& camera,
+                                 const cv::dynblur::RollingShutter& shutter, const cv::dynblur::RLParams& params);
+
 /* A diagonal saccade of a pan-tilt head: 10 deg pan and 6 deg tilt together (MountPlanner, robust), each
    axis the seed's positioner, recorded by `camera` through a rolling shutter while every row moves and
    restored with the seed's single PSF and with the head's exact motion. Appends a panel row (blurred,

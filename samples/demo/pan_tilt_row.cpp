@@ -79,26 +79,14 @@ void runPanTilt(const Ptr<CameraModel>& camera, const Mat& scene, double exposur
     addSensorNoise(blurred, noisy, 4000.0, 8.0, 5.0, 91);
     linearToSrgb(noisy, frame, CV_8U);
 
-    Ptr<DynamicDeblurrer> variant = DynamicDeblurrer::create(camera), uniform = DynamicDeblurrer::create(camera);
-    variant->setRLParams(params);
-    uniform->setRLParams(params);
-    uniform->setPsfModel(PSF_UNIFORM);
-    Mat restoredUniform, restoredVariant, valid;
-    TickMeter uniformTimer, variantTimer;
-    uniformTimer.start();
-    uniform->deblur(frame, motion, shutter, restoredUniform);
-    uniformTimer.stop();
-    variantTimer.start();
-    variant->deblur(frame, motion, shutter, restoredVariant, std::numeric_limits<double>::quiet_NaN(), valid);
-    variantTimer.stop();
-    tableRows.push_back(tableRow("pan-tilt, 10+6 deg", variant->getLastExposureWindow(), truth, frame, restoredUniform,
-                                 restoredVariant, judgedPixels(valid), uniformTimer.getTimeMilli(),
-                                 variantTimer.getTimeMilli()));
+    const BothRestorations r = restoreBothWays(frame, motion, camera, shutter, params);
+    tableRows.push_back(tableRow("pan-tilt, 10+6 deg", r.window, truth, frame, r.uniform, r.variant,
+                                 judgedPixels(r.valid), r.uniformMs, r.variantMs));
     const int cellWidth = 400;
     std::vector<Mat> cells{labelled(drawBlurPaths(frame, motion, camera, shutter), "pan-tilt: blurred, its blur paths",
                                     cellWidth),
-                           labelled(shadeUnobserved(restoredUniform, valid), "single PSF (seed)", cellWidth),
-                           labelled(shadeUnobserved(restoredVariant, valid), "restored from the head's motion", cellWidth),
+                           labelled(shadeUnobserved(r.uniform, r.valid), "single PSF (seed)", cellWidth),
+                           labelled(shadeUnobserved(r.variant, r.valid), "restored from the head's motion", cellWidth),
                            labelled(truth, "truth (view at rest after the move)", cellWidth)};
     Mat row;
     hconcat(cells, row);

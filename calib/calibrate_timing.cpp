@@ -271,8 +271,8 @@ static TimingCalibration calibrateMountRecording(const std::vector<ReferencePair
     return calibrateTiming(motions, camera, references, frames, shutters, flags, after, maxOffset);
 }
 
-/* The correction and its deviations; an axis's plant scales per axis (up to three), "held" where the
-   frames did not determine them (an axis no move turned). */
+/* The correction and its deviations; an axis's plant scales per axis (up to three), each "held" where
+   the frames did not determine it (an axis no move turned, a damping no frame saw ring). */
 static void printCalibration(const TimingCalibration& t, int axes)
 {
     const MotionCorrection& c = t.correction;
@@ -285,13 +285,18 @@ static void printCalibration(const TimingCalibration& t, int axes)
         const double zeta = axis ? c.axisDampingScales[axis - 1] : c.dampingScale;
         const double wnSd = axis ? t.axisNaturalFreqScaleStd[axis - 1] : t.naturalFreqScaleStd;
         const double zetaSd = axis ? t.axisDampingScaleStd[axis - 1] : t.dampingScaleStd;
-        bool held = false;
-        for (size_t j = 0; j < table.size(); j++)
-            held = held || ((c.heldParameters >> j & 1) && table[j].mountAxis == axis && (axes > 1 || table[j].plantMotion));
+        // Each scale's own row: a frame may determine an axis's ωn and hold its ζ.
+        const auto held = [&](const char* quantity) {
+            for (size_t j = 0; j < table.size(); j++)
+                if ((c.heldParameters >> j & 1) && table[j].mountAxis == axis && table[j].name.rfind(quantity, 0) == 0 &&
+                    (axes > 1 || table[j].plantMotion))
+                    return true;
+            return false;
+        };
         const std::string name = axes > 1 ? format("axis %d ", axis) : std::string();
         std::printf("%snatural frequency x%.4f (sd %.4f)%s\n%sdamping ratio     x%.4f (sd %.4f)%s\n", name.c_str(), wn,
-                    wnSd, held ? " held: no frame's move turns it" : "", name.c_str(), zeta, zetaSd,
-                    held ? " held" : "");
+                    wnSd, held("natural frequency") ? " held: the frames do not determine it" : "", name.c_str(), zeta,
+                    zetaSd, held("damping ratio") ? " held: the frames do not determine it" : "");
     }
     std::printf("consistency       %.2f (noise units; about 1 when the model explains the frames)\n", c.consistency);
 }

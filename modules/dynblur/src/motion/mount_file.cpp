@@ -3,6 +3,7 @@
 #include "precomp.hpp"
 
 #include "opencv2/dynblur/mount.hpp"
+#include "io/whole_file.hpp"
 
 #include <cstdio>
 
@@ -85,12 +86,7 @@ void Mount::save(const String& filename) const
                                          "second-order Plant::create has",
                                          i, getPlant(i)->getDefaultName().c_str()));
     // Written beside the target and renamed over it: a reader never sees half a file.
-    const size_t dot = filename.find_last_of('.');
-    const String temporary = filename + ".partial" + (dot == String::npos ? String(".yml") : filename.substr(dot));
-    {
-        FileStorage fs(temporary, FileStorage::WRITE);
-        if (!fs.isOpened())
-            CV_Error(Error::StsError, "Mount::save: cannot open '" + temporary + "' for writing");
+    detail::saveWhole(filename, "Mount::save", [&](FileStorage& fs) {
         fs.writeComment("dynblur mount: axes base first (unit vectors, camera frame at rest), each axis's plant "
                         "(Hz, damping ratio, rad per level) and level range");
         fs << "axisCount" << count;
@@ -105,12 +101,7 @@ void Mount::save(const String& filename) const
             fs << key(size_t(i), "_gain") << plant->getGain();
             fs << key(size_t(i), "_levels") << std::vector<int>{levels[0], levels[1]};
         }
-    }
-    if (std::rename(temporary.c_str(), filename.c_str()) != 0)
-    {
-        std::remove(temporary.c_str());
-        CV_Error(Error::StsError, "Mount::save: cannot write '" + filename + "'");
-    }
+    });
 }
 
 Ptr<Mount> Mount::load(const String& filename)

@@ -7,6 +7,7 @@
 #include "motion/corrected_motion.hpp"
 #include "motion/shutter_check.hpp"
 #include "imaging/camera_frame.hpp"
+#include "io/whole_file.hpp"
 #include "refine/blind_fit.hpp"
 #include "refine/motion_fit.hpp"
 
@@ -106,12 +107,7 @@ void TimingCalibration::save(const String& filename) const
 {
     correction.validate();
     // Written beside the target and renamed over it: a reader never sees half a file.
-    const size_t dot = filename.find_last_of('.');
-    const String temporary = filename + ".partial" + (dot == String::npos ? String(".yml") : filename.substr(dot));
-    {
-        FileStorage fs(temporary, FileStorage::WRITE);
-        if (!fs.isOpened())
-            CV_Error(Error::StsError, "TimingCalibration::save: cannot open '" + temporary + "' for writing");
+    detail::saveWhole(filename, "TimingCalibration::save", [&](FileStorage& fs) {
         fs.writeComment("dynblur timing calibration: the camera clock's offset to the actuator's (s), and scales of "
                         "the nominal line delay, natural frequency and damping ratio");
         fs << "timeOffset" << correction.timeOffset << "lineDelayScale" << correction.lineDelayScale
@@ -147,12 +143,7 @@ void TimingCalibration::save(const String& filename) const
         for (double& value : consistency)
             value = std::isfinite(value) ? value : -1.0;
         fs << "frameUsed" << frameUsed << "frameConsistency" << consistency;
-    }
-    if (std::rename(temporary.c_str(), filename.c_str()) != 0)
-    {
-        std::remove(temporary.c_str());
-        CV_Error(Error::StsError, "TimingCalibration::save: cannot write '" + filename + "'");
-    }
+    });
 }
 
 namespace {
